@@ -1,0 +1,129 @@
+# Makefile -- sonard: portable core (src/core), host daemon (src/host), tools, tests. `make help` lists the targets.
+BUILD    ?= build
+CC       ?= cc
+CXX      ?= c++
+OPT      ?= -O2
+SAN      ?=
+ARM_CC   ?= arm-none-eabi-gcc
+ARM_SIZE ?= arm-none-eabi-size
+
+# The core gets the strict set; host code and tests compile with the same warnings plus POSIX.
+WARN      = -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror -Wcast-qual -Wstrict-prototypes \
+            -Wmissing-prototypes -Wundef
+CORE_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -MMD -MP $(EXTRA_CFLAGS)
+HOST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L -MMD -MP $(EXTRA_CFLAGS)
+TEST_CFLAGS = -std=c99 -Wall -Wextra -Werror -Wshadow $(OPT) -g $(SAN) -Iinclude -Isrc/host -Isrc/core \
+              -D_POSIX_C_SOURCE=200809L -DUNIT_TESTING -MMD -MP $(EXTRA_CFLAGS)
+LDLIBS    = -lm
+
+CORE_SRC  = $(wildcard src/core/*.c)
+CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
+HOST_LIB  = src/host/csv.c src/host/options.c src/host/report.c
+HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
+UNIT      = ping geometry median background sweep kmeans hull detector pipeline csv
+UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
+OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
+
+.PHONY: all deps test unit check-noheap e2e opencv-ref asan bench demo cross size clean help venv
+
+## all: build build/sonard and build/sonar-sim (default)
+all: $(BUILD)/sonard $(BUILD)/sonar-sim
+
+## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
+deps:
+	@sh tools/deps.sh
+
+$(BUILD)/core/%.o: src/core/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CORE_CFLAGS) -c $< -o $@
+
+$(BUILD)/host/%.o: src/host/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -c $< -o $@
+
+$(BUILD)/libsonarcore.a: $(CORE_OBJ)
+	$(AR) rcs $@ $^
+
+$(BUILD)/sonard: $(BUILD)/host/sonard.o $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	$(CC) $(SAN) $^ -o $@ $(LDLIBS)
+
+$(BUILD)/sonar-sim: tools/sonar_sim.c $(BUILD)/host/csv.o
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion $^ -o $@ $(LDLIBS)
+
+$(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) $^ -o $@ -lcmocka $(LDLIBS)
+
+$(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $^ -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
+
+## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
+test: deps
+	@$(MAKE) --no-print-directory unit opencv-ref e2e check-noheap
+
+unit: $(UNIT_BIN)
+	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
+
+opencv-ref: $(BUILD)/tests/test_opencv_ref
+	@echo "== $<"; $<
+
+## e2e: simulate the pool and open-water scenes, replay them, score against the truth
+e2e: all
+	@sh tests/e2e.sh $(BUILD)
+
+## check-noheap: fail if the core objects reference malloc, calloc, realloc or free
+check-noheap: $(CORE_OBJ)
+	@if nm -u $(CORE_OBJ) | grep -wE 'malloc|calloc|realloc|free'; then \
+	  echo "check-noheap: FAILED: the core references the heap"; exit 1; \
+	else echo "check-noheap: core objects reference no malloc/calloc/realloc/free"; fi
+
+## asan: the unit and end-to-end tests under AddressSanitizer and UndefinedBehaviorSanitizer
+asan:
+	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref e2e
+
+## demo: simulate a pool scene, replay it through sonard, print detections against the truth
+demo: deps all
+	@sh tools/demo.sh $(BUILD)
+
+## bench: per-stage speed against OpenCV, memcpy and the study's Python pipeline (creates .venv)
+bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv
+	@sh tools/bench.sh $(BUILD)
+
+$(BUILD)/bench: tools/bench.c $(BUILD)/libsonarcore.a
+	$(CC) $(HOST_CFLAGS) -Wno-conversion $^ -o $@ $(LDLIBS)
+
+$(BUILD)/bench_opencv: tools/bench_opencv.cpp
+	$(CXX) -std=c++17 -O2 $< -o $@ $(OPENCV_FLAGS)
+
+venv: .venv/.done
+.venv/.done: tools/requirements.txt
+	python3 -m venv .venv && .venv/bin/pip install -q -r tools/requirements.txt && touch $@
+
+ARM_M7  = -mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard
+ARM_M4F = -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
+ARM_CFLAGS = $(WARN) -Os -ffunction-sections -fdata-sections -Iinclude
+
+## cross: build the core with arm-none-eabi-gcc for Cortex-M7 and Cortex-M4F (-Os)
+cross:
+	@mkdir -p $(BUILD)/arm-m7 $(BUILD)/arm-m4f
+	@for f in $(CORE_SRC); do b=$$(basename $$f .c); \
+	  $(ARM_CC) $(ARM_CFLAGS) $(ARM_M7) -c $$f -o $(BUILD)/arm-m7/$$b.o || exit 1; \
+	  $(ARM_CC) $(ARM_CFLAGS) $(ARM_M4F) -c $$f -o $(BUILD)/arm-m4f/$$b.o || exit 1; done
+	@echo "cross: core built for Cortex-M7 and Cortex-M4F"
+
+## size: link a minimal firmware image holding one pipeline; print flash and static RAM (400x1200, 400x600, M4F 200x600)
+size: cross
+	@sh tools/size.sh $(BUILD)
+
+## clean: remove build outputs
+clean:
+	rm -rf $(BUILD) build-asan
+
+## help: this list
+help:
+	@grep -E '^## ' Makefile | sed 's/^## /  /'
+
+-include $(wildcard $(BUILD)/*/*.d)

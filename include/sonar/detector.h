@@ -1,0 +1,101 @@
+/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector ~ 28 B * SONAR_MAX_RUNS + 6 KB. */
+#ifndef SONAR_DETECTOR_H
+#define SONAR_DETECTOR_H
+
+#include <stdint.h>
+
+#include "sonar/config.h"
+#include "sonar/err.h"
+#include "sonar/hull.h"
+#include "sonar/kmeans.h"
+
+/*
+ * A beam's foreground cells above the threshold are stored as runs (contiguous samples of one
+ * beam). At the end of a sweep, runs that touch (within link_beams beams and link_m metres of
+ * range gap) form groups; groups smaller than min_points cells are noise and dropped; the number
+ * of remaining groups (at most max_clusters, the largest first) is k, and their centroids seed
+ * weighted k-means over the runs. Each cluster of >= min_points cells becomes a detection.
+ *
+ * Threshold: a cell is foreground when its value > T, T = max(min_threshold, floor(mean + k std))
+ * over the foreground cells of the previous sweep (the study's rule, one sweep behind so it can
+ * be applied as beams arrive); when there is no previous sweep, or it had no foreground at all
+ * (the background was still seeding), over the current sweep's cells seen so far.
+ */
+struct sonar_detector_config {
+    float threshold_k;     /* k of mean + k std, 0..20 */
+    uint8_t min_threshold; /* floor of T, 0..254 */
+    uint8_t max_clusters;  /* 1..SONAR_MAX_CLUSTERS */
+    uint8_t iterations;    /* Lloyd rounds at most, 1..100 */
+    uint8_t link_beams;    /* beams apart that may still join a group, 1..8 */
+    uint16_t min_points;   /* cells a detection needs, 1..65535 */
+    float link_m;          /* range gap bridged inside a group, metres, 0..10 */
+    float angle_offset;    /* gradians added to every angle of the output frame, -400..400 */
+};
+
+/* One object, in the sonar frame (see geometry.h) after the angle offset. */
+struct sonar_detection {
+    float x_m, y_m;         /* centroid of its cells, metres */
+    float range_m;          /* hypot(x, y) */
+    float bearing_deg;      /* atan2(y, x), [0, 360) */
+    float area_m2;          /* area of the hull */
+    float mean_intensity;   /* mean foreground level of its cells, 0..255 */
+    uint32_t points;        /* cells */
+    uint8_t hull_count;     /* vertices, counter-clockwise; longer hulls are thinned evenly */
+    float hull_x[SONAR_MAX_HULL];
+    float hull_y[SONAR_MAX_HULL];
+};
+
+struct sonar_detections {
+    uint32_t sweep;        /* sweep number */
+    int64_t utime;         /* us since the epoch of the sweep's last beam */
+    uint16_t beams;        /* beams in the sweep */
+    uint16_t runs;         /* foreground runs kept */
+    uint32_t runs_dropped; /* runs beyond SONAR_MAX_RUNS */
+    uint16_t groups;       /* groups of >= min_points cells before clustering */
+    uint8_t threshold;     /* T used for the sweep's last beam */
+    uint8_t count;         /* detections, largest first */
+    struct sonar_detection det[SONAR_MAX_CLUSTERS];
+};
+
+struct sonar_detector_run {
+    uint16_t beam;   /* index of the beam in the sweep */
+    uint16_t start;  /* first sample */
+    uint16_t parent; /* union-find link; roots are the lowest index of their group */
+    uint16_t size;   /* at a root: cells of the group (saturating) */
+    uint32_t sum;    /* sum of foreground levels */
+};
+
+struct sonar_detector {
+    struct sonar_detector_config cfg;
+    struct sonar_point pts[SONAR_MAX_RUNS]; /* run centre in mm; w = run length in cells */
+    struct sonar_detector_run runs[SONAR_MAX_RUNS];
+    uint8_t labels[SONAR_MAX_RUNS];
+    uint16_t angles[SONAR_MAX_SWEEP_BEAMS];
+    struct sonar_hull_point work[SONAR_HULL_WORK];
+    struct sonar_hull_point hull[2 * SONAR_HULL_WORK];
+    uint64_t sum, sumsq, cells;
+    float prev_mean, prev_std;
+    float range_m;
+    int64_t utime;
+    uint32_t sweep;
+    uint32_t runs_dropped;
+    uint16_t nruns, beams, n;
+    uint8_t have_prev, threshold;
+};
+
+/* Validates cfg (copied) and starts sweep 0. Returns SONAR_OK or SONAR_ERR_ARG naming nothing: check ranges above. */
+SONAR_CHECK int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_config *cfg);
+
+/*
+ * Adds one foreground beam of n samples (1..SONAR_MAX_SAMPLES) over range_m metres at angle
+ * gradians (0..399). Every beam of a sweep must have the same n and range_m (else
+ * SONAR_ERR_STATE: end the sweep first). Returns SONAR_OK, SONAR_ERR_FULL when the sweep already
+ * has SONAR_MAX_SWEEP_BEAMS beams, or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n,
+                                   float range_m, int64_t utime);
+
+/* Ends the sweep: fills *out and starts the next sweep. Returns the detection count or SONAR_ERR_ARG. */
+SONAR_CHECK int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out);
+
+#endif

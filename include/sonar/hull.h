@@ -1,0 +1,26 @@
+/* hull.h -- Andrew's monotone-chain convex hull on int32 points with exact int64 cross products; no RAM beyond the caller's arrays. */
+#ifndef SONAR_HULL_H
+#define SONAR_HULL_H
+
+#include <stdint.h>
+
+#include "sonar/err.h"
+
+struct sonar_hull_point {
+    int32_t x;
+    int32_t y;
+};
+
+/*
+ * Sorts pts[0..n) in place (heapsort: no recursion, no heap) by x then y, and writes the hull to
+ * out, counter-clockwise in a y-up frame, starting at the lowest-x (then lowest-y) point.
+ * Collinear points on edges and duplicates are dropped. |x|, |y| must be < 2^30. cap: room in
+ * out, at least 2n (the chains may hold that many before they pop). Returns the vertex count (1 for a single distinct point, 2 for a
+ * segment), or SONAR_ERR_ARG / SONAR_ERR_SPACE.
+ */
+SONAR_CHECK int sonar_hull_build(struct sonar_hull_point *pts, uint16_t n, struct sonar_hull_point *out, uint16_t cap);
+
+/* Twice the signed area (shoelace) of the polygon; positive when counter-clockwise. */
+int64_t sonar_hull_area2(const struct sonar_hull_point *poly, uint16_t n);
+
+#endif

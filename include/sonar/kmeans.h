@@ -1,0 +1,45 @@
+/* kmeans.h -- deterministic weighted k-means (farthest-point seeding, bounded Lloyd iterations) on integer points; no RAM beyond the caller's arrays. */
+#ifndef SONAR_KMEANS_H
+#define SONAR_KMEANS_H
+
+#include <stdint.h>
+
+#include "sonar/err.h"
+
+#define SONAR_KMEANS_MAX_K 64
+#define SONAR_KMEANS_SKIP 0xFFu /* label of a point with weight 0 */
+
+/* A point in integer units (sonard uses mm, |x|, |y| <= 2^26) with a weight (cells it stands for). */
+struct sonar_point {
+    int32_t x;
+    int32_t y;
+    uint32_t w; /* 0 = ignore the point */
+};
+
+struct sonar_centroid {
+    int32_t x;
+    int32_t y;
+};
+
+/*
+ * Farthest-point (maximin) seeding: the first weighted point, then repeatedly the point farthest
+ * from its nearest centre (lowest index on ties). k: 1..SONAR_KMEANS_MAX_K. Returns the number of
+ * centres written (fewer than k when there are fewer distinct points), or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_centroid *c, uint8_t k);
+
+/*
+ * Lloyd's algorithm from the k centres in c: assign each point to its nearest centre (lowest
+ * index on ties), then move each centre to the weighted mean of its points (rounded to nearest;
+ * an empty centre stays). Runs at most `iterations` rounds (1..255) and stops early once no label
+ * changes. labels[i] gets 0..k-1, or SONAR_KMEANS_SKIP for w == 0. Squared distances are exact in
+ * int64. Returns the rounds run, or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels,
+                                   struct sonar_centroid *c, uint8_t k, uint8_t iterations);
+
+/* Sum over points of w * squared distance to the centre of its label (OpenCV's "compactness"). */
+double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
+                            const struct sonar_centroid *c);
+
+#endif

@@ -1,0 +1,374 @@
+/* detector.c -- runs -> groups (bounded union-find) -> seeded k-means -> incremental hulls; O(runs * link window) per sweep, no heap. */
+#include "sonar/detector.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "tables_internal.h"
+
+#define NOISE 0xFEu
+
+int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_config *cfg)
+{
+    if (d == NULL || cfg == NULL || !(cfg->threshold_k >= 0.0f && cfg->threshold_k <= 20.0f) ||
+        cfg->min_threshold > 254u || cfg->max_clusters < 1 || cfg->max_clusters > SONAR_MAX_CLUSTERS ||
+        cfg->iterations < 1 || cfg->iterations > 100 || cfg->link_beams < 1 || cfg->link_beams > 8 ||
+        cfg->min_points < 1 || !(cfg->link_m >= 0.0f && cfg->link_m <= 10.0f) ||
+        !(cfg->angle_offset >= -400.0f && cfg->angle_offset <= 400.0f))
+        return SONAR_ERR_ARG;
+    memset(d, 0, sizeof(*d));
+    d->cfg = *cfg;
+    return SONAR_OK;
+}
+
+static uint8_t threshold_now(const struct sonar_detector *d)
+{
+    double mean, sd, t;
+    if (d->have_prev) {
+        mean = d->prev_mean;
+        sd = d->prev_std;
+    } else {
+        double var;
+        mean = d->cells ? (double)d->sum / (double)d->cells : 0.0;
+        var = d->cells ? (double)d->sumsq / (double)d->cells - mean * mean : 0.0;
+        sd = var > 0.0 ? sqrt(var) : 0.0;
+    }
+    t = floor(mean + (double)d->cfg.threshold_k * sd);
+    if (t < (double)d->cfg.min_threshold)
+        t = d->cfg.min_threshold;
+    return (uint8_t)(t > 254.0 ? 254.0 : t);
+}
+
+/* Sample position 2i+1 halves (the centre of sample i) at angle a, in mm, device frame. */
+static struct sonar_hull_point polar_mm(const struct sonar_detector *d, uint16_t a, uint32_t twice_pos)
+{
+    struct sonar_hull_point p;
+    int64_t range_mm = (int64_t)((double)d->range_m * 1000.0 + 0.5);
+    int64_t r = ((int64_t)twice_pos * range_mm) / (2 * (int64_t)d->n);
+    int64_t c = sonar_cos_q16[a % 400u], s = sonar_cos_q16[(a + 300u) % 400u];
+    p.x = (int32_t)((r * c + 32768) >> 16);
+    p.y = (int32_t)((r * s + 32768) >> 16);
+    return p;
+}
+
+static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uint16_t len, uint32_t sum)
+{
+    struct sonar_hull_point c;
+    struct sonar_detector_run *r;
+    if (d->nruns >= SONAR_MAX_RUNS) {
+        d->runs_dropped++;
+        return;
+    }
+    /* Centre of the run: halfway between its first and last sample centres. */
+    c = polar_mm(d, d->angles[beam], 2u * start + len);
+    d->pts[d->nruns].x = c.x;
+    d->pts[d->nruns].y = c.y;
+    d->pts[d->nruns].w = len;
+    r = &d->runs[d->nruns];
+    r->beam = beam;
+    r->start = start;
+    r->parent = d->nruns;
+    r->size = 0;
+    r->sum = sum;
+    d->nruns++;
+}
+
+int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
+                       int64_t utime)
+{
+    uint32_t s = 0, q = 0;
+    uint8_t mx = 0, t;
+    uint16_t i, beam;
+    if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > 399u || !(range_m > 0.0f))
+        return SONAR_ERR_ARG;
+    if (d->beams == 0) {
+        d->n = n;
+        d->range_m = range_m;
+    } else if (n != d->n || range_m != d->range_m) {
+        return SONAR_ERR_STATE;
+    }
+    if (d->beams >= SONAR_MAX_SWEEP_BEAMS)
+        return SONAR_ERR_FULL;
+    beam = d->beams++;
+    d->angles[beam] = angle;
+    d->utime = utime;
+    for (i = 0; i < n; i++) {
+        uint8_t v = fg[i];
+        s += v;
+        q += (uint32_t)v * v;
+        mx = v > mx ? v : mx;
+    }
+    d->sum += s;
+    d->sumsq += q;
+    d->cells += n;
+    t = threshold_now(d);
+    d->threshold = t;
+    if (mx <= t)
+        return SONAR_OK;
+    for (i = 0; i < n;) {
+        uint16_t start;
+        uint32_t sum = 0;
+        if (fg[i] <= t) {
+            i++;
+            continue;
+        }
+        start = i;
+        while (i < n && fg[i] > t)
+            sum += fg[i++];
+        add_run(d, beam, start, (uint16_t)(i - start), sum);
+    }
+    return SONAR_OK;
+}
+
+static uint16_t find(struct sonar_detector_run *r, uint16_t i)
+{
+    while (r[i].parent != i) {
+        r[i].parent = r[r[i].parent].parent; /* path halving keeps later finds short */
+        i = r[i].parent;
+    }
+    return i;
+}
+
+static void unite(struct sonar_detector_run *r, uint16_t a, uint16_t b)
+{
+    uint16_t ra = find(r, a), rb = find(r, b);
+    /* The lower index stays root, so a root precedes every member in run order. */
+    if (ra < rb)
+        r[rb].parent = ra;
+    else if (rb < ra)
+        r[ra].parent = rb;
+}
+
+static int touch(const struct sonar_detector *d, uint16_t a, uint16_t b, uint32_t gap)
+{
+    uint32_t sa = d->runs[a].start, ea = sa + d->pts[a].w - 1u;
+    uint32_t sb = d->runs[b].start, eb = sb + d->pts[b].w - 1u;
+    uint32_t lo = sa > sb ? sa : sb, hi = ea < eb ? ea : eb;
+    return lo <= hi + 1u + gap;
+}
+
+static uint16_t angle_gap(uint16_t a, uint16_t b)
+{
+    uint16_t g = (uint16_t)(a > b ? a - b : b - a);
+    return g > 200u ? (uint16_t)(400u - g) : g;
+}
+
+static void link_runs(struct sonar_detector *d)
+{
+    uint32_t gap = (uint32_t)((double)d->cfg.link_m * (double)d->n / (double)d->range_m);
+    uint16_t i, j, lb = d->cfg.link_beams;
+    for (i = 1; i < d->nruns; i++)
+        for (j = i; j-- > 0;) {
+            if (d->runs[i].beam - d->runs[j].beam > lb)
+                break;
+            if (touch(d, i, j, gap))
+                unite(d->runs, i, j);
+        }
+    /* A full turn: the last beams adjoin the first ones across the start angle. */
+    if (d->beams > 2u * lb + 1u) {
+        uint16_t step = angle_gap(d->angles[0], d->angles[1]);
+        uint16_t reach = (uint16_t)(lb * (step ? step : 1u));
+        if (angle_gap(d->angles[0], d->angles[d->beams - 1u]) <= reach)
+            for (i = d->nruns; i-- > 0 && d->runs[i].beam + lb >= d->beams;)
+                for (j = 0; j < i && d->runs[j].beam < lb; j++)
+                    if (angle_gap(d->angles[d->runs[i].beam], d->angles[d->runs[j].beam]) <= reach && touch(d, i, j, gap))
+                        unite(d->runs, i, j);
+    }
+}
+
+/* Groups -> k seeds (the largest groups' centroids); runs of small groups are marked noise. */
+static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, uint16_t *groups)
+{
+    uint16_t root[SONAR_MAX_CLUSTERS];
+    int64_t sx[SONAR_MAX_CLUSTERS], sy[SONAR_MAX_CLUSTERS];
+    uint64_t sw[SONAR_MAX_CLUSTERS];
+    uint8_t k = 0, j;
+    uint16_t i;
+    struct sonar_detector_run *r = d->runs;
+    for (i = 0; i < d->nruns; i++) {
+        r[i].parent = find(r, i);
+        r[i].size = 0;
+    }
+    for (i = 0; i < d->nruns; i++) {
+        uint32_t s = (uint32_t)r[r[i].parent].size + d->pts[i].w;
+        r[r[i].parent].size = (uint16_t)(s > 65535u ? 65535u : s);
+    }
+    *groups = 0;
+    for (i = 0; i < d->nruns; i++) {
+        uint8_t at;
+        if (r[i].parent != i || r[i].size < d->cfg.min_points)
+            continue;
+        (*groups)++;
+        /* Keep the max_clusters largest, in descending size (earlier wins ties). */
+        if (k < d->cfg.max_clusters)
+            at = k++;
+        else if (r[root[k - 1]].size < r[i].size)
+            at = (uint8_t)(k - 1);
+        else
+            continue;
+        for (; at > 0 && r[root[at - 1]].size < r[i].size; at--)
+            root[at] = root[at - 1];
+        root[at] = i;
+    }
+    memset(sx, 0, sizeof(sx));
+    memset(sy, 0, sizeof(sy));
+    memset(sw, 0, sizeof(sw));
+    for (i = 0; i < d->nruns; i++) {
+        uint16_t p = r[i].parent;
+        for (j = 0; j < k && root[j] != p; j++)
+            ;
+        /* Noise, or a group beyond max_clusters: k-means skips weight 0, so nothing is swallowed. */
+        if (j == k) {
+            d->pts[i].w = 0;
+            continue;
+        }
+        sx[j] += (int64_t)d->pts[i].x * d->pts[i].w;
+        sy[j] += (int64_t)d->pts[i].y * d->pts[i].w;
+        sw[j] += d->pts[i].w;
+    }
+    for (j = 0; j < k; j++) {
+        c[j].x = (int32_t)(sx[j] / (int64_t)sw[j]);
+        c[j].y = (int32_t)(sy[j] / (int64_t)sw[j]);
+    }
+    return k;
+}
+
+/* Folds the work points into their hull when full; thins a hull that alone nearly fills it. */
+static void hull_push(struct sonar_detector *d, uint16_t *nw, struct sonar_hull_point p)
+{
+    if (*nw == SONAR_HULL_WORK) {
+        int h = sonar_hull_build(d->work, *nw, d->hull, 2 * SONAR_HULL_WORK);
+        uint16_t i, keep = (uint16_t)(h > 0 ? h : 0);
+        if (keep > SONAR_HULL_WORK - 8u) {
+            for (i = 0; i < SONAR_HULL_WORK / 2u; i++)
+                d->work[i] = d->hull[(uint32_t)i * keep / (SONAR_HULL_WORK / 2u)];
+            keep = SONAR_HULL_WORK / 2u;
+        } else {
+            memcpy(d->work, d->hull, (size_t)keep * sizeof(d->hull[0]));
+        }
+        *nw = keep;
+    }
+    d->work[(*nw)++] = p;
+}
+
+static void rotate(float *x, float *y, double c, double s)
+{
+    double nx = (double)*x * c - (double)*y * s, ny = (double)*x * s + (double)*y * c;
+    *x = (float)nx;
+    *y = (float)ny;
+}
+
+/* Cluster j -> detection; returns 0 when it has fewer than min_points cells. */
+static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_detection *o)
+{
+    uint64_t w = 0, s = 0;
+    int64_t sx = 0, sy = 0;
+    uint16_t i, nw = 0, beam = 0xFFFFu;
+    uint32_t lo = 0, hi = 0;
+    int h, v;
+    double th = (double)d->cfg.angle_offset * 3.14159265358979323846 / 200.0, c = cos(th), sn = sin(th);
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        uint32_t end;
+        if (d->labels[i] != j)
+            continue;
+        w += d->pts[i].w;
+        s += r->sum;
+        sx += (int64_t)d->pts[i].x * d->pts[i].w;
+        sy += (int64_t)d->pts[i].y * d->pts[i].w;
+        end = (uint32_t)r->start + d->pts[i].w - 1u;
+        /* Runs of one beam lie on one ray: only its nearest and farthest cells can be hull vertices. */
+        if (r->beam != beam) {
+            if (beam != 0xFFFFu) {
+                hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * lo + 1u));
+                hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * hi + 1u));
+            }
+            beam = r->beam;
+            lo = r->start;
+            hi = end;
+        } else {
+            lo = r->start < lo ? r->start : lo;
+            hi = end > hi ? end : hi;
+        }
+    }
+    if (w < d->cfg.min_points || beam == 0xFFFFu)
+        return 0;
+    hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * lo + 1u));
+    hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * hi + 1u));
+    h = sonar_hull_build(d->work, nw, d->hull, 2 * SONAR_HULL_WORK);
+    if (h < 1)
+        return 0;
+    memset(o, 0, sizeof(*o));
+    o->points = (uint32_t)w;
+    o->mean_intensity = (float)((double)s / (double)w);
+    o->x_m = (float)((double)sx / (double)w / 1000.0);
+    o->y_m = (float)((double)sy / (double)w / 1000.0);
+    o->area_m2 = (float)((double)sonar_hull_area2(d->hull, (uint16_t)h) / 2.0e6);
+    o->hull_count = (uint8_t)(h > SONAR_MAX_HULL ? SONAR_MAX_HULL : h);
+    for (v = 0; v < o->hull_count; v++) {
+        const struct sonar_hull_point *p = &d->hull[(long)v * h / o->hull_count];
+        o->hull_x[v] = (float)p->x / 1000.0f;
+        o->hull_y[v] = (float)p->y / 1000.0f;
+        if (d->cfg.angle_offset != 0.0f)
+            rotate(&o->hull_x[v], &o->hull_y[v], c, sn);
+    }
+    if (d->cfg.angle_offset != 0.0f)
+        rotate(&o->x_m, &o->y_m, c, sn);
+    o->range_m = (float)sqrt((double)o->x_m * o->x_m + (double)o->y_m * o->y_m);
+    o->bearing_deg = (float)(o->x_m == 0.0f && o->y_m == 0.0f ? 0.0 : atan2((double)o->y_m, (double)o->x_m) * 180.0 / 3.14159265358979323846);
+    if (o->bearing_deg < 0.0f)
+        o->bearing_deg += 360.0f;
+    return 1;
+}
+
+int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
+{
+    struct sonar_centroid c[SONAR_MAX_CLUSTERS];
+    uint8_t k = 0, j;
+    if (d == NULL || out == NULL)
+        return SONAR_ERR_ARG;
+    out->sweep = d->sweep;
+    out->utime = d->utime;
+    out->beams = d->beams;
+    out->runs = d->nruns;
+    out->runs_dropped = d->runs_dropped;
+    out->threshold = d->threshold;
+    out->groups = 0;
+    out->count = 0;
+    if (d->nruns > 0) {
+        link_runs(d);
+        k = seed_groups(d, c, &out->groups);
+    }
+    if (k > 0 && sonar_kmeans_lloyd(d->pts, d->nruns, d->labels, c, k, d->cfg.iterations) > 0) {
+        for (j = 0; j < k; j++) {
+            struct sonar_detection *o = &out->det[out->count];
+            uint8_t at;
+            if (!make_detection(d, j, o))
+                continue;
+            /* Largest first; insertion keeps equal sizes in cluster order. */
+            for (at = out->count; at > 0 && out->det[at - 1].points < o->points; at--)
+                ;
+            if (at != out->count) {
+                struct sonar_detection t = *o;
+                memmove(&out->det[at + 1], &out->det[at], (size_t)(out->count - at) * sizeof(t));
+                out->det[at] = t;
+            }
+            out->count++;
+        }
+    }
+    /* A sweep with no foreground at all (background still seeding, or empty) has no statistics to lend. */
+    d->have_prev = 0;
+    if (d->cells > 0 && d->sum > 0) {
+        double mean = (double)d->sum / (double)d->cells;
+        double var = (double)d->sumsq / (double)d->cells - mean * mean;
+        d->prev_mean = (float)mean;
+        d->prev_std = (float)(var > 0.0 ? sqrt(var) : 0.0);
+        d->have_prev = 1;
+    }
+    d->sweep++;
+    d->nruns = 0;
+    d->beams = 0;
+    d->runs_dropped = 0;
+    d->sum = d->sumsq = d->cells = 0;
+    return out->count;
+}

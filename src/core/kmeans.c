@@ -1,0 +1,117 @@
+/* kmeans.c -- integer weighted k-means; O(n k) per iteration, no heap. */
+#include "sonar/kmeans.h"
+
+#include <string.h>
+
+static int64_t dist2(const struct sonar_point *p, const struct sonar_centroid *c)
+{
+    int64_t dx = (int64_t)p->x - c->x, dy = (int64_t)p->y - c->y;
+    return dx * dx + dy * dy;
+}
+
+static uint8_t nearest(const struct sonar_point *p, const struct sonar_centroid *c, uint8_t k, int64_t *best_d)
+{
+    uint8_t j, best = 0;
+    int64_t bd = dist2(p, &c[0]);
+    for (j = 1; j < k; j++) {
+        int64_t d = dist2(p, &c[j]);
+        if (d < bd) {
+            bd = d;
+            best = j;
+        }
+    }
+    if (best_d != NULL)
+        *best_d = bd;
+    return best;
+}
+
+int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_centroid *c, uint8_t k)
+{
+    uint16_t i;
+    uint8_t m = 0;
+    if (pts == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K)
+        return SONAR_ERR_ARG;
+    for (i = 0; i < n && m == 0; i++)
+        if (pts[i].w > 0) {
+            c[0].x = pts[i].x;
+            c[0].y = pts[i].y;
+            m = 1;
+        }
+    while (m > 0 && m < k) {
+        int64_t far_d = 0;
+        int32_t far_i = -1;
+        for (i = 0; i < n; i++) {
+            int64_t d;
+            if (pts[i].w == 0)
+                continue;
+            (void)nearest(&pts[i], c, m, &d);
+            if (d > far_d) {
+                far_d = d;
+                far_i = i;
+            }
+        }
+        if (far_i < 0)
+            break; /* every point coincides with a centre */
+        c[m].x = pts[far_i].x;
+        c[m].y = pts[far_i].y;
+        m++;
+    }
+    return m;
+}
+
+/* Weighted mean rounded half away from zero, so results do not depend on the platform's division. */
+static int32_t rounded_mean(int64_t sum, uint64_t w)
+{
+    int64_t half = (int64_t)(w / 2u);
+    return (int32_t)(sum >= 0 ? (sum + half) / (int64_t)w : -((-sum + half) / (int64_t)w));
+}
+
+int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+                       uint8_t k, uint8_t iterations)
+{
+    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
+    uint64_t sw[SONAR_KMEANS_MAX_K];
+    unsigned it;
+    uint16_t i;
+    uint8_t j;
+    if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1)
+        return SONAR_ERR_ARG;
+    memset(labels, SONAR_KMEANS_SKIP, n);
+    for (it = 0; it < iterations; it++) {
+        unsigned changed = 0;
+        memset(sx, 0, sizeof(sx));
+        memset(sy, 0, sizeof(sy));
+        memset(sw, 0, sizeof(sw));
+        for (i = 0; i < n; i++) {
+            uint8_t l;
+            if (pts[i].w == 0)
+                continue;
+            l = nearest(&pts[i], c, k, NULL);
+            changed += l != labels[i];
+            labels[i] = l;
+            sx[l] += (int64_t)pts[i].x * pts[i].w;
+            sy[l] += (int64_t)pts[i].y * pts[i].w;
+            sw[l] += pts[i].w;
+        }
+        /* Invariant: labels hold the nearest centre of the centres used this round. */
+        if (changed == 0)
+            return (int)it + 1;
+        for (j = 0; j < k; j++)
+            if (sw[j] > 0) {
+                c[j].x = rounded_mean(sx[j], sw[j]);
+                c[j].y = rounded_mean(sy[j], sw[j]);
+            }
+    }
+    return (int)iterations;
+}
+
+double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
+                            const struct sonar_centroid *c)
+{
+    double s = 0.0;
+    uint16_t i;
+    for (i = 0; i < n; i++)
+        if (pts[i].w > 0 && labels[i] != SONAR_KMEANS_SKIP)
+            s += (double)pts[i].w * (double)dist2(&pts[i], &c[labels[i]]);
+    return s;
+}

@@ -1,0 +1,135 @@
+/* pipeline.c -- glue of the per-beam stages and the per-sweep detector; adds O(1) work per beam, no heap. */
+#include "sonar/pipeline.h"
+
+#include <string.h>
+
+void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
+{
+    memset(cfg, 0, sizeof(*cfg));
+    cfg->median = 5;
+    cfg->median2d = 0;
+    cfg->max_step = 20;
+    cfg->background.mode = SONAR_BACKGROUND_PER_ANGLE;
+    cfg->background.warmup = 2;
+    cfg->background.step = 1;
+    cfg->background.margin = 8;
+    cfg->detector.threshold_k = 3.0f;
+    cfg->detector.min_threshold = 16;
+    cfg->detector.max_clusters = 8;
+    cfg->detector.iterations = 10;
+    cfg->detector.link_beams = 2;
+    cfg->detector.min_points = 20;
+    cfg->detector.link_m = 0.15f;
+    cfg->detector.angle_offset = 0.0f;
+}
+
+int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg)
+{
+    int r;
+    if (p == NULL || cfg == NULL)
+        return SONAR_ERR_ARG;
+    if (cfg->median2d == 0 && cfg->median != 1 && (cfg->median < 3 || cfg->median > SONAR_MAX_MEDIAN || !(cfg->median & 1u)))
+        return SONAR_ERR_ARG;
+    memset(p, 0, sizeof(*p));
+    p->cfg = cfg;
+    if ((r = sonar_sweep_init(&p->sweep, cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
+        return r;
+    if (cfg->median2d != 0 && (r = sonar_median2d_init(&p->m2d, cfg->median2d)) != SONAR_OK)
+        return r;
+    if ((r = sonar_background_init(&p->bg, &cfg->background)) != SONAR_OK)
+        return r;
+    return sonar_detector_init(&p->det, &cfg->detector);
+}
+
+static void emit(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
+{
+    struct sonar_beam b;
+    if (p->cfg->on_beam == NULL)
+        return;
+    b.utime = utime;
+    b.angle = angle;
+    b.n = p->n;
+    b.range_m = p->range_m;
+    b.samples = s;
+    p->cfg->on_beam(p->cfg->user, stage, &b);
+}
+
+/* Median output -> background -> detector. */
+static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
+{
+    int r;
+    emit(p, SONAR_STAGE_MEDIAN, utime, angle, p->filt);
+    if ((r = sonar_background_apply(&p->bg, angle, p->filt, p->fg, p->n)) != SONAR_OK)
+        return r;
+    emit(p, SONAR_STAGE_FOREGROUND, utime, angle, p->fg);
+    r = sonar_detector_add(&p->det, angle, p->fg, p->n, p->range_m, utime);
+    /* The sweep tracker cuts at SONAR_MAX_SWEEP_BEAMS, so FULL cannot happen here. */
+    return r == SONAR_ERR_FULL ? SONAR_OK : r;
+}
+
+static int end_sweep(struct sonar_pipeline *p)
+{
+    struct sonar_median_row meta;
+    int r;
+    if (!p->open)
+        return SONAR_OK;
+    if (p->cfg->median2d != 0)
+        while ((r = sonar_median2d_flush(&p->m2d, p->filt, &meta)) == 1)
+            if ((r = after_median(p, meta.utime, meta.angle)) != SONAR_OK)
+                return r;
+    if ((r = sonar_detector_end(&p->det, &p->out)) < 0)
+        return r;
+    p->open = 0;
+    p->sweeps++;
+    if (p->cfg->on_sweep != NULL)
+        p->cfg->on_sweep(p->cfg->user, &p->out);
+    return SONAR_OK;
+}
+
+int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
+{
+    int r, cut;
+    int changed;
+    if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
+        b->angle > 399u || !(b->range_m > 0.0f))
+        return SONAR_ERR_ARG;
+    changed = p->n != 0 && (b->n != p->n || b->range_m != p->range_m);
+    if (changed) {
+        /* New geometry: the old background and the open sweep's cells no longer line up. */
+        if ((r = end_sweep(p)) != SONAR_OK)
+            return r;
+        sonar_background_reset(&p->bg);
+        if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
+            return r;
+    }
+    p->n = b->n;
+    p->range_m = b->range_m;
+    emit(p, SONAR_STAGE_RAW, b->utime, b->angle, b->samples);
+    cut = sonar_sweep_step(&p->sweep, b->angle);
+    if (cut != SONAR_SWEEP_SAME && (r = end_sweep(p)) != SONAR_OK)
+        return r;
+    p->open = 1;
+    p->beams++;
+    if (p->cfg->median2d != 0) {
+        struct sonar_median_row in, out;
+        in.utime = b->utime;
+        in.angle = b->angle;
+        in.tag = 0;
+        r = sonar_median2d_push(&p->m2d, b->samples, b->n, &in, p->filt, &out);
+        if (r < 0)
+            return r;
+        return r == 1 ? after_median(p, out.utime, out.angle) : SONAR_OK;
+    }
+    if (p->cfg->median == 1)
+        memcpy(p->filt, b->samples, b->n);
+    else if ((r = sonar_median_1d(b->samples, p->filt, b->n, p->cfg->median)) != SONAR_OK)
+        return r;
+    return after_median(p, b->utime, b->angle);
+}
+
+int sonar_pipeline_finish(struct sonar_pipeline *p)
+{
+    if (p == NULL || p->cfg == NULL)
+        return SONAR_ERR_ARG;
+    return end_sweep(p);
+}

@@ -1,0 +1,18 @@
+#!/bin/sh
+# deps.sh -- installs the Debian packages sonard's build, tests and tools need, only those missing; idempotent.
+set -eu
+pkgs="make gcc g++ clang pkg-config binutils libcmocka-dev libopencv-dev gcc-arm-none-eabi libnewlib-arm-none-eabi python3 python3-venv python3-numpy"
+[ "$#" -gt 0 ] && pkgs="$*"
+missing=""
+for p in $pkgs; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+[ -z "$missing" ] && exit 0
+echo "deps: installing:$missing"
+if [ "$(id -u)" -eq 0 ]; then sudo=""; elif command -v sudo >/dev/null 2>&1; then sudo="sudo"; else
+    echo "deps: not root and no sudo; install these by hand:$missing" >&2; exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+# shellcheck disable=SC2086
+$sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null
