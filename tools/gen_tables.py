@@ -51,7 +51,10 @@ def main():
         net = selection_network(n)
         body = ", ".join("{%d, %d}" % p for p in net)
         print("/* median of %d: %d comparators; output in element %d */" % (n, len(net), n // 2))
-        print("static const uint8_t sonar_net%d[%d][2] = {%s};\n" % (n, len(net), body))
+        print("static const uint8_t sonar_net%d[%d][2] = {%s};" % (n, len(net), body))
+        # The same network as straight-line code over v[0..n), for loops the compiler vectorises.
+        print("#define SONAR_NET%d_APPLY(v, CE) %s" % (n, " ".join("CE(v[%d], v[%d])" % p for p in net)))
+        print("#define SONAR_NET%d_LOAD(v, q, j) %s\n" % (n, " ".join("v[%d] = (q)[(j) + %d];" % (k, k) for k in range(n))))
     vals = [int(round(math.cos(a * math.pi / 200.0) * 65536.0)) for a in range(400)]
     print("/* cos(a * 0.9 deg) * 65536 for a = 0..399 gradians; sin(a) = cos(a - 100). */")
     print("static const int32_t sonar_cos_q16[400] = {")

@@ -54,7 +54,7 @@
 
 /* Hull vertices reported per detection; longer hulls are thinned evenly (still convex). */
 #ifndef SONAR_MAX_HULL
-#define SONAR_MAX_HULL 24
+#define SONAR_MAX_HULL 16
 #endif
 
 /* Points the incremental hull holds before it folds them into the hull so far. RAM: 24 bytes each. */

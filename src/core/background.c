@@ -23,34 +23,60 @@ void sonar_background_reset(struct sonar_background *bg)
     bg->n = 0;
 }
 
-/* Warm-up: running mean of the first observations, which the ±step tracker then refines. A cell
- * still being seeded has no model to compare with, so it reports no foreground. */
-static void seed(uint8_t *b, const uint8_t *in, uint8_t *fg, uint16_t n, unsigned v)
-{
-    uint16_t i;
-    memset(fg, 0, n);
-    for (i = 0; i < n; i++) {
-        int d = (int)in[i] - (int)b[i];
-        if (v == 1)
-            b[i] = in[i];
-        else
-            b[i] = (uint8_t)((int)b[i] + (d >= 0 ? (d + (int)v / 2) / (int)v : -((-d + (int)v / 2) / (int)v)));
+#define BLOCK 64
+
+/*
+ * Warm-up: running mean of the first observations, b += (x - b) / v rounded half away from zero,
+ * which the ±step tracker then refines. A cell still being seeded has no model to compare with,
+ * so it reports no foreground. The division is a multiply by m = ceil(2^16 / v) and a shift:
+ * exact here, since the numerator is at most 255 + 32 and v at most 64 (the rounding error
+ * stays below 1/v). Byte min/max and no branches, so full blocks vectorise.
+ */
+#define SEED_SPAN(b, in, len)                                                                                      \
+    for (i = 0; i < (len); i++) {                                                                                  \
+        uint8_t x = (in)[i], c = (b)[i];                                                                           \
+        uint8_t hi = x > c ? x : c, lo = x < c ? x : c;                                                            \
+        uint8_t q = (uint8_t)((((uint32_t)(hi - lo) + h) * m) >> 16);                                             \
+        (b)[i] = (uint8_t)(x >= c ? c + q : c - q);                                                                \
     }
+
+static void seed(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restrict fg, uint16_t n, unsigned v)
+{
+    uint32_t m = (65536u + v - 1u) / v, h = v / 2u;
+    int i, i0;
+    memset(fg, 0, n);
+    if (v == 1) {
+        memcpy(b, in, n);
+        return;
+    }
+    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
+        SEED_SPAN(b + i0, in + i0, BLOCK)
+    SEED_SPAN(b + i0, in + i0, (int)n - i0)
 }
 
-/* Steady state: byte-wise saturating arithmetic only, so the loop vectorises. */
+/*
+ * Steady state over len samples, as byte min/max only (no branches), so that with the constant
+ * len of a full block -O2 vectorises it: up = max(x, m) - m, dn = m - min(x, m).
+ */
+#define TRACK_SPAN(b, in, fg, len, step, margin)                                                                   \
+    for (i = 0; i < (len); i++) {                                                                                  \
+        uint8_t x = (in)[i], m = (b)[i];                                                                           \
+        uint8_t hi = x > m ? x : m, lo = x < m ? x : m;                                                            \
+        uint8_t up = (uint8_t)(hi - m), dn = (uint8_t)(m - lo);                                                    \
+        uint16_t g16 = (uint16_t)(((uint16_t)m * (margin)) >> 4);                                                  \
+        uint8_t gate = (uint8_t)(g16 < 255u ? g16 : 255u);                                                         \
+        uint8_t over = up > gate ? up : gate;                                                                      \
+        (fg)[i] = (uint8_t)(over - gate);                                                                          \
+        (b)[i] = (uint8_t)(m + (up < (step) ? up : (step)) - (dn < (step) ? dn : (step)));                         \
+    }
+
 static void track(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restrict fg, uint16_t n, uint8_t step,
                   uint8_t margin)
 {
-    uint16_t i;
-    for (i = 0; i < n; i++) {
-        uint8_t x = in[i], m = b[i];
-        uint8_t up = (uint8_t)(x > m ? x - m : 0);
-        uint8_t dn = (uint8_t)(m > x ? m - x : 0);
-        uint8_t gate = (uint8_t)(((unsigned)m * margin) >> 4 > 255u ? 255u : ((unsigned)m * margin) >> 4);
-        fg[i] = (uint8_t)(up > gate ? up - gate : 0);
-        b[i] = (uint8_t)(m + (up < step ? up : step) - (dn < step ? dn : step));
-    }
+    int i, i0;
+    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
+        TRACK_SPAN(b + i0, in + i0, fg + i0, BLOCK, step, margin)
+    TRACK_SPAN(b + i0, in + i0, fg + i0, (int)n - i0, step, margin)
 }
 
 int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)

@@ -73,12 +73,42 @@ static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uin
     d->nruns++;
 }
 
+#define BLOCK 64
+#define NBLOCKS ((SONAR_MAX_SAMPLES + BLOCK - 1) / BLOCK)
+
+/* Sum, sum of squares and the maximum of each 64-sample block; constant-length blocks, so -O2 vectorises them. */
+#define STATS_SPAN(p, len)                                                                                         \
+    for (j = 0; j < (len); j++) {                                                                                  \
+        uint8_t v = (p)[j];                                                                                        \
+        bs += v;                                                                                                   \
+        bq += (uint32_t)v * v;                                                                                     \
+        bm = v > bm ? v : bm;                                                                                      \
+    }
+
+static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, uint8_t *blockmax)
+{
+    uint32_t bs = 0, bq = 0;
+    uint8_t bm;
+    int j, j0, b = 0;
+    for (j0 = 0; j0 + BLOCK <= (int)n; j0 += BLOCK) {
+        bm = 0;
+        STATS_SPAN(fg + j0, BLOCK)
+        blockmax[b++] = bm;
+    }
+    bm = 0;
+    STATS_SPAN(fg + j0, (int)n - j0)
+    blockmax[b] = bm;
+    *s = bs;
+    *q = bq;
+}
+
 int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
                        int64_t utime)
 {
+    uint8_t blockmax[NBLOCKS + 1];
     uint32_t s = 0, q = 0;
-    uint8_t mx = 0, t;
-    uint16_t i, beam;
+    uint16_t i, beam, b, nb;
+    uint8_t t;
     if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > 399u || !(range_m > 0.0f))
         return SONAR_ERR_ARG;
     if (d->beams == 0) {
@@ -92,30 +122,34 @@ int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *
     beam = d->beams++;
     d->angles[beam] = angle;
     d->utime = utime;
-    for (i = 0; i < n; i++) {
-        uint8_t v = fg[i];
-        s += v;
-        q += (uint32_t)v * v;
-        mx = v > mx ? v : mx;
-    }
+    beam_stats(fg, n, &s, &q, blockmax);
     d->sum += s;
     d->sumsq += q;
     d->cells += n;
     t = threshold_now(d);
     d->threshold = t;
-    if (mx <= t)
-        return SONAR_OK;
-    for (i = 0; i < n;) {
-        uint16_t start;
-        uint32_t sum = 0;
-        if (fg[i] <= t) {
-            i++;
+    /* Runs: scan only the blocks whose maximum passes; a run may continue into the next block. */
+    nb = (uint16_t)((n + BLOCK - 1) / BLOCK);
+    for (b = 0, i = 0; b < nb; b++) {
+        uint16_t end = (uint16_t)((b + 1u) * BLOCK < n ? (b + 1u) * BLOCK : n);
+        if (blockmax[b] <= t) {
+            i = i > end ? i : end;
             continue;
         }
-        start = i;
-        while (i < n && fg[i] > t)
-            sum += fg[i++];
-        add_run(d, beam, start, (uint16_t)(i - start), sum);
+        if (i < b * BLOCK)
+            i = (uint16_t)(b * BLOCK);
+        while (i < end) {
+            uint16_t start;
+            uint32_t sum = 0;
+            if (fg[i] <= t) {
+                i++;
+                continue;
+            }
+            start = i;
+            while (i < n && fg[i] > t)
+                sum += fg[i++];
+            add_run(d, beam, start, (uint16_t)(i - start), sum);
+        }
     }
     return SONAR_OK;
 }

@@ -1,4 +1,4 @@
-/* median.c -- selection-network medians over 64-byte lanes (gcc vectorises the compare-exchange loop); stack <= 25 * 64 B, no heap. */
+/* median.c -- selection-network medians: 1-D as straight-line byte min/max over a padded beam, K x K over 64-byte lanes; stack <= 1.6 KB, no heap. */
 #include "sonar/median.h"
 
 #include <string.h>
@@ -60,24 +60,53 @@ static void load_lane(uint8_t *lane, const uint8_t *in, int32_t s, uint16_t n)
     }
 }
 
+/* Min to a, max to b; the compiler turns these into byte min/max instructions. */
+#define CE(a, b)                                                                                                   \
+    {                                                                                                              \
+        uint8_t lo_ = (a) < (b) ? (a) : (b), hi_ = (a) < (b) ? (b) : (a);                                        \
+        (a) = lo_;                                                                                                 \
+        (b) = hi_;                                                                                                 \
+    }
+
+/* out[j] for j in [j0, j0 + len): the window of out[j] starts at q[j], q = pad + j0 + PAD - W/2. */
+#define MEDIAN_SPAN(W, q, o, len)                                                                                  \
+    for (j = 0; j < (len); j++) {                                                                                  \
+        uint8_t v[W];                                                                                              \
+        SONAR_NET##W##_LOAD(v, q, j)                                                                               \
+        SONAR_NET##W##_APPLY(v, CE)                                                                                \
+        (o)[j] = v[(W) / 2];                                                                                       \
+    }
+
+#define PAD (SONAR_MAX_MEDIAN / 2)
+
+/* Full 64-sample blocks have a constant trip count, so -O2 vectorises them; the tail runs scalar. */
+#define MEDIAN_BEAM(W)                                                                                             \
+    for (j0 = 0; j0 + LANES <= (int)n; j0 += LANES)                                                                \
+        MEDIAN_SPAN(W, pad + j0 + PAD - (W) / 2, out + j0, LANES)                                                  \
+    MEDIAN_SPAN(W, pad + j0 + PAD - (W) / 2, out + j0, (int)n - j0)
+
 int sonar_median_1d(const uint8_t *in, uint8_t *out, uint16_t n, uint8_t window)
 {
-    lane_t v[SONAR_MAX_MEDIAN];
-    struct net net;
-    uint32_t j0;
-    unsigned k, h;
-    if (in == NULL || out == NULL || n == 0 || window > SONAR_MAX_MEDIAN)
+    uint8_t pad[SONAR_MAX_SAMPLES + 2 * PAD];
+    int j0, j;
+    unsigned k;
+    if (in == NULL || out == NULL || n == 0 || n > SONAR_MAX_SAMPLES || window > SONAR_MAX_MEDIAN)
         return SONAR_ERR_ARG;
-    net = net_for(window);
-    if (net.ce == NULL)
-        return SONAR_ERR_ARG;
-    h = window / 2u;
-    for (j0 = 0; j0 < n; j0 += LANES) {
-        uint32_t w = n - j0 < LANES ? n - j0 : LANES;
-        for (k = 0; k < window; k++)
-            load_lane(v[k], in, (int32_t)j0 - (int32_t)h + (int32_t)k, n);
-        run_net(v, net);
-        memcpy(out + j0, v[h], w);
+    memcpy(pad + PAD, in, n);
+    for (k = 0; k < PAD; k++) {
+        pad[k] = in[0];
+        pad[PAD + n + k] = in[n - 1];
+    }
+    switch (window) {
+    case 3: MEDIAN_BEAM(3) break;
+    case 5: MEDIAN_BEAM(5) break;
+#if SONAR_MAX_MEDIAN >= 7
+    case 7: MEDIAN_BEAM(7) break;
+#endif
+#if SONAR_MAX_MEDIAN >= 9
+    case 9: MEDIAN_BEAM(9) break;
+#endif
+    default: return SONAR_ERR_ARG;
     }
     return SONAR_OK;
 }

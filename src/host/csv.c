@@ -6,6 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 int csv_open(struct csv_reader *r, const char *path)
 {
     memset(r, 0, sizeof(*r));
@@ -17,6 +21,8 @@ int csv_open(struct csv_reader *r, const char *path)
     r->f = fopen(path, "r");
     if (r->f == NULL)
         return -1;
+    /* Recordings are megabytes of text: read them in large blocks. */
+    setvbuf(r->f, r->iobuf, _IOFBF, sizeof(r->iobuf));
     r->owned = 1;
     return 0;
 }
@@ -28,39 +34,23 @@ void csv_close(struct csv_reader *r)
     r->f = NULL;
 }
 
-/* Splits at commas outside double quotes, in place; returns the field count (max cap). */
-static int split_fields(char *s, char **field, int cap)
+/* Next comma-separated field of *p (quotes and blanks around it stripped), NUL-terminated in place; NULL at the end. */
+static char *next_field(char **p)
 {
-    int n = 0, quoted = 0;
-    char *w = s;
-    field[n++] = w;
-    for (; *s != '\0'; s++) {
-        if (*s == '"') {
+    char *f = *p, *e;
+    int quoted = 0;
+    if (f == NULL)
+        return NULL;
+    for (e = f; *e != '\0' && (quoted || *e != ','); e++)
+        if (*e == '"')
             quoted = !quoted;
-            continue;
-        }
-        if (*s == ',' && !quoted) {
-            *w++ = '\0';
-            if (n == cap)
-                return -1;
-            field[n++] = w;
-            continue;
-        }
-        *w++ = *s;
-    }
-    *w = '\0';
-    return n;
-}
-
-static char *trim(char *s)
-{
-    char *e;
-    while (isspace((unsigned char)*s))
-        s++;
-    e = s + strlen(s);
-    while (e > s && isspace((unsigned char)e[-1]))
+    *p = *e == ',' ? e + 1 : NULL;
+    *e = '\0';
+    while (isspace((unsigned char)*f) || *f == '"')
+        f++;
+    while (e > f && (isspace((unsigned char)e[-1]) || e[-1] == '"'))
         *--e = '\0';
-    return s;
+    return f;
 }
 
 static int parse_i64(const char *s, int64_t *v)
@@ -101,16 +91,18 @@ static void meta(struct csv_row *row, const char *tok)
             *dst[i] = v;
 }
 
-/* Parses the timestamp and angle fields; returns the index of the first sample field or -1. */
-static int parse_head(char **field, int nf, struct csv_row *row, char *err, size_t errlen)
+/* Parses the timestamp and angle fields off *p. Returns 0, or -1 with err set. */
+static int parse_head(char **p, struct csv_row *row, char *err, size_t errlen)
 {
-    char *t = trim(field[0]);
-    char *dot = strchr(t, '.');
+    char *t = next_field(p), *a, *dot;
     int64_t v;
-    int a;
-    if (dot != NULL) {
+    if (t == NULL || (dot = strchr(t, '.')) != NULL) {
         char frac[10] = "000000000";
         size_t fl;
+        if (t == NULL) {
+            snprintf(err, errlen, "empty row");
+            return -1;
+        }
         *dot = '\0';
         fl = strlen(dot + 1);
         if (parse_i64(t, &row->sec) != 0 || fl == 0 || fl > 9 || strspn(dot + 1, "0123456789") != fl) {
@@ -119,77 +111,205 @@ static int parse_head(char **field, int nf, struct csv_row *row, char *err, size
         }
         memcpy(frac, dot + 1, fl);
         row->nsec = (uint32_t)strtoul(frac, NULL, 10);
-        a = 1;
     } else {
-        if (nf < 2 || parse_i64(t, &row->sec) != 0) {
+        if (parse_i64(t, &row->sec) != 0) {
             snprintf(err, errlen, "timestamp seconds '%s' is not an integer", t);
             return -1;
         }
-        t = trim(field[1]);
-        if (parse_i64(t, &v) != 0 || v < 0 || v > 999999999) {
-            snprintf(err, errlen, "nanoseconds '%s' is not an integer 0..999999999", t);
+        t = next_field(p);
+        if (t == NULL || parse_i64(t, &v) != 0 || v < 0 || v > 999999999) {
+            snprintf(err, errlen, "nanoseconds '%s' is not an integer 0..999999999", t ? t : "");
             return -1;
         }
         row->nsec = (uint32_t)v;
-        a = 2;
     }
-    if (a >= nf) {
+    a = next_field(p);
+    if (a == NULL) {
         snprintf(err, errlen, "no angle column");
         return -1;
     }
-    t = trim(field[a]);
-    if (parse_i64(t, &v) != 0 || v < 0 || v > 399) {
-        snprintf(err, errlen, "angle '%s' is not an integer 0..399 gradians", t);
+    if (parse_i64(a, &v) != 0 || v < 0 || v > 399) {
+        snprintf(err, errlen, "angle '%s' is not an integer 0..399 gradians", a);
         return -1;
     }
     row->angle = (uint16_t)v;
-    return a + 1;
+    return 0;
+}
+
+/* Character classes of the sample tokenizer: separators (commas, quotes, blanks, the brackets of a
+ * printed array), digits, the terminating NUL, and anything else. */
+enum { C_OTHER = 0, C_SEP = 1, C_DIGIT = 2, C_END = 3 };
+
+static const unsigned char char_class[256] = {
+    [0] = C_END, [' '] = C_SEP, [','] = C_SEP, ['"'] = C_SEP, ['\t'] = C_SEP, ['\r'] = C_SEP, ['\n'] = C_SEP,
+    ['['] = C_SEP, [']'] = C_SEP, ['0'] = C_DIGIT, ['1'] = C_DIGIT, ['2'] = C_DIGIT, ['3'] = C_DIGIT,
+    ['4'] = C_DIGIT, ['5'] = C_DIGIT, ['6'] = C_DIGIT, ['7'] = C_DIGIT, ['8'] = C_DIGIT, ['9'] = C_DIGIT};
+
+/* A token that is not a plain number: a stray '...' (skipped), key=value metadata, or an error. */
+static int odd_token(struct csv_row *row, const char *tok, size_t len, unsigned long count, int *in_meta, char *err,
+                     size_t errlen)
+{
+    size_t k;
+    for (k = 0; k < len && tok[k] == '.'; k++)
+        ;
+    if (k == len)
+        return 0; /* the study's stray '...' */
+    if (memchr(tok, '=', len) != NULL && len < 64) {
+        char kv[64];
+        memcpy(kv, tok, len);
+        kv[len] = '\0';
+        *in_meta = 1;
+        meta(row, kv);
+        return 0;
+    }
+    snprintf(err, errlen, "sample %lu '%.*s' is not a number", count + 1, (int)(len > 20 ? 20 : len), tok);
+    return -1;
+}
+
+/*
+ * Fast path for plain "12 7 255 ..." text, which is where a replay spends its time: 64 bytes are
+ * classified at once into a digit bitmask, then every number in them is decoded independently
+ * (no chain through the previous token's length). It stops before the first byte that is neither
+ * a digit nor a blank/comma, at a token boundary, and returns there; the general path continues.
+ */
+static const char *fast_samples(const char *p, struct csv_row *row, unsigned long *count)
+{
+    static const unsigned m0[3] = {1, 10, 100}, m1[3] = {0, 1, 10}, m2[3] = {0, 0, 1};
+    unsigned long n = *count;
+    for (;;) {
+        uint64_t dig = 0, sep = 0, ok, starts, ends;
+        unsigned i, stop = 64;
+        int more;
+#ifdef __SSE2__
+        for (i = 0; i < 64; i += 16) {
+            __m128i c = _mm_loadu_si128((const __m128i *)(const void *)(p + i));
+            /* digits: '0' <= c <= '9' as signed bytes (all ASCII digits are positive) */
+            __m128i d = _mm_and_si128(_mm_cmpgt_epi8(c, _mm_set1_epi8('0' - 1)), _mm_cmplt_epi8(c, _mm_set1_epi8('9' + 1)));
+            __m128i b = _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8(' ')), _mm_cmpeq_epi8(c, _mm_set1_epi8(','))),
+                                     _mm_or_si128(_mm_cmpeq_epi8(c, _mm_set1_epi8('"')), _mm_cmpeq_epi8(c, _mm_set1_epi8('\t'))));
+            dig |= (uint64_t)(unsigned)_mm_movemask_epi8(d) << i;
+            sep |= (uint64_t)(unsigned)_mm_movemask_epi8(b) << i;
+        }
+#else
+        for (i = 0; i < 64; i++) {
+            unsigned char c = (unsigned char)p[i];
+            dig |= (uint64_t)((unsigned)(c - '0') < 10u) << i;
+            sep |= (uint64_t)(c == ' ' || c == ',' || c == '"' || c == '\t') << i;
+        }
+#endif
+        ok = dig | sep;
+        more = ~ok == 0; /* the whole block is digits and separators: go on after it */
+        if (!more)
+            stop = (unsigned)__builtin_ctzll(~ok); /* first byte to leave to the general path */
+        /* Only whole tokens: back up to the blank before a token the stop byte (or byte 64) cuts. */
+        if (stop > 0 && ((dig >> (stop - 1)) & 1u))
+            while (stop > 0 && ((dig >> (stop - 1)) & 1u))
+                stop--;
+        if (stop == 0)
+            break;
+        dig &= stop == 64 ? ~(uint64_t)0 : (((uint64_t)1 << stop) - 1u);
+        starts = dig & ~(dig << 1);
+        ends = dig & ~(dig >> 1);
+        /* Byte 0 cannot continue a token: the previous block ended on a blank or at the start. */
+        while (starts != 0) {
+            unsigned a = (unsigned)__builtin_ctzll(starts), b = (unsigned)__builtin_ctzll(ends), v;
+            const unsigned char *t = (const unsigned char *)p + a;
+            unsigned c0, c1, c2;
+            if (b - a > 2 || n >= SONAR_MAX_SAMPLES)
+                goto done_at; /* 4+ digits or too many samples: the general path reports it */
+            c0 = (unsigned)t[0] - '0';
+            c1 = (unsigned)t[1] - '0';
+            c2 = (unsigned)t[2] - '0';
+            /* branch-free: the multipliers of a 1-, 2- or 3-digit number (bytes past it count 0) */
+            v = c0 * m0[b - a] + c1 * m1[b - a] + c2 * m2[b - a];
+            if (v > 255u) {
+            done_at:
+                *count = n;
+                return p + a;
+            }
+            row->samples[n++] = (uint8_t)v;
+            starts &= starts - 1u;
+            ends &= ends - 1u;
+        }
+        p += stop;
+        if (!more)
+            break;
+    }
+    *count = n;
+    return p;
 }
 
 static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char *err, size_t errlen)
 {
-    char **field = r->field;
-    int nf, first, i;
+    const char *p;
+    char *rest = line;
     unsigned long count = 0;
     int in_meta = 0;
-    nf = split_fields(line, field, CSV_MAX_FIELDS);
-    if (nf < 0) {
-        snprintf(err, errlen, "too many columns (more than %d)", CSV_MAX_FIELDS);
-        return -1;
-    }
     row->range_m = row->sample_period = row->speed_of_sound = -1.0;
     row->gain = row->transmit_duration = row->transmit_frequency = -1.0;
-    if ((first = parse_head(field, nf, row, err, errlen)) < 0)
+    if (parse_head(&rest, row, err, errlen) != 0)
         return -1;
-    for (i = first; i < nf; i++) {
-        char *save = NULL, *tok;
-        for (tok = strtok_r(field[i], " \t\r\n[]", &save); tok != NULL; tok = strtok_r(NULL, " \t\r\n[]", &save)) {
-            int64_t v;
-            if (strspn(tok, ".") == strlen(tok))
-                continue; /* the study's stray '...' */
-            if (strchr(tok, '=') != NULL) {
-                in_meta = 1;
-                meta(row, tok);
+    if (rest != NULL)
+        rest = (char *)(uintptr_t)fast_samples(rest, row, &count);
+    /* The general path, from the first byte the fast path did not take; the common token
+     * (1-3 digits, then a blank or a comma) takes a short path and anything else the general one. */
+    for (p = rest; p != NULL;) {
+        const char *tok = p;
+        const unsigned char *u = (const unsigned char *)p;
+        unsigned char cls;
+        unsigned v;
+        /* Four bytes at once (the buffer is padded): y holds each byte XOR '0', so a digit byte is
+         * < 10; bit 7 of ((y + 0x76) | y) flags the others (a carry only disturbs bytes after the
+         * first non-digit, which are not used). n = leading digits. */
+        uint32_t w = (uint32_t)u[0] | (uint32_t)u[1] << 8 | (uint32_t)u[2] << 16 | (uint32_t)u[3] << 24;
+        uint32_t y = w ^ 0x30303030u;
+        uint32_t nd = ((y + 0x76767676u) | y) & 0x80808080u;
+        if (nd != 0 && (nd & 0x80u) == 0 && !in_meta && count < SONAR_MAX_SAMPLES) {
+            unsigned n = (unsigned)__builtin_ctz(nd) >> 3; /* 1..3 */
+            unsigned d0 = y & 0xffu, d1 = (y >> 8) & 0xffu, d2 = (y >> 16) & 0xffu;
+            unsigned after = (w >> (8u * n)) & 0xffu;
+            v = n == 1 ? d0 : n == 2 ? d0 * 10u + d1 : d0 * 100u + d1 * 10u + d2;
+            cls = char_class[after];
+            if ((cls == C_SEP || cls == C_END) && v <= 255u) {
+                row->samples[count++] = (uint8_t)v;
+                /* consume one blank or comma with the number */
+                p += n + (after == ' ' || after == ',');
                 continue;
             }
-            if (in_meta) {
-                snprintf(err, errlen, "sample '%s' after metadata", tok);
-                return -1;
-            }
-            if (parse_i64(tok, &v) != 0) {
-                snprintf(err, errlen, "sample %lu '%s' is not a number", count + 1, tok);
-                return -1;
-            }
-            if (v < 0 || v > 255) {
-                snprintf(err, errlen, "sample %lu is %lld, outside 0..255", count + 1, (long long)v);
-                return -1;
-            }
-            if (count >= SONAR_MAX_SAMPLES) {
-                snprintf(err, errlen, "more than %d samples", SONAR_MAX_SAMPLES);
-                return -1;
-            }
-            row->samples[count++] = (uint8_t)v;
         }
+        cls = char_class[(unsigned char)*p];
+        if (cls == C_SEP) {
+            p++;
+            continue;
+        }
+        if (cls == C_END)
+            break;
+        v = 0;
+        while ((cls = char_class[(unsigned char)*p]) == C_DIGIT) {
+            if (v < 100000u)
+                v = v * 10u + (unsigned)(*p - '0');
+            p++;
+        }
+        if (cls == C_OTHER) {
+            while ((cls = char_class[(unsigned char)*p]) != C_SEP && cls != C_END)
+                p++;
+            if (odd_token(row, tok, (size_t)(p - tok), count, &in_meta, err, errlen) != 0)
+                return -1;
+            continue;
+        }
+        if (in_meta) {
+            snprintf(err, errlen, "sample '%.*s' after metadata", (int)(p - tok > 20 ? 20 : p - tok), tok);
+            return -1;
+        }
+        if (v > 255u) {
+            snprintf(err, errlen, "sample %lu is %.*s, outside 0..255", count + 1, (int)(p - tok > 20 ? 20 : p - tok), tok);
+            return -1;
+        }
+        if (count >= SONAR_MAX_SAMPLES) {
+            snprintf(err, errlen, "more than %d samples", SONAR_MAX_SAMPLES);
+            return -1;
+        }
+        row->samples[count++] = (uint8_t)v;
     }
     if (count == 0) {
         snprintf(err, errlen, "no samples");
@@ -204,16 +324,27 @@ static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char
     return 0;
 }
 
+static char *trim(char *s)
+{
+    char *e;
+    while (isspace((unsigned char)*s))
+        s++;
+    e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = '\0';
+    return s;
+}
+
 int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen)
 {
     for (;;) {
         size_t len;
         char *s;
-        if (fgets(r->buf, sizeof(r->buf), r->f) == NULL)
+        if (fgets(r->buf, CSV_LINE_MAX, r->f) == NULL)
             return 0;
         r->line++;
         len = strlen(r->buf);
-        if (len == sizeof(r->buf) - 1 && r->buf[len - 1] != '\n') {
+        if (len == CSV_LINE_MAX - 1 && r->buf[len - 1] != '\n') {
             int c;
             while ((c = fgetc(r->f)) != EOF && c != '\n')
                 ;

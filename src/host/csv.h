@@ -1,4 +1,4 @@
-/* csv.h -- reader and writer of the study's per-angle CSV rows (sec, nsec, angle, samples...), with line-numbered errors; ~70 KB per reader. */
+/* csv.h -- reader and writer of the study's per-angle CSV rows (sec, nsec, angle, samples...), with line-numbered errors; ~1.1 MB per reader (line and read buffers). */
 #ifndef SONARD_CSV_H
 #define SONARD_CSV_H
 
@@ -8,7 +8,6 @@
 #include "sonar/config.h"
 
 #define CSV_LINE_MAX 65536
-#define CSV_MAX_FIELDS (SONAR_MAX_SAMPLES + 64)
 
 /*
  * Accepted forms (any mix of commas and blanks between samples):
@@ -38,8 +37,8 @@ struct csv_reader {
     unsigned long bad;
     uint16_t expect_n;      /* samples per row, fixed by the first good row */
     int seen_data;
-    char buf[CSV_LINE_MAX];
-    char *field[CSV_MAX_FIELDS];
+    char buf[CSV_LINE_MAX + 64]; /* the tokenizer reads up to 63 bytes past the NUL */
+    char iobuf[1 << 20];
 };
 
 /* Opens path ("-" = stdin). Returns 0, or -1 with errno set. */

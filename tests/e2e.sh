@@ -1,0 +1,71 @@
+#!/bin/sh
+# e2e.sh -- end to end: simulated scenes through sonard --replay, scored against the truth; bad input and options.
+# Usage: sh tests/e2e.sh BUILD_DIR. Ends with "N passed, N failed"; exits 1 if anything failed.
+set -u
+B=${1:-build}
+T=$(mktemp -d /tmp/sonard-e2e.XXXXXX)
+trap 'rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
+ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
+check() { name=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$name"; else ko "$name"; sed 's/^/    /' "$T/out"; fi; }
+
+# Scenes. Pool: walls throughout, two gate posts from sweep 2, a moving buoy from sweep 3; scored
+# with sonard's DEFAULT configuration (median 5, per-angle background). Open water: objects from
+# the first ping, no walls; scored with --background range (a per-angle model would learn the
+# objects as background). Targets: precision and recall >= 0.95, centroid error <= 0.3 m.
+"$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json"
+"$B/sonar-sim" --scene open --seed 7 --out "$T/open.csv" --truth "$T/open.json"
+"$B/sonard" --replay "$T/pool.csv" --json > "$T/pool.jsonl" 2> "$T/pool.err"
+check "pool scene, default config: precision/recall >= 0.95, error <= 0.3 m" \
+    python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+"$B/sonard" --replay "$T/open.csv" --json --background range > "$T/open.jsonl" 2>/dev/null
+check "open water, --background range: precision/recall >= 0.95, error <= 0.3 m" \
+    python3 tools/score.py "$T/open.json" "$T/open.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+"$B/sonard" --replay "$T/pool.csv" --json --median 5x5 > "$T/pool55.jsonl" 2>/dev/null
+check "pool scene, --median 5x5 (the study's 2-D filter): recall >= 0.95" \
+    python3 tools/score.py "$T/pool.json" "$T/pool55.jsonl" --min-recall 0.95 --max-error 0.3
+# The study's method (range background, plain subtraction) on the pool: it finds the walls.
+"$B/sonard" --replay "$T/pool.csv" --json --background range --bg-margin 0 > "$T/study.jsonl" 2>/dev/null
+python3 tools/score.py "$T/pool.json" "$T/study.jsonl" --label "  study's method on the pool: " | head -1
+check "the study's range background scores below 0.5 precision on the pool (walls)" \
+    sh -c "! python3 tools/score.py '$T/pool.json' '$T/study.jsonl' --min-precision 0.5 >/dev/null"
+
+# Exports: every row comes out, and the export replays.
+"$B/sonard" --replay "$T/pool.csv" --quiet --csv-out "$T/fg.csv" --stage foreground > /dev/null 2>&1
+check "--csv-out writes one row per beam" test "$(wc -l < "$T/fg.csv")" -eq "$(wc -l < "$T/pool.csv")"
+check "--csv-out foreground replays cleanly" sh -c "'$B/sonard' --replay '$T/fg.csv' --quiet --background off 2>&1 | grep -q . && exit 1 || exit 0"
+
+# Bad rows: named with file and line, skipped; the run goes on; exit 0 while something was usable.
+head -3 "$T/pool.csv" > "$T/bad.csv"
+printf '1,0,12,"1 2 abc"\nnot,a,row\n1,0,13,"300 1 2"\n' >> "$T/bad.csv"
+sed -n 4,6p "$T/pool.csv" >> "$T/bad.csv"
+"$B/sonard" --replay "$T/bad.csv" --quiet > /dev/null 2> "$T/bad.err"; rc=$?
+check "bad rows: exit 0 with usable rows" test "$rc" -eq 0
+check "bad rows: file and line named" grep -q "bad.csv:4: sample 3 'abc' is not a number; row skipped" "$T/bad.err"
+check "bad rows: over 255 named" grep -q "bad.csv:6: sample 1 is 300, outside 0..255" "$T/bad.err"
+check "bad rows: summary counts" grep -q "3 rows skipped" "$T/bad.err"
+printf 'garbage\n\001\002\003\nx,y,z\n' > "$T/allbad.csv"
+"$B/sonard" --replay "$T/allbad.csv" > /dev/null 2>&1; rc=$?
+check "nothing usable: exit 1" test "$rc" -eq 1
+head -c 300000 /dev/urandom > "$T/random.csv"
+"$B/sonard" --replay "$T/random.csv" > /dev/null 2>&1; rc=$?
+check "random bytes: no crash, exit 1" test "$rc" -eq 1
+
+# Configuration errors name the option, the value and the unit.
+"$B/sonard" --replay "$T/pool.csv" --range 0 2> "$T/err" > /dev/null; rc=$?
+check "--range 0 rejected with exit 2" test "$rc" -eq 2
+check "--range error names unit" grep -q -- "--range: '0' is not a number in 1..60 metres" "$T/err"
+"$B/sonard" --replay "$T/pool.csv" --median 4 2> "$T/err" > /dev/null
+check "--median 4 rejected" grep -q -- "--median: '4' is even" "$T/err"
+"$B/sonard" --replay "$T/pool.csv" --background median 2> "$T/err" > /dev/null
+check "--background typo rejected" grep -q -- "--background: 'median' is not per-angle, range or off" "$T/err"
+"$B/sonard" --replay "$T/pool.csv" --clusters 2> "$T/err" > /dev/null
+check "missing value rejected" grep -q -- "--clusters: needs a value" "$T/err"
+"$B/sonard" --replay /nonexistent.csv 2> "$T/err" > /dev/null; rc=$?
+check "missing file: exit 2, named" sh -c "test $rc -eq 2 && grep -q '/nonexistent.csv: No such file' '$T/err'"
+check "--help lists every option with its default" sh -c "'$B/sonard' --help | grep -q -- '--iterations N .*default 10'"
+
+echo "e2e: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,162 @@
+/* test_background.c -- seeding, convergence to the median, clamping, contrast margin, range mode, resets. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sonar/background.h"
+
+static struct sonar_background bg;
+
+static void test_config_validation(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 0};
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    c.warmup = 0;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
+    c.warmup = 2;
+    c.step = 65;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
+    c.step = 1;
+    c.mode = 3;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
+    c.mode = 1;
+    c.margin = 65;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
+}
+
+/* The study's worked example (Fig. backgroundsubtraction): 60 - 55 = 5; below the background clamps to 0. */
+static void test_subtract_and_clamp(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 1, 1, 0};
+    uint8_t b0[4] = {55, 55, 200, 0}, x[4] = {60, 50, 255, 0}, fg[4];
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 10, b0, fg, 4), SONAR_OK);
+    assert_memory_equal(fg, "\0\0\0\0", 4); /* seeding: no model yet, no foreground */
+    assert_int_equal(sonar_background_apply(&bg, 10, x, fg, 4), SONAR_OK);
+    assert_int_equal(fg[0], 5);
+    assert_int_equal(fg[1], 0);
+    assert_int_equal(fg[2], 55);
+    assert_int_equal(fg[3], 0);
+    /* the model moved one level toward the observation */
+    assert_int_equal(bg.cell[10][0], 56);
+    assert_int_equal(bg.cell[10][1], 54);
+    /* another angle is a separate model */
+    assert_int_equal(sonar_background_apply(&bg, 11, x, fg, 4), SONAR_OK);
+    assert_memory_equal(fg, "\0\0\0\0", 4);
+}
+
+static void test_warmup_mean_then_median(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 4, 1, 0};
+    uint8_t x[1], fg[1];
+    static const uint8_t seq[4] = {10, 20, 30, 41};
+    int i;
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    for (i = 0; i < 4; i++) {
+        x[0] = seq[i];
+        assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 1), SONAR_OK);
+        assert_int_equal(fg[0], 0);
+    }
+    assert_int_equal(bg.cell[0][0], 25); /* running mean of 10, 20, 30, 41, rounded */
+    /* then a stream whose median is 100 with 30 % bright outliers: the tracker settles on ~100 */
+    srand(3);
+    for (i = 0; i < 2000; i++) {
+        x[0] = (uint8_t)(rand() % 10 < 3 ? 250 : 90 + rand() % 21);
+        assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 1), SONAR_OK);
+    }
+    assert_in_range(bg.cell[0][0], 95, 108);
+}
+
+/* The vectorised seeding divides by a multiply-shift: it must equal the exact rounded mean update. */
+static void test_seed_rounding_exhaustive(void **state)
+{
+    static uint8_t b[256], x[256], fg[256];
+    unsigned v, c, i;
+    (void)state;
+    for (v = 2; v <= 64; v++) {
+        struct sonar_background_config cfg = {SONAR_BACKGROUND_PER_ANGLE, 64, 1, 0};
+        for (c = 0; c < 256; c++) {
+            assert_int_equal(sonar_background_init(&bg, &cfg), SONAR_OK);
+            memset(b, (int)c, sizeof(b));
+            for (i = 0; i < 256; i++)
+                x[i] = (uint8_t)i;
+            /* visits 1..v-1 seed every cell with c, then visit v sees x */
+            for (i = 1; i < v; i++)
+                assert_int_equal(sonar_background_apply(&bg, 3, b, fg, 256), SONAR_OK);
+            assert_int_equal(sonar_background_apply(&bg, 3, x, fg, 256), SONAR_OK);
+            for (i = 0; i < 256; i++) {
+                int d = (int)i - (int)c;
+                int want = (int)c + (d >= 0 ? (d + (int)v / 2) / (int)v : -((-d + (int)v / 2) / (int)v));
+                if (bg.cell[3][i] != want)
+                    fail_msg("v=%u b=%u x=%u: got %u, want %d", v, c, i, bg.cell[3][i], want);
+            }
+        }
+    }
+}
+
+static void test_margin_scales_with_background(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 1, 1, 8};
+    uint8_t b0[2] = {100, 10}, x[2] = {160, 60}, fg[2];
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 5, b0, fg, 2), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 5, x, fg, 2), SONAR_OK);
+    assert_int_equal(fg[0], 60 - 50); /* margin 8/16 of 100 */
+    assert_int_equal(fg[1], 50 - 5);  /* of 10 */
+}
+
+static void test_range_mode_shares_bins_across_angles(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_RANGE, 1, 1, 0};
+    uint8_t a[3] = {50, 50, 50}, b[3] = {50, 90, 50}, fg[3];
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 0, a, fg, 3), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 200, b, fg, 3), SONAR_OK);
+    assert_int_equal(fg[0], 0);
+    assert_int_equal(fg[1], 40);
+}
+
+static void test_off_and_reset(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_OFF, 1, 1, 0};
+    uint8_t x[3] = {1, 2, 3}, fg[3];
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 3), SONAR_OK);
+    assert_memory_equal(fg, x, 3);
+    c.mode = SONAR_BACKGROUND_PER_ANGLE;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 3), SONAR_OK);
+    assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 3), SONAR_OK);
+    assert_int_equal(bg.visits[0], 2);
+    /* a new sample count invalidates every cell: the next beam seeds again */
+    assert_int_equal(sonar_background_apply(&bg, 0, x, fg, 2), SONAR_OK);
+    assert_int_equal(bg.visits[0], 1);
+    assert_int_equal(bg.n, 2);
+    assert_int_equal(sonar_background_apply(&bg, 400, x, fg, 2), SONAR_ERR_ARG);
+    assert_int_equal(sonar_background_apply(&bg, 0, x, fg, SONAR_MAX_SAMPLES + 1), SONAR_ERR_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_config_validation),
+        cmocka_unit_test(test_subtract_and_clamp),
+        cmocka_unit_test(test_warmup_mean_then_median),
+        cmocka_unit_test(test_seed_rounding_exhaustive),
+        cmocka_unit_test(test_margin_scales_with_background),
+        cmocka_unit_test(test_range_mode_shares_bins_across_angles),
+        cmocka_unit_test(test_off_and_reset),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,211 @@
+/* test_csv.c -- the study's CSV forms, metadata, and a named reason for every malformed row. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "csv.h"
+
+static struct csv_reader rd;
+static struct csv_row row;
+static char path[64];
+
+static void write_file(const char *text)
+{
+    int fd;
+    FILE *f;
+    strcpy(path, "/tmp/sonard-csv-XXXXXX");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    f = fdopen(fd, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    assert_int_equal(csv_open(&rd, path), 0);
+}
+
+static void done(void)
+{
+    csv_close(&rd);
+    unlink(path);
+}
+
+static void test_study_forms(void **state)
+{
+    char err[128];
+    (void)state;
+    write_file("timestamp_sec,timestamp_nsec,angle,data\n"
+               "1728153122,072070224,4,\"255 255 255  161 155 138  60 52 70\"\n"
+               "1728153122,72070224,5,255,255,255,161,155,138,60,52,70\n"
+               "1728153122.072070224,6,\"[255 255 255 ... 161 155 138 60 52 70]\"\n"
+               "\n"
+               "1728153123,5,7,255 255 255,161 155 138,60 52 70,range_m=2.5,gain=1\n");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(rd.line, 2);
+    assert_int_equal(row.sec, 1728153122);
+    assert_int_equal(row.nsec, 72070224);
+    assert_int_equal(row.angle, 4);
+    assert_int_equal(row.n, 9);
+    assert_int_equal(row.samples[3], 161);
+    assert_int_equal(row.samples[8], 70);
+    assert_true(row.range_m < 0);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.angle, 5);
+    assert_int_equal(row.n, 9);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.nsec, 72070224);
+    assert_int_equal(row.angle, 6);
+    assert_int_equal(row.samples[0], 255);
+    assert_int_equal(row.samples[8], 70);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(rd.line, 6);
+    assert_int_equal(row.nsec, 5);
+    assert_true(row.range_m == 2.5);
+    assert_true(row.gain == 1.0);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    assert_int_equal(rd.good, 4);
+    assert_int_equal(rd.bad, 0);
+    done();
+}
+
+static void expect_bad(const char *want)
+{
+    char err[128];
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), -1);
+    if (strstr(err, want) == NULL)
+        fail_msg("line %lu: got '%s', want '%s'", rd.line, err, want);
+}
+
+static void test_bad_rows_named_and_skipped(void **state)
+{
+    char err[128];
+    static char text[16384];
+    size_t n;
+    int i;
+    (void)state;
+    strcpy(text, "1,0,1,\"1 2 3\"\n"
+                 "1,0,2,\"1 2 x\"\n"
+                 "1,0,3,\"1 2 300\"\n"
+                 "1,0,4,\"1 2\"\n"
+                 "1,0,400,\"1 2 3\"\n"
+                 "1,1000000000,5,\"1 2 3\"\n"
+                 "1.x,6,\"1 2 3\"\n"
+                 "1,0,7\n"
+                 "1,0,8,\"1 2 3\"\n");
+    n = strlen(text);
+    n += (size_t)sprintf(text + n, "1,0,9,\"");
+    for (i = 0; i < SONAR_MAX_SAMPLES + 1; i++)
+        n += (size_t)sprintf(text + n, "1 ");
+    strcpy(text + n, "\"\n1,0,10,\"4 5 6\"\n");
+    write_file(text);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    expect_bad("sample 3 'x' is not a number");
+    assert_int_equal(rd.line, 2);
+    expect_bad("sample 3 is 300, outside 0..255");
+    expect_bad("2 samples, but the file's first row had 3");
+    expect_bad("angle '400' is not an integer 0..399");
+    expect_bad("nanoseconds '1000000000'");
+    expect_bad("timestamp '1.x' is not sec.nsec");
+    expect_bad("no samples");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.angle, 8);
+    expect_bad("more than 1200 samples");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.angle, 10);
+    assert_int_equal(rd.line, 11);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    assert_int_equal(rd.good, 3);
+    assert_int_equal(rd.bad, 8);
+    done();
+}
+
+static void test_overlong_line(void **state)
+{
+    char err[128];
+    static char text[CSV_LINE_MAX + 200];
+    (void)state;
+    memset(text, '1', sizeof(text));
+    memcpy(text, "1,0,1,\"", 7);
+    strcpy(text + CSV_LINE_MAX + 100, "\n1,0,2,\"9\"\n");
+    write_file(text);
+    expect_bad("line longer than");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.angle, 2);
+    assert_int_equal(rd.line, 2);
+    done();
+}
+
+/* Random rows in every spelling the tokenizer accepts, against a plain strtoul reference. */
+static void test_random_rows_match_reference(void **state)
+{
+    static char text[1 << 22];
+    static uint8_t want[400][SONAR_MAX_SAMPLES];
+    static const char *const seps[] = {" ", "  ", ",", " , ", "\t", "\" \"", " ... "};
+    char err[128];
+    size_t n = 0;
+    int r, i;
+    (void)state;
+    srand(99);
+    for (r = 0; r < 400; r++) {
+        int quoted = rand() % 2;
+        n += (size_t)sprintf(text + n, "%d,%d,%d,%s%s", 1700000000 + r, rand() % 1000000, r % 400, quoted ? "\"" : "",
+                             rand() % 5 == 0 ? "[" : "");
+        for (i = 0; i < 333; i++) {
+            int v = rand() % 4 == 0 ? rand() % 10 : rand() % 256;
+            want[r][i] = (uint8_t)v;
+            n += (size_t)sprintf(text + n, rand() % 9 == 0 ? "%03d" : rand() % 50 == 0 ? "%04d" : "%d", v);
+            if (i < 332)
+                n += (size_t)sprintf(text + n, "%s", quoted ? " " : seps[rand() % 7]);
+        }
+        n += (size_t)sprintf(text + n, "%s%s%s\n", quoted ? "\"" : "", rand() % 3 == 0 ? ",range_m=7.5" : "",
+                             rand() % 4 == 0 ? " " : "");
+    }
+    write_file(text);
+    for (r = 0; r < 400; r++) {
+        if (csv_next(&rd, &row, err, sizeof(err)) != 1)
+            fail_msg("row %d: %s", r + 1, err);
+        assert_int_equal(row.n, 333);
+        assert_memory_equal(row.samples, want[r], 333);
+    }
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    done();
+}
+
+static void test_writer_round_trip(void **state)
+{
+    char err[128];
+    uint8_t s[5] = {0, 1, 128, 254, 255};
+    FILE *f;
+    int fd;
+    (void)state;
+    strcpy(path, "/tmp/sonard-csv-XXXXXX");
+    fd = mkstemp(path);
+    f = fdopen(fd, "w");
+    assert_int_equal(csv_write(f, 1728153122, 72070224, 399, s, 5, 12.0), 0);
+    fclose(f);
+    assert_int_equal(csv_open(&rd, path), 0);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.nsec, 72070224);
+    assert_int_equal(row.angle, 399);
+    assert_memory_equal(row.samples, s, 5);
+    assert_true(row.range_m == 12.0);
+    done();
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_study_forms),
+        cmocka_unit_test(test_bad_rows_named_and_skipped),
+        cmocka_unit_test(test_overlong_line),
+        cmocka_unit_test(test_random_rows_match_reference),
+        cmocka_unit_test(test_writer_round_trip),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,209 @@
+/* test_detector.c -- grouping sets k (separate objects apart, one object whole), small groups dropped, wrap, offset, limits. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <math.h>
+
+#include "sonar/detector.h"
+#include "sonar/geometry.h"
+
+#define N 600
+#define RANGE 12.0f
+
+static struct sonar_detector det;
+static struct sonar_detections out;
+static uint8_t fg[400][N];
+
+static struct sonar_detector_config cfg(void)
+{
+    struct sonar_detector_config c;
+    memset(&c, 0, sizeof(c));
+    c.threshold_k = 3.0f;
+    c.min_threshold = 16;
+    c.max_clusters = 8;
+    c.iterations = 10;
+    c.link_beams = 2;
+    c.min_points = 20;
+    c.link_m = 0.15f;
+    return c;
+}
+
+/* A blob of level v over angles [a0, a1] (mod 400) and samples [s0, s1]. */
+static void blob(int a0, int a1, int s0, int s1, uint8_t v)
+{
+    int a, s;
+    for (a = a0; a <= a1; a++)
+        for (s = s0; s <= s1; s++)
+            fg[(a + 400) % 400][s] = v;
+}
+
+static int run_sweep(const struct sonar_detector_config *c)
+{
+    int a;
+    assert_int_equal(sonar_detector_init(&det, c), SONAR_OK);
+    for (a = 0; a < 400; a++)
+        assert_int_equal(sonar_detector_add(&det, (uint16_t)a, fg[a], N, RANGE, 1000 * a), SONAR_OK);
+    return sonar_detector_end(&det, &out);
+}
+
+static void expect_at(const struct sonar_detection *d, double angle, double sample)
+{
+    double x, y;
+    sonar_geometry_to_xy(angle, 0, sonar_geometry_sample_range((uint16_t)sample, N, RANGE) + 0.5 * RANGE / N * (sample - floor(sample)) * 2, &x, &y);
+    assert_true(fabs(d->x_m - x) < 0.03);
+    assert_true(fabs(d->y_m - y) < 0.03);
+}
+
+static void test_separate_objects_separate_detections(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(50, 54, 200, 219, 150); /* 5 x 20 cells */
+    blob(60, 64, 200, 219, 120); /* same range, 6 beams away: separate */
+    blob(300, 310, 400, 409, 200);
+    assert_int_equal(run_sweep(&c), 3);
+    assert_int_equal(out.groups, 3);
+    assert_int_equal(out.det[0].points, 110);
+    expect_at(&out.det[0], 305, 404.5);
+    assert_int_equal(out.det[1].points, 100);
+    assert_true(fabs(out.det[1].mean_intensity - 150.0f) < 1e-3 || fabs(out.det[1].mean_intensity - 120.0f) < 1e-3);
+    assert_true(out.det[0].area_m2 > 0.0f);
+    assert_int_equal(out.beams, 400);
+}
+
+static void test_one_object_stays_whole(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(100, 160, 300, 305, 90); /* an arc 61 beams wide: one wall-like object */
+    blob(120, 120, 306, 312, 90); /* touching bump */
+    c.max_clusters = 8;
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].points, 61 * 6 + 7);
+    /* its hull spans the arc: about 61 * 0.9 degrees at ~6 m */
+    assert_true(out.det[0].area_m2 > 0.1f);
+}
+
+static void test_small_groups_dropped_and_cap(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(10, 12, 100, 104, 200);  /* 15 cells: noise */
+    blob(30, 35, 100, 119, 200);  /* 120 */
+    blob(80, 84, 100, 119, 200);  /* 100 */
+    assert_int_equal(run_sweep(&c), 2);
+    assert_int_equal(out.groups, 2);
+    c.max_clusters = 1;
+    assert_int_equal(run_sweep(&c), 1);
+    /* the second group is not swallowed into the first: its hull stays small */
+    assert_int_equal(out.det[0].points, 120);
+    assert_true(out.det[0].area_m2 < 0.2f);
+    assert_int_equal(out.groups, 2);
+}
+
+static void test_wrap_joins_across_zero(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(397, 402, 250, 259, 180); /* angles 397..399 and 0..2 */
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].points, 60);
+    assert_true(out.det[0].x_m > 0.0f);
+    assert_true(fabs(out.det[0].y_m) < 0.05f);
+}
+
+static void test_angle_offset_rotates(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    float x0, y0;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(40, 44, 100, 119, 200);
+    assert_int_equal(run_sweep(&c), 1);
+    x0 = out.det[0].x_m;
+    y0 = out.det[0].y_m;
+    c.angle_offset = 100.0f; /* 90 degrees */
+    assert_int_equal(run_sweep(&c), 1);
+    assert_true(fabs(out.det[0].x_m + y0) < 1e-3);
+    assert_true(fabs(out.det[0].y_m - x0) < 1e-3);
+    assert_true(fabs(out.det[0].bearing_deg - sonar_geometry_bearing_deg(-y0, x0)) < 0.01);
+}
+
+static void test_threshold_uses_previous_sweep(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int a, s;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    for (a = 0; a < 400; a++)
+        for (s = 0; s < N; s++)
+            fg[a][s] = (uint8_t)((a * 7 + s * 13) % 41); /* spread 0..40: mean 20, std ~11.8 */
+    assert_int_equal(run_sweep(&c), 0);
+    /* first sweep: its own statistics so far; floor(20 + 3 * 11.8) = 55 > 40: nothing passes */
+    assert_int_equal(out.threshold, 55);
+    assert_int_equal(out.runs, 0);
+    /* a second sweep of zeros uses the first sweep's statistics, not its own */
+    memset(fg, 0, sizeof(fg));
+    for (a = 0; a < 400; a++)
+        assert_int_equal(sonar_detector_add(&det, (uint16_t)a, fg[a], N, RANGE, 0), SONAR_OK);
+    assert_int_equal(det.threshold, 55);
+    assert_int_equal(sonar_detector_end(&det, &out), 0);
+}
+
+static void test_run_overflow_counted(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int a, s;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    for (a = 0; a < 400; a++)
+        for (s = 0; s < N; s += 2)
+            fg[a][s] = 250; /* isolated cells: 300 runs a beam */
+    c.min_threshold = 100;
+    c.threshold_k = 0.0f;
+    /* every kept cell is within link_m of the next: one group */
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.runs, SONAR_MAX_RUNS);
+    assert_int_equal(out.det[0].points, SONAR_MAX_RUNS);
+    assert_int_equal(out.runs_dropped, 400u * 300u - SONAR_MAX_RUNS);
+}
+
+static void test_bad_input(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    uint8_t b[4] = {0};
+    (void)state;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    assert_int_equal(sonar_detector_add(&det, 400, b, 4, 1.0f, 0), SONAR_ERR_ARG);
+    assert_int_equal(sonar_detector_add(&det, 0, b, 4, 1.0f, 0), SONAR_OK);
+    assert_int_equal(sonar_detector_add(&det, 1, b, 3, 1.0f, 0), SONAR_ERR_STATE);
+    assert_int_equal(sonar_detector_add(&det, 1, b, 4, 2.0f, 0), SONAR_ERR_STATE);
+    c.max_clusters = 0;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+    c = cfg();
+    c.link_m = 11.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_separate_objects_separate_detections),
+        cmocka_unit_test(test_one_object_stays_whole),
+        cmocka_unit_test(test_small_groups_dropped_and_cap),
+        cmocka_unit_test(test_wrap_joins_across_zero),
+        cmocka_unit_test(test_angle_offset_rotates),
+        cmocka_unit_test(test_threshold_uses_previous_sweep),
+        cmocka_unit_test(test_run_overflow_counted),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

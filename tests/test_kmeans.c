@@ -1,0 +1,102 @@
+/* test_kmeans.c -- seeding, Lloyd on hand-made blobs, weights, skipped points, determinism. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include <cmocka.h>
+
+#include "sonar/kmeans.h"
+
+static void test_two_blobs(void **state)
+{
+    struct sonar_point p[8] = {{0, 0, 1}, {10, 0, 1}, {0, 10, 1}, {10, 10, 1},
+                               {1000, 1000, 1}, {1010, 1000, 1}, {1000, 1010, 1}, {1010, 1010, 1}};
+    struct sonar_centroid c[2];
+    uint8_t l[8];
+    int i;
+    (void)state;
+    assert_int_equal(sonar_kmeans_seed(p, 8, c, 2), 2);
+    assert_int_equal(c[0].x, 0);
+    assert_int_equal(c[1].x, 1010); /* farthest from (0, 0) */
+    assert_true(sonar_kmeans_lloyd(p, 8, l, c, 2, 10) >= 1);
+    for (i = 0; i < 4; i++) {
+        assert_int_equal(l[i], 0);
+        assert_int_equal(l[i + 4], 1);
+    }
+    assert_int_equal(c[0].x, 5);
+    assert_int_equal(c[0].y, 5);
+    assert_int_equal(c[1].x, 1005);
+    assert_true(sonar_kmeans_inertia(p, 8, l, c) == 8 * 50.0);
+}
+
+static void test_weights_and_skips(void **state)
+{
+    struct sonar_point p[3] = {{0, 0, 3}, {100, 0, 1}, {5000, 5000, 0}};
+    struct sonar_centroid c[1] = {{7, 7}};
+    uint8_t l[3];
+    (void)state;
+    assert_true(sonar_kmeans_lloyd(p, 3, l, c, 1, 5) >= 1);
+    assert_int_equal(c[0].x, 25); /* (0*3 + 100*1) / 4 */
+    assert_int_equal(c[0].y, 0);
+    assert_int_equal(l[2], SONAR_KMEANS_SKIP);
+    /* seeding ignores weight-0 points and stops at the distinct points */
+    assert_int_equal(sonar_kmeans_seed(p, 3, c, 1), 1);
+    {
+        struct sonar_point same[3] = {{4, 4, 1}, {4, 4, 2}, {4, 4, 1}};
+        struct sonar_centroid c3[3];
+        assert_int_equal(sonar_kmeans_seed(same, 3, c3, 3), 1);
+    }
+    assert_int_equal(sonar_kmeans_lloyd(p, 3, l, c, 0, 5), SONAR_ERR_ARG);
+    assert_int_equal(sonar_kmeans_lloyd(p, 3, l, c, 1, 0), SONAR_ERR_ARG);
+}
+
+static void test_empty_cluster_keeps_centre(void **state)
+{
+    struct sonar_point p[2] = {{0, 0, 1}, {2, 0, 1}};
+    struct sonar_centroid c[2] = {{1, 0}, {100000, 100000}};
+    uint8_t l[2];
+    (void)state;
+    assert_true(sonar_kmeans_lloyd(p, 2, l, c, 2, 3) >= 1);
+    assert_int_equal(c[1].x, 100000);
+    assert_int_equal(l[0], 0);
+    assert_int_equal(l[1], 0);
+}
+
+static void test_deterministic_and_bounded(void **state)
+{
+    static struct sonar_point p[3000];
+    struct sonar_centroid a[6], b[6];
+    static uint8_t la[3000], lb[3000];
+    int i, ra, rb;
+    (void)state;
+    srand(5);
+    for (i = 0; i < 3000; i++) {
+        p[i].x = (i % 6) * 3000 + rand() % 900;
+        p[i].y = (i % 6) * -2000 + rand() % 900;
+        p[i].w = 1u + (unsigned)(rand() % 5);
+    }
+    assert_int_equal(sonar_kmeans_seed(p, 3000, a, 6), 6);
+    assert_int_equal(sonar_kmeans_seed(p, 3000, b, 6), 6);
+    ra = sonar_kmeans_lloyd(p, 3000, la, a, 6, 10);
+    rb = sonar_kmeans_lloyd(p, 3000, lb, b, 6, 10);
+    assert_in_range(ra, 1, 10);
+    assert_int_equal(ra, rb);
+    assert_memory_equal(la, lb, sizeof(la));
+    assert_memory_equal(a, b, sizeof(a));
+    /* the six blobs come out whole: every blob's points share one label */
+    for (i = 6; i < 3000; i++)
+        assert_int_equal(la[i], la[i % 6]);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_two_blobs),
+        cmocka_unit_test(test_weights_and_skips),
+        cmocka_unit_test(test_empty_cluster_keeps_centre),
+        cmocka_unit_test(test_deterministic_and_bounded),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,206 @@
+/* bench.c -- per-stage speed of the core on a 400 x 1200 sweep, with memcpy of the same bytes as the yardstick; writes the data for bench_opencv. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sonar/background.h"
+#include "sonar/detector.h"
+#include "sonar/hull.h"
+#include "sonar/kmeans.h"
+#include "sonar/median.h"
+
+#define BEAMS 400
+#define N 1200
+#define REPS 41
+#define SWEEPS 4
+
+static uint8_t sweeps[SWEEPS][BEAMS][N];
+#define sweep sweeps[0]
+static uint8_t filt[N], fg[N], copy[BEAMS][N];
+static struct sonar_background bg;
+static struct sonar_detector det;
+static struct sonar_detections out, worst_out;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static int cmpd(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median_of(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof(double), cmpd);
+    return v[n / 2];
+}
+
+/*
+ * Sonar-like sweeps: fresh speckle ((a^2 + b^2) >> 7, as in algorithms.md) every sweep, a static
+ * wall, and 20 bright 9 x 21 blobs that move between sweeps, so the background has a steady
+ * state and the foreground has objects, like a real scene.
+ */
+static void make_sweeps(void)
+{
+    int s, i, j, k;
+    srand(42);
+    for (s = 0; s < SWEEPS; s++) {
+        for (i = 0; i < BEAMS; i++)
+            for (j = 0; j < N; j++) {
+                int a = rand() % 64, b = rand() % 64;
+                sweeps[s][i][j] = (uint8_t)((a * a + b * b) >> 7);
+                if (j >= 900 + i / 8 && j < 910 + i / 8)
+                    sweeps[s][i][j] = (uint8_t)(120 + rand() % 60);
+            }
+        for (k = 0; k < 20; k++) {
+            int bi = (k * 19 + s * 11) % (BEAMS - 9), bj = 50 + (k * 41 + s * 3) % (N - 300);
+            for (i = bi; i < bi + 9; i++)
+                for (j = bj; j < bj + 21; j++)
+                    sweeps[s][i][j] = (uint8_t)(150 + rand() % 100);
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : "/tmp";
+    double t_med[REPS], t_step[REPS], t_cpy[REPS], t_det[REPS], t_km[REPS], t_bg[REPS], t_st[REPS], t_2d[REPS];
+    static struct sonar_median2d m2d;
+    struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+    struct sonar_detector_config dc = {3.0f, 16, 8, 10, 2, 20, 0.15f, 0.0f};
+    static struct sonar_point pts[5000];
+    static uint8_t labels[5000];
+    static struct sonar_hull_point hp[5000], hull[10000];
+    struct sonar_centroid c[6];
+    char path[512];
+    FILE *f;
+    int r, i, j, sink = 0;
+    unsigned worst_runs = 0;
+
+    make_sweeps();
+    snprintf(path, sizeof(path), "%s/bench_sweep.bin", dir);
+    f = fopen(path, "wb");
+    if (f == NULL || fwrite(sweep, 1, sizeof(sweep), f) != sizeof(sweep) || fclose(f) != 0) {
+        perror(path);
+        return 1;
+    }
+    if (sonar_background_init(&bg, &bc) != SONAR_OK || sonar_detector_init(&det, &dc) != SONAR_OK)
+        return 1;
+    /* Warm the background past its seeding so the steady-state path is what gets timed. */
+    for (r = 0; r < 8; r++)
+        for (i = 0; i < BEAMS; i++) {
+            if (sonar_median_1d(sweeps[r % SWEEPS][i], filt, N, 5) != SONAR_OK ||
+                sonar_background_apply(&bg, (uint16_t)i, filt, fg, N) != SONAR_OK ||
+                sonar_detector_add(&det, (uint16_t)i, fg, N, 20.0f, 0) != SONAR_OK)
+                return 1;
+            if (i == BEAMS - 1 && sonar_detector_end(&det, &out) < 0)
+                return 1;
+        }
+    for (r = 0; r < REPS; r++) {
+        double t0 = now(), t1, t2, t3, t4, t5;
+        for (i = 0; i < BEAMS; i++)
+            sink += sonar_median_1d(sweep[i], filt, N, 5) + filt[7];
+        t1 = now();
+        /* The whole per-beam step, as the pipeline runs it. */
+        for (i = 0; i < BEAMS; i++) {
+            sink += sonar_median_1d(sweeps[r % SWEEPS][i], filt, N, 5);
+            sink += sonar_background_apply(&bg, (uint16_t)i, filt, fg, N);
+            sink += sonar_detector_add(&det, (uint16_t)i, fg, N, 20.0f, 0);
+        }
+        t2 = now();
+        sink += sonar_detector_end(&det, &out);
+        t3 = now();
+        for (i = 0; i < BEAMS; i++)
+            memcpy(copy[i], sweep[i], N);
+        sink += copy[r][r];
+        t4 = now();
+        for (i = 0; i < BEAMS; i++)
+            sink += sonar_background_apply(&bg, (uint16_t)i, sweep[i], fg, N);
+        t5 = now();
+        t_med[r] = (t1 - t0) / (BEAMS * N) * 1e9;
+        t_step[r] = (t2 - t1) / BEAMS * 1e6;
+        t_st[r] = (t3 - t2) * 1e3;
+        t_cpy[r] = (t4 - t3) / BEAMS * 1e6;
+        t_bg[r] = (t5 - t4) / BEAMS * 1e6;
+    }
+    /* The study's 2-D filter: 5 x 5 over the sweep, row by row through the delay line. */
+    for (r = 0; r < REPS; r++) {
+        struct sonar_median_row meta = {0, 0, 0}, om;
+        double t0 = now();
+        if (sonar_median2d_init(&m2d, 5) != SONAR_OK)
+            return 1;
+        for (i = 0; i < BEAMS; i++)
+            sink += sonar_median2d_push(&m2d, sweep[i], N, &meta, filt, &om);
+        while (sonar_median2d_flush(&m2d, filt, &om) == 1)
+            sink++;
+        t_2d[r] = (now() - t0) / (BEAMS * N) * 1e9;
+    }
+    /* A sweep that fills the run table: the detector's worst case. */
+    for (r = 0; r < REPS; r++) {
+        struct sonar_detector_config worst = dc;
+        double t0;
+        worst.min_threshold = 0;
+        worst.threshold_k = 0.0f;
+        worst.max_clusters = SONAR_MAX_CLUSTERS;
+        if (sonar_detector_init(&det, &worst) != SONAR_OK)
+            return 1;
+        for (i = 0; i < BEAMS; i++)
+            sink += sonar_detector_add(&det, (uint16_t)i, sweep[i], N, 20.0f, 0);
+        worst_runs = det.nruns;
+        t0 = now();
+        sink += sonar_detector_end(&det, &worst_out);
+        t_det[r] = (now() - t0) * 1e3;
+    }
+    /* 5000 points in 6 Gaussian blobs (mm); written for the OpenCV run on the same points. */
+    srand(7);
+    for (i = 0; i < 5000; i++) {
+        double u1 = (rand() + 1.0) / (RAND_MAX + 2.0), u2 = (rand() + 1.0) / (RAND_MAX + 2.0);
+        double g = sqrt(-2 * log(u1)), th = 6.283185307179586 * u2;
+        pts[i].x = (int32_t)((i % 6) * 4000 + 600 * g * cos(th));
+        pts[i].y = (int32_t)((i % 3) * 5000 + 600 * g * sin(th));
+        pts[i].w = 1;
+    }
+    snprintf(path, sizeof(path), "%s/bench_points.bin", dir);
+    f = fopen(path, "wb");
+    if (f == NULL || fwrite(pts, sizeof(pts[0]), 5000, f) != 5000 || fclose(f) != 0) {
+        perror(path);
+        return 1;
+    }
+    for (r = 0; r < REPS; r++) {
+        double t0 = now();
+        int k = sonar_kmeans_seed(pts, 5000, c, 6);
+        sink += sonar_kmeans_lloyd(pts, 5000, labels, c, (uint8_t)k, 10);
+        for (j = 0; j < k; j++) {
+            int m = 0;
+            for (i = 0; i < 5000; i++)
+                if (labels[i] == j) {
+                    hp[m].x = pts[i].x;
+                    hp[m].y = pts[i].y;
+                    m++;
+                }
+            if (m > 0)
+                sink += sonar_hull_build(hp, (uint16_t)m, hull, 10000);
+        }
+        t_km[r] = (now() - t0) * 1e3;
+    }
+    printf("median5_ns_per_sample %.4f\n", median_of(t_med, REPS));
+    printf("median5x5_ns_per_sample %.4f\n", median_of(t_2d, REPS));
+    printf("beam_step_us %.4f\n", median_of(t_step, REPS));
+    printf("memcpy_beam_us %.5f\n", median_of(t_cpy, REPS));
+    printf("background_beam_us %.4f\n", median_of(t_bg, REPS));
+
+    printf("sweep_detect_ms %.4f\n", median_of(t_st, REPS));
+    printf("sweep_detect_objects %d\n", (int)out.count);
+    printf("sweep_detect_worst_ms %.4f\n", median_of(t_det, REPS));
+    printf("sweep_detect_worst_runs %d\n", (int)worst_runs);
+    printf("kmeans_hull_5000_ms %.4f\n", median_of(t_km, REPS));
+    printf("sink %d\n", sink & 1);
+    return 0;
+}
