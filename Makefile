@@ -24,7 +24,7 @@ UNIT      = ping geometry median background sweep kmeans hull detector pipeline 
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit check-noheap e2e opencv-ref asan bench demo cross size clean help venv
+.PHONY: all deps test unit fuzz check-noheap e2e opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard and build/sonar-sim (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim
@@ -61,10 +61,18 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref e2e check-noheap
+	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e check-noheap
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
+
+$(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) $^ -o $@ $(LDLIBS)
+
+## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40)
+fuzz: $(BUILD)/tests/fuzz_parser
+	@$< $(or $(FUZZ_ROUNDS),40)
 
 opencv-ref: $(BUILD)/tests/test_opencv_ref
 	@echo "== $<"; $<
@@ -82,7 +90,7 @@ check-noheap: $(CORE_OBJ)
 ## asan: the unit and end-to-end tests under AddressSanitizer and UndefinedBehaviorSanitizer
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
-	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref e2e
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e
 
 ## demo: simulate a pool scene, replay it through sonard, print detections against the truth
 demo: deps all
@@ -120,7 +128,7 @@ size: cross
 
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan
+	rm -rf $(BUILD) build-asan build-clang .venv
 
 ## help: this list
 help:
