@@ -20,7 +20,7 @@ CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/options.c src/host/report.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
-UNIT      = ping geometry median background sweep kmeans hull detector pipeline csv
+UNIT      = ping ping360 geometry median background sweep kmeans hull detector pipeline csv
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
