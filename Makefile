@@ -20,14 +20,19 @@ CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/options.c src/host/report.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
+LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/publish.o
+LCM_TYPES = $(wildcard lcm_types/*.lcm)
+LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
+LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
+LCM_GEN   = /usr/bin/lcm-gen
 UNIT      = ping ping360 geometry median background sweep kmeans hull detector pipeline csv
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit fuzz check-noheap e2e opencv-ref asan bench demo cross size clean help venv
+.PHONY: all deps test unit fuzz check-noheap e2e live opencv-ref asan bench demo cross size clean help venv
 
-## all: build build/sonard and build/sonar-sim (default)
-all: $(BUILD)/sonard $(BUILD)/sonar-sim
+## all: build build/sonard, build/sonar-sim and build/sonar-feed (default)
+all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed
 
 ## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
 deps:
@@ -41,15 +46,35 @@ $(BUILD)/host/%.o: src/host/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -c $< -o $@
 
+# LCM types: C (no pubsub: encode only, no heap), Python (log decoding), Java (lcm-spy, `make spy`).
+# lcm-gen 1.3.1 exits 0 when it fails to write, so the outputs are checked.
+$(BUILD)/lcm/.stamp: $(LCM_TYPES)
+	@mkdir -p $(BUILD)/lcm/c $(BUILD)/lcm/python
+	$(LCM_GEN) -c --c-no-pubsub --c-cpath $(BUILD)/lcm/c --c-hpath $(BUILD)/lcm/c $(LCM_TYPES)
+	$(LCM_GEN) -p --ppath $(BUILD)/lcm/python $(LCM_TYPES)
+	@for n in $(LCM_NAMES); do test -f $(BUILD)/lcm/c/$$n.c || { echo "lcm-gen did not write $$n.c"; exit 1; }; done
+	@touch $@
+
+$(BUILD)/lcm/c/%.o: $(BUILD)/lcm/.stamp
+	$(CC) -std=c99 -O2 -g $(SAN) -I$(BUILD)/lcm/c -Wno-pedantic -Wno-unused-parameter -c $(BUILD)/lcm/c/$*.c -o $@
+
+$(BUILD)/host/publish.o: src/host/publish.c $(BUILD)/lcm/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -c $< -o $@
+
 $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 	$(AR) rcs $@ $^
 
-$(BUILD)/sonard: $(BUILD)/host/sonard.o $(HOST_OBJ) $(BUILD)/libsonarcore.a
-	$(CC) $(SAN) $^ -o $@ $(LDLIBS)
+$(BUILD)/sonard: $(BUILD)/host/sonard.o $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
+	$(CC) $(SAN) $^ -o $@ -llcm $(LDLIBS)
 
-$(BUILD)/sonar-sim: tools/sonar_sim.c $(BUILD)/host/csv.o
+$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $^ -o $@ $(LDLIBS)
+
+$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $^ -o $@ $(LDLIBS)
 
 $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
@@ -61,7 +86,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e check-noheap
+	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live check-noheap
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -81,6 +106,10 @@ opencv-ref: $(BUILD)/tests/test_opencv_ref
 e2e: all
 	@sh tests/e2e.sh $(BUILD)
 
+## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
+live: all
+	@sh tests/live.sh $(BUILD)
+
 ## check-noheap: fail if the core objects reference malloc, calloc, realloc or free
 check-noheap: $(CORE_OBJ)
 	@if nm -u $(CORE_OBJ) | grep -wE 'malloc|calloc|realloc|free'; then \
@@ -90,7 +119,7 @@ check-noheap: $(CORE_OBJ)
 ## asan: the unit and end-to-end tests under AddressSanitizer and UndefinedBehaviorSanitizer
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
-	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live
 
 ## demo: simulate a pool scene, replay it through sonard, print detections against the truth
 demo: deps all

@@ -187,7 +187,12 @@ static void test_writer_round_trip(void **state)
     strcpy(path, "/tmp/sonard-csv-XXXXXX");
     fd = mkstemp(path);
     f = fdopen(fd, "w");
-    assert_int_equal(csv_write(f, 1728153122, 72070224, 399, s, 5, 12.0), 0);
+    struct csv_meta m = csv_meta_none();
+    m.range_m = 12.0;
+    m.gain = 1;
+    m.sample_period = 888;
+    m.speed_of_sound = 1480;
+    assert_int_equal(csv_write(f, 1728153122, 72070224, 399, s, 5, &m), 0);
     fclose(f);
     assert_int_equal(csv_open(&rd, path), 0);
     assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
@@ -195,6 +200,10 @@ static void test_writer_round_trip(void **state)
     assert_int_equal(row.angle, 399);
     assert_memory_equal(row.samples, s, 5);
     assert_true(row.range_m == 12.0);
+    assert_true(row.gain == 1.0);
+    assert_true(row.sample_period == 888.0);
+    assert_true(row.speed_of_sound == 1480.0);
+    assert_true(row.transmit_duration < 0);
     done();
 }
 

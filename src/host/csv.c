@@ -370,17 +370,45 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
     }
 }
 
-int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t *s, uint16_t n, double range_m)
+struct csv_meta csv_meta_none(void)
 {
+    struct csv_meta m;
+    m.range_m = m.gain = m.sample_period = m.transmit_duration = m.transmit_frequency = m.speed_of_sound = -1.0;
+    return m;
+}
+
+int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t *s, uint16_t n, const struct csv_meta *meta)
+{
+    char line[5 * SONAR_MAX_SAMPLES + 256];
+    size_t k = 0;
     uint16_t i;
-    if (fprintf(f, "%lld,%09u,%u,\"", (long long)sec, (unsigned)nsec, (unsigned)angle) < 0)
-        return -1;
-    for (i = 0; i < n; i++)
-        if (fprintf(f, i ? " %u" : "%u", (unsigned)s[i]) < 0)
-            return -1;
-    if (fputc('"', f) == EOF)
-        return -1;
-    if (range_m > 0.0 && fprintf(f, ",range_m=%.4f", range_m) < 0)
-        return -1;
-    return fputc('\n', f) == EOF ? -1 : 0;
+    k += (size_t)snprintf(line, sizeof(line), "%lld,%09u,%u,\"", (long long)sec, (unsigned)nsec, (unsigned)angle);
+    for (i = 0; i < n && i < SONAR_MAX_SAMPLES; i++) {
+        unsigned v = s[i];
+        /* hand-formatted: this runs for every sample of a recording */
+        if (i)
+            line[k++] = ' ';
+        if (v >= 100)
+            line[k++] = (char)('0' + v / 100);
+        if (v >= 10)
+            line[k++] = (char)('0' + v / 10 % 10);
+        line[k++] = (char)('0' + v % 10);
+    }
+    line[k++] = '"';
+    if (meta != NULL) {
+        if (meta->range_m > 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",range_m=%.4f", meta->range_m);
+        if (meta->gain >= 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",gain=%.0f", meta->gain);
+        if (meta->sample_period >= 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",sample_period=%.0f", meta->sample_period);
+        if (meta->transmit_duration >= 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",transmit_duration=%.0f", meta->transmit_duration);
+        if (meta->transmit_frequency >= 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",transmit_frequency=%.0f", meta->transmit_frequency);
+        if (meta->speed_of_sound > 0)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",speed_of_sound=%.1f", meta->speed_of_sound);
+    }
+    line[k++] = '\n';
+    return fwrite(line, 1, k, f) == k ? 0 : -1;
 }

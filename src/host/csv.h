@@ -51,7 +51,18 @@ void csv_close(struct csv_reader *r);
  */
 int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen);
 
-/* Writes one row in the study's form (quoted samples), then `key=value` metadata when >= 0. */
-int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t *s, uint16_t n, double range_m);
+/* Metadata written after the study's four columns; a value < 0 is left out. */
+struct csv_meta {
+    double range_m, gain, sample_period, transmit_duration, transmit_frequency, speed_of_sound;
+};
+
+/* A csv_meta with every field absent. */
+struct csv_meta csv_meta_none(void);
+
+/*
+ * Writes one row in the study's form (samples in one quoted field), then `key=value` metadata
+ * columns, so the study's loader still finds its four columns. meta may be NULL.
+ */
+int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t *s, uint16_t n, const struct csv_meta *meta);
 
 #endif

@@ -1,4 +1,4 @@
-/* sonard.c -- the sonard front end: --replay of a CSV recording through the core pipeline. */
+/* sonard.c -- the sonard front end: --sonar (live, live.c) or --replay of a CSV recording through the core pipeline. */
 #include <errno.h>
 #include <inttypes.h>
 #include <stdio.h>
@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "csv.h"
+#include "live.h"
 #include "options.h"
 #include "report.h"
 #include "sonar/geometry.h"
@@ -30,10 +31,12 @@ static double now_s(void)
 static void on_beam(void *user, int stage, const struct sonar_beam *b)
 {
     struct replay *r = user;
+    struct csv_meta m = csv_meta_none();
     if (r->csv_out == NULL || stage != r->opt.stage)
         return;
+    m.range_m = (double)b->range_m;
     if (csv_write(r->csv_out, b->utime / 1000000, (uint32_t)(b->utime % 1000000) * 1000u, b->angle, b->samples, b->n,
-                  (double)b->range_m) != 0)
+                  &m) != 0)
         r->write_errors++;
 }
 
@@ -76,6 +79,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "sonard: %s\n", err);
         return rc < 0 ? 2 : 0;
     }
+    if (r.opt.sonar != NULL)
+        return live_run(&r.opt);
     r.opt.pipeline.on_beam = on_beam;
     r.opt.pipeline.on_sweep = on_sweep;
     r.opt.pipeline.user = &r;

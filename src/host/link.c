@@ -1,0 +1,261 @@
+/* link.c -- non-blocking serial, UDP and TCP links for the Ping360; line breaks without sleeping. */
+#define _DEFAULT_SOURCE
+#include "link.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <termios.h>
+#include <unistd.h>
+
+/*
+ * Rates tried by --baud auto, highest first: Ping Viewer's list less 570600, 257600 and 250000,
+ * which termios cannot set without the Linux-only BOTHER ioctl.
+ */
+static const long rates[] = {2000000, 921600, 460800, 230400, 115200};
+#define NRATES ((int)(sizeof(rates) / sizeof(rates[0])))
+
+static speed_t speed_of(long baud)
+{
+    switch (baud) {
+    case 9600: return B9600;
+    case 19200: return B19200;
+    case 38400: return B38400;
+    case 57600: return B57600;
+    case 115200: return B115200;
+    case 230400: return B230400;
+    case 460800: return B460800;
+    case 921600: return B921600;
+#ifdef B2000000
+    case 2000000: return B2000000;
+#endif
+#ifdef B3000000
+    case 3000000: return B3000000;
+#endif
+    default: return 0;
+    }
+}
+
+int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t errlen)
+{
+    const char *rest;
+    memset(l, 0, sizeof(*l));
+    l->fd = -1;
+    l->break_clear_at = l->send_u_at = INT64_MAX;
+    if (strncmp(url, "serial:", 7) == 0) {
+        const char *colon;
+        rest = url + 7;
+        colon = strrchr(rest, ':');
+        l->kind = LINK_SERIAL;
+        l->baud = 115200;
+        if (colon != NULL) {
+            char *end;
+            long b = strtol(colon + 1, &end, 10);
+            if (*end != '\0' || speed_of(b) == 0) {
+                snprintf(err, errlen, "--sonar %s: baud '%s' is not one termios supports (9600..3000000)", url, colon + 1);
+                return -1;
+            }
+            l->baud = b;
+            snprintf(l->path, sizeof(l->path), "%.*s", (int)(colon - rest), rest);
+        } else {
+            snprintf(l->path, sizeof(l->path), "%s", rest);
+        }
+        if (l->path[0] == '\0') {
+            snprintf(err, errlen, "--sonar %s: no device path", url);
+            return -1;
+        }
+        if (baud_opt == -1) {
+            l->autobaud = 1;
+            l->baud = rates[0];
+        } else if (baud_opt > 0) {
+            if (speed_of(baud_opt) == 0) {
+                snprintf(err, errlen, "--baud %ld: not a rate termios supports", baud_opt);
+                return -1;
+            }
+            l->baud = baud_opt;
+        }
+        return 0;
+    }
+    if (strncmp(url, "udp:", 4) == 0 || strncmp(url, "tcp:", 4) == 0) {
+        const char *colon;
+        l->kind = url[0] == 'u' ? LINK_UDP : LINK_TCP;
+        rest = url + 4;
+        colon = strrchr(rest, ':');
+        if (colon == NULL || colon == rest || colon[1] == '\0' || strlen(colon + 1) >= sizeof(l->port) ||
+            strspn(colon + 1, "0123456789") != strlen(colon + 1) || atoi(colon + 1) < 1 || atoi(colon + 1) > 65535) {
+            snprintf(err, errlen, "--sonar %s: expected %s:HOST:PORT with a port 1..65535", url, l->kind == LINK_UDP ? "udp" : "tcp");
+            return -1;
+        }
+        snprintf(l->host, sizeof(l->host), "%.*s", (int)(colon - rest), rest);
+        snprintf(l->port, sizeof(l->port), "%s", colon + 1);
+        return 0;
+    }
+    snprintf(err, errlen, "--sonar %s: not serial:, udp: or tcp:", url);
+    return -1;
+}
+
+static int open_serial(struct link *l, char *err, size_t errlen)
+{
+    struct termios t;
+    int fd = open(l->path, O_RDWR | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        snprintf(err, errlen, "%s: %s", l->path, strerror(errno));
+        return -1;
+    }
+    if (tcgetattr(fd, &t) != 0) {
+        snprintf(err, errlen, "%s: not a serial port (%s)", l->path, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    cfmakeraw(&t);
+    t.c_cflag |= CLOCAL | CREAD;
+    t.c_cc[VMIN] = 0;
+    t.c_cc[VTIME] = 0;
+    cfsetispeed(&t, speed_of(l->baud));
+    cfsetospeed(&t, speed_of(l->baud));
+    if (tcsetattr(fd, TCSANOW, &t) != 0) {
+        snprintf(err, errlen, "%s: cannot set %ld baud (%s)", l->path, l->baud, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    tcflush(fd, TCIOFLUSH);
+    l->fd = fd;
+    return 0;
+}
+
+static int open_socket(struct link *l, char *err, size_t errlen)
+{
+    struct addrinfo hints, *res = NULL;
+    int fd, r;
+    memset(&hints, 0, sizeof(hints));
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = l->kind == LINK_UDP ? SOCK_DGRAM : SOCK_STREAM;
+    hints.ai_flags = AI_NUMERICSERV;
+    if ((r = getaddrinfo(l->host, l->port, &hints, &res)) != 0) {
+        snprintf(err, errlen, "%s:%s: %s", l->host, l->port, gai_strerror(r));
+        return -1;
+    }
+    fd = socket(res->ai_family, res->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
+        snprintf(err, errlen, "socket: %s", strerror(errno));
+        freeaddrinfo(res);
+        return -1;
+    }
+    r = connect(fd, res->ai_addr, res->ai_addrlen);
+    freeaddrinfo(res);
+    if (r != 0 && errno != EINPROGRESS) {
+        snprintf(err, errlen, "%s:%s: %s", l->host, l->port, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    l->fd = fd;
+    l->connecting = r != 0;
+    return 0;
+}
+
+int link_open(struct link *l, int64_t now_us, char *err, size_t errlen)
+{
+    int r;
+    l->break_clear_at = l->send_u_at = INT64_MAX;
+    if (l->kind == LINK_SERIAL) {
+        if ((r = open_serial(l, err, errlen)) == 0)
+            link_line_break(l, now_us); /* the device detects our baud rate from "U" after a break */
+        return r;
+    }
+    return open_socket(l, err, errlen);
+}
+
+int link_finish_connect(struct link *l, char *err, size_t errlen)
+{
+    int e = 0;
+    socklen_t len = sizeof(e);
+    if (getsockopt(l->fd, SOL_SOCKET, SO_ERROR, &e, &len) != 0 || e != 0) {
+        snprintf(err, errlen, "%s:%s: %s", l->host, l->port, strerror(e ? e : errno));
+        return -1;
+    }
+    l->connecting = 0;
+    return 0;
+}
+
+ssize_t link_read(struct link *l, uint8_t *buf, size_t cap)
+{
+    ssize_t n;
+    if (l->fd < 0)
+        return -1;
+    n = read(l->fd, buf, cap);
+    if (n > 0)
+        return n;
+    if (n == 0) /* TCP: closed. Serial with VMIN = 0: just nothing yet (a hang-up shows as POLLHUP or EIO). */
+        return l->kind == LINK_TCP ? -1 : 0;
+    return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -1;
+}
+
+int link_write(struct link *l, const uint8_t *buf, size_t n)
+{
+    ssize_t w;
+    if (l->fd < 0 || l->connecting)
+        return -1;
+    w = write(l->fd, buf, n);
+    /* A full kernel buffer for a 24-byte request means the link is stuck: the timeout will retry. */
+    return w == (ssize_t)n ? 0 : -1;
+}
+
+void link_line_break(struct link *l, int64_t now_us)
+{
+    if (l->fd < 0)
+        return;
+    if (l->kind == LINK_UDP) {
+        (void)write(l->fd, "", 0);
+    } else if (l->kind == LINK_SERIAL && l->break_clear_at == INT64_MAX) {
+        if (ioctl(l->fd, TIOCSBRK) == 0)
+            l->break_clear_at = now_us + 50000;
+        else
+            l->send_u_at = now_us; /* a pty cannot break: just send the U's */
+    }
+}
+
+int64_t link_timers(struct link *l, int64_t now_us)
+{
+    if (l->fd >= 0 && now_us >= l->break_clear_at) {
+        (void)ioctl(l->fd, TIOCCBRK);
+        l->break_clear_at = INT64_MAX;
+        l->send_u_at = now_us + 11000; /* Ping Viewer waits 11 ms after the break */
+    }
+    if (l->fd >= 0 && now_us >= l->send_u_at) {
+        (void)write(l->fd, "UUU", 3);
+        l->send_u_at = INT64_MAX;
+    }
+    return l->break_clear_at < l->send_u_at ? l->break_clear_at : l->send_u_at;
+}
+
+int link_next_baud(struct link *l)
+{
+    if (!l->autobaud)
+        return -1;
+    l->baud_index = (l->baud_index + 1) % NRATES;
+    l->baud = rates[l->baud_index];
+    return l->baud_index == 0 ? -1 : 0;
+}
+
+void link_close(struct link *l)
+{
+    if (l->fd >= 0)
+        close(l->fd);
+    l->fd = -1;
+    l->connecting = 0;
+    l->break_clear_at = l->send_u_at = INT64_MAX;
+}
+
+const char *link_describe(const struct link *l, char *buf, size_t n)
+{
+    if (l->kind == LINK_SERIAL)
+        snprintf(buf, n, "serial:%s@%ld", l->path, l->baud);
+    else
+        snprintf(buf, n, "%s:%s:%s", l->kind == LINK_UDP ? "udp" : "tcp", l->host, l->port);
+    return buf;
+}

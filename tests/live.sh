@@ -1,0 +1,118 @@
+#!/bin/sh
+# live.sh -- end to end, live: sonar-feed (a simulated Ping360) -> sonard over TCP, UDP and a pty -> LCM file log,
+# scored against the truth; a faulty link; auto mode; SIGTERM. Loopback only, every run bounded in time.
+# Usage: sh tests/live.sh BUILD_DIR. Ends with "N passed, N failed".
+set -u
+B=${1:-build}
+T=$(mktemp -d /tmp/sonard-live.XXXXXX)
+PORT=$(( 20000 + ($$ % 20000) ))
+FEEDPID=""
+trap '[ -n "$FEEDPID" ] && kill $FEEDPID 2>/dev/null; rm -rf "$T"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
+ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
+check() { what=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$what"; else ko "$what"; sed 's/^/    /' "$T/out"; fi; }
+types="$B/lcm/python"
+"$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json" --sweeps 7
+"$B/sonar-sim" --scene pool --out "$T/pool5.csv" --truth "$T/pool5.json" --sweeps 5
+
+# feed URL [feed options...]: starts sonar-feed in the background; waits until it listens.
+feed() {
+    url=$1; shift
+    rm -f "$T/feed.log"
+    "$B/sonar-feed" --listen "$url" --scene pool --log "$T/feed.log" --max-seconds 120 "$@" 2> "$T/feed.err" &
+    FEEDPID=$!
+    i=0; while [ $i -lt 50 ] && ! [ -s "$T/feed.log" ] && ! { [ "${url#pty:}" != "$url" ] && [ -e "${url#pty:}" ]; }; do
+        # TCP/UDP sockets exist once the process runs; give it a moment
+        i=$((i + 1)); sleep 0.05; [ $i -ge 4 ] && [ "${url#pty:}" = "$url" ] && break
+    done
+}
+endfeed() { [ -n "$FEEDPID" ] && { kill $FEEDPID 2>/dev/null; wait $FEEDPID 2>/dev/null; }; FEEDPID=""; }
+
+run_transport() {
+    name=$1 url=$2 sonar=$3
+    feed "$url" --pace fast --exit-after-motor-off
+    timeout 120 "$B/sonard" --sonar "$sonar" --range 12 --sweeps 7 --json --lcm "file://$T/$name.lcm?mode=w" \
+        > "$T/$name.jsonl" 2> "$T/$name.err"; rc=$?
+    wait $FEEDPID 2>/dev/null; FEEDPID=""
+    check "$name: sonard exits 0 after --sweeps 7" test "$rc" -eq 0
+    check "$name: detections meet precision/recall >= 0.95, error <= 0.3 m" \
+        python3 tools/score.py "$T/pool.json" "$T/$name.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+    python3 tools/lcm_log.py "$T/$name.lcm" detections --types "$types" > "$T/$name.lcm.jsonl" 2>&1
+    check "$name: the same detections come back out of the LCM log" \
+        python3 tools/score.py "$T/pool.json" "$T/$name.lcm.jsonl" --min-precision 0.95 --min-recall 0.95
+    check "$name: every beam published on SONAR_BEAM" \
+        sh -c "python3 tools/lcm_log.py '$T/$name.lcm' summary --types '$types' | grep -qE '^SONAR_BEAM (28[0-9][0-9])$'"
+    check "$name: motor_off reached the sonar" grep -q "^motor_off" "$T/feed.log"
+}
+
+run_transport tcp "tcp:127.0.0.1:$PORT" "tcp:127.0.0.1:$PORT"
+run_transport udp "udp:127.0.0.1:$((PORT + 1))" "udp:127.0.0.1:$((PORT + 1))"
+run_transport pty "pty:$T/ttyPing360" "serial:$T/ttyPing360:115200"
+
+# A faulty link: 5 % of replies dropped, 1 % corrupted, garbage before 5 %, one disconnect.
+feed "tcp:127.0.0.1:$((PORT + 2))" --pace fast --exit-after-motor-off --drop 0.05 --corrupt 0.01 --garbage 0.05 \
+    --disconnect-after 1500
+timeout 120 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 12 --sweeps 7 --json \
+    --lcm "file://$T/faulty.lcm?mode=w" > "$T/faulty.jsonl" 2> "$T/faulty.err"; rc=$?
+wait $FEEDPID 2>/dev/null; FEEDPID=""
+check "faulty link: sonard keeps running, reconnects and exits 0" test "$rc" -eq 0
+check "faulty link: precision/recall >= 0.9" \
+    python3 tools/score.py "$T/pool.json" "$T/faulty.jsonl" --min-precision 0.9 --min-recall 0.9
+python3 tools/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/status.json"
+sed -n 's/^summary //p' "$T/feed.log" > "$T/injected"
+check "faulty link: status counters match the faults injected" python3 - "$T/status.json" "$T/injected" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+w = open(sys.argv[2]).read().split()
+f = {w[i]: int(w[i + 1]) for i in range(0, len(w), 2)}
+print("sonard:", {k: s[k] for k in ("checksum_errors", "resyncs", "timeouts", "retries", "reconnects", "beams")})
+print("injected:", f)
+assert f["dropped"] > 0 and f["corrupted"] > 0 and f["garbage"] > 0 and f["disconnects"] == 1
+assert s["checksum_errors"] == f["corrupted"], "every corrupted frame fails its checksum"
+assert s["timeouts"] == f["dropped"] + f["corrupted"], "every lost or corrupt reply times out once"
+assert s["retries"] == s["timeouts"], "and is retried"
+assert s["reconnects"] == f["disconnects"], "one reconnect per disconnect"
+assert f["garbage"] <= s["resyncs"] <= f["garbage"] + f["corrupted"], "a resync per garbage run or bad frame"
+PY
+check "faulty link: no beam from a corrupt frame (beams published = good device_data frames)" \
+    sh -c "python3 tools/lcm_log.py '$T/faulty.lcm' summary --types '$types' | grep -q \"^SONAR_BEAM \$(python3 -c \"import json;print(json.load(open('$T/status.json'))['beams'])\")\$\""
+
+# auto_transmit on firmware > 3.3.0, and the fallback to stepping on 3.3.0.
+feed "tcp:127.0.0.1:$((PORT + 3))" --pace fast --exit-after-motor-off --firmware 3.3.8
+timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 3))" --range 12 --sweeps 5 --mode auto --json --no-lcm \
+    > "$T/auto.jsonl" 2> "$T/auto.err"; rc=$?
+wait $FEEDPID 2>/dev/null; FEEDPID=""
+check "auto mode: streams auto_device_data and exits 0" sh -c "test $rc -eq 0 && grep -q 'scanning (auto_transmit)' '$T/auto.err'"
+check "auto mode: detections meet precision/recall >= 0.95" \
+    python3 tools/score.py "$T/pool5.json" "$T/auto.jsonl" --min-precision 0.95 --min-recall 0.95
+feed "tcp:127.0.0.1:$((PORT + 4))" --pace fast --exit-after-motor-off --firmware 3.3.0
+timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 4))" --range 12 --sweeps 1 --mode auto --no-lcm --json \
+    > /dev/null 2> "$T/fallback.err"
+wait $FEEDPID 2>/dev/null; FEEDPID=""
+check "auto mode on firmware 3.3.0 falls back to stepping" grep -q "scanning (stepping)" "$T/fallback.err"
+
+# A config file, a flag overriding it, and a live recording that replays.
+printf '# sonard test config\nrange = 12\nsweeps = 7\nmode = step\njson = true\nno-lcm = yes\n' > "$T/sonard.conf"
+feed "tcp:127.0.0.1:$((PORT + 5))" --pace fast --exit-after-motor-off
+timeout 60 "$B/sonard" --config "$T/sonard.conf" --sweeps 3 --sonar "tcp:127.0.0.1:$((PORT + 5))" --csv-out "$T/rec.csv" \
+    > "$T/conf.jsonl" 2> "$T/conf.err"; rc=$?
+wait $FEEDPID 2>/dev/null; FEEDPID=""
+check "config file read, --sweeps 3 overrides its 7" sh -c "test $rc -eq 0 && test \$(wc -l < '$T/conf.jsonl') -eq 3"
+check "--csv-out records raw beams with metadata columns" grep -q 'range_m=11.9925,gain=0,sample_period=533,transmit_duration=64,transmit_frequency=750,speed_of_sound=1500.0' "$T/rec.csv"
+"$B/sonard" --replay "$T/rec.csv" --json 2>/dev/null | head -3 > "$T/rec.jsonl"
+check "the live recording replays to the same detections" cmp "$T/rec.jsonl" "$T/conf.jsonl"
+
+# SIGTERM: motor_off, then exit 0.
+feed "tcp:127.0.0.1:$((PORT + 6))" --pace device
+timeout 30 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 6))" --range 2 --no-lcm --quiet & SPID=$!
+sleep 1.5
+kill -TERM $SPID; wait $SPID; rc=$?
+sleep 0.2
+endfeed
+check "SIGTERM: sonard exits 0" test "$rc" -eq 0
+check "SIGTERM: sonar-feed saw motor_off" grep -q "^motor_off" "$T/feed.log"
+
+echo "live: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
