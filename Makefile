@@ -29,7 +29,7 @@ UNIT      = ping ping360 geometry median background sweep kmeans hull detector p
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit fuzz check-noheap e2e live opencv-ref asan bench demo cross size clean help venv
+.PHONY: all deps test unit fuzz check-noheap e2e live crosscheck spy opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim and build/sonar-feed (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed
@@ -86,7 +86,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live check-noheap
+	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live crosscheck check-noheap
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -109,6 +109,13 @@ e2e: all
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all
 	@sh tests/live.sh $(BUILD)
+
+## crosscheck: Blue Robotics' own Python client (bluerobotics-ping, in .venv-brping) against sonar-feed over UDP
+crosscheck: all .venv-brping/.done
+	@sh tests/crosscheck.sh $(BUILD)
+
+.venv-brping/.done:
+	python3 -m venv .venv-brping && .venv-brping/bin/pip install -q 'bluerobotics-ping==0.2.5' && touch $@
 
 ## check-noheap: fail if the core objects reference malloc, calloc, realloc or free
 check-noheap: $(CORE_OBJ)
@@ -155,9 +162,23 @@ cross:
 size: cross
 	@sh tools/size.sh $(BUILD)
 
+## spy: build the Java LCM types and open lcm-spy on them (installs liblcm-java, jchart2d, a JDK if missing)
+spy: $(BUILD)/lcm/sonar_types.jar
+	@echo "lcm-spy on $${LCM_DEFAULT_URL:-LCM's default URL}; types from $<"
+	CLASSPATH=$< JDK_JAVA_OPTIONS=-XX:+IgnoreUnrecognizedVMOptions lcm-spy
+
+# Debian's lcm-spy wrapper passes -Xincgc (rejected since Java 9: IgnoreUnrecognizedVMOptions) and
+# needs jchart2d, which liblcm-java does not pull in.
+$(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
+	@sh tools/deps.sh liblcm-java libjchart2d-java default-jdk-headless liblcm-bin
+	@rm -rf $(BUILD)/lcm/java $(BUILD)/lcm/jclasses && mkdir -p $(BUILD)/lcm/java $(BUILD)/lcm/jclasses
+	$(LCM_GEN) -j --jpath $(BUILD)/lcm/java $(LCM_TYPES)
+	javac -nowarn -cp /usr/share/java/lcm.jar -d $(BUILD)/lcm/jclasses $(BUILD)/lcm/java/sonar/*.java
+	jar cf $@ -C $(BUILD)/lcm/jclasses .
+
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan build-clang .venv
+	rm -rf $(BUILD) build-asan build-clang .venv .venv-brping
 
 ## help: this list
 help:

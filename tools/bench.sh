@@ -42,3 +42,5 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
         (step <= 1.0 ? "met" : "MISSED"), (step <= cvrow * 1.2 ? "met" : "MISSED"), (detw <= 1.0 ? "met" : "MISSED"),
         (pyt * 1000 / rep >= 100 ? "met" : "MISSED")
 }'
+echo
+python3 tools/bench_live.py "$B"

@@ -1,6 +1,5 @@
 /* sonar_feed.c -- a simulated Ping360: serves a scene or a CSV recording over TCP, UDP or a pty, answers the protocol like the device, injects faults. */
-#define _XOPEN_SOURCE 600
-#define _DEFAULT_SOURCE
+#define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -43,7 +42,7 @@ struct feed {
     const char *log_path;
     int device_pace;
     double drop, corrupt, garbage;
-    long disconnect_after, stall_at;
+    long disconnect_after, stall_at, drop_at;
     double stall_s, max_s;
     int exit_after_motor_off;
     uint8_t fw[3];
@@ -274,7 +273,7 @@ static void flush_reply(struct feed *f)
             (void)open_pty(f);
         return;
     }
-    if (scene_uniform(&f->fault_rng) < f->drop) {
+    if (scene_uniform(&f->fault_rng) < f->drop || (f->drop_at > 0 && f->replies == f->drop_at)) {
         f->dropped++;
         f->out_len = 0;
         return;
@@ -472,7 +471,7 @@ static void usage(void)
     fprintf(stderr,
             "usage: sonar_feed --listen tcp:HOST:PORT|udp:HOST:PORT|pty:PATH (--scene pool|open | --csv FILE [--range M])\n"
             "  [--pace device|fast] [--firmware X.Y.Z] [--seed S] [--log FILE] [--max-seconds T] [--exit-after-motor-off]\n"
-            "  faults: [--drop P] [--corrupt P] [--garbage P] [--disconnect-after N] [--stall-at N --stall S]\n"
+            "  faults: [--drop P] [--drop-at N] [--corrupt P] [--garbage P] [--disconnect-after N] [--stall-at N --stall S]\n"
             "Acts as a Ping360: device_information, protocol_version, transducer (with and without transmit),\n"
             "auto_transmit streaming, motor_off with an ack, NACK for anything else. --pace device follows the\n"
             "device's timing (19.4 ms + 6 ms a gradian moved + 2R/c). Listens on loopback addresses only.\n");
@@ -540,6 +539,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--corrupt") == 0) f.corrupt = atof(v);
         else if (strcmp(a, "--garbage") == 0) f.garbage = atof(v);
         else if (strcmp(a, "--disconnect-after") == 0) f.disconnect_after = atol(v);
+        else if (strcmp(a, "--drop-at") == 0) f.drop_at = atol(v);
         else if (strcmp(a, "--stall-at") == 0) f.stall_at = atol(v);
         else if (strcmp(a, "--stall") == 0) f.stall_s = atof(v);
         else {
@@ -576,13 +576,18 @@ int main(int argc, char **argv)
     t0 = now_s();
     while (!quit) {
         struct pollfd pfd[2];
-        int np = 0, timeout_ms = 200, r;
+        struct timespec ts = {0, 200000000};
+        int np = 0, r;
         double now = now_s();
         if (now - t0 > f.max_s || (f.stop_after && now > f.stop_at))
             break;
         if (f.out_len > 0) {
+            /* nanosecond timeouts: the device pacing must not gain a millisecond a beam */
             double wait = f.due - now;
-            timeout_ms = wait <= 0 ? 0 : (int)(wait * 1000) + 1;
+            if (wait < 0)
+                wait = 0;
+            ts.tv_sec = (time_t)wait;
+            ts.tv_nsec = (long)((wait - (double)ts.tv_sec) * 1e9);
         }
         if (f.lfd >= 0 && f.cfd < 0) {
             pfd[np].fd = f.lfd;
@@ -592,7 +597,7 @@ int main(int argc, char **argv)
             pfd[np].fd = f.cfd;
             pfd[np++].events = POLLIN;
         }
-        r = poll(pfd, (nfds_t)np, timeout_ms);
+        r = ppoll(pfd, (nfds_t)np, &ts, NULL);
         if (r < 0 && errno != EINTR)
             break;
         if (f.lfd >= 0 && f.cfd < 0 && np > 0 && (pfd[0].revents & POLLIN)) {

@@ -59,6 +59,13 @@ static int64_t mono_us(void)
     return (int64_t)t.tv_sec * 1000000 + t.tv_nsec / 1000;
 }
 
+static double mono_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e9 + (double)t.tv_nsec;
+}
+
 static int64_t wall_us(void)
 {
     struct timespec t;
@@ -137,7 +144,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 static void beam_in(struct live *L, const struct sonar_ping360_data *d)
 {
     struct sonar_beam b;
-    int64_t t0;
+    double t0;
     float range = range_of(L, d);
     L->cur = *d;
     L->cur_utime = wall_us();
@@ -175,10 +182,10 @@ static void beam_in(struct live *L, const struct sonar_ping360_data *d)
     b.n = d->data_length;
     b.range_m = range;
     b.samples = d->data;
-    t0 = mono_us();
+    t0 = mono_ns();
     if (sonar_pipeline_push(&L->pipe, &b) != SONAR_OK)
         return;
-    L->proc_us[L->nproc++ % PROC_RING] = (float)(mono_us() - t0);
+    L->proc_us[L->nproc++ % PROC_RING] = (float)((mono_ns() - t0) * 1e-3);
 }
 
 static int cmpf(const void *a, const void *b)
