@@ -29,10 +29,10 @@ UNIT      = ping ping360 geometry median background sweep kmeans hull detector p
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit fuzz check-noheap e2e live crosscheck spy opencv-ref asan bench demo cross size clean help venv
+.PHONY: all deps test unit fuzz check-noheap e2e live realdata crosscheck spy opencv-ref asan bench demo cross size clean help venv
 
-## all: build build/sonard, build/sonar-sim and build/sonar-feed (default)
-all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed
+## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
+all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
 
 ## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
 deps:
@@ -76,6 +76,10 @@ $(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUIL
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $^ -o $@ $(LDLIBS)
 
+$(BUILD)/pvbin2csv: tools/pvbin2csv.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $^ -o $@ $(LDLIBS)
+
 $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) $^ -o $@ -lcmocka $(LDLIBS)
@@ -86,7 +90,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live crosscheck check-noheap
+	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live realdata crosscheck check-noheap
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -116,6 +120,10 @@ crosscheck: all .venv-brping/.done
 
 .venv-brping/.done:
 	python3 -m venv .venv-brping && .venv-brping/bin/pip install -q 'bluerobotics-ping==0.2.5' && touch $@
+
+## realdata: converters and replay on ../shared/data/real (skips, saying why, when it is absent)
+realdata: all
+	@sh tests/realdata.sh $(BUILD)
 
 ## check-noheap: fail if the core objects reference malloc, calloc, realloc or free
 check-noheap: $(CORE_OBJ)

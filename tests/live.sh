@@ -45,6 +45,15 @@ run_transport() {
     check "$name: every beam published on SONAR_BEAM" \
         sh -c "python3 tools/lcm_log.py '$T/$name.lcm' summary --types '$types' | grep -qE '^SONAR_BEAM (28[0-9][0-9])$'"
     check "$name: motor_off reached the sonar" grep -q "^motor_off" "$T/feed.log"
+    if [ "$name" = tcp ]; then
+        # LCM log -> CSV -> replay gives the live run's detections again
+        python3 tools/lcm_log.py "$T/tcp.lcm" beams-csv --types "$types" > "$T/tcp.beams.csv"
+        "$B/sonard" --replay "$T/tcp.beams.csv" --json 2>/dev/null | head -7 > "$T/tcp.replayed.jsonl"
+        check "tcp: LCM log -> CSV replays to the live detections" cmp "$T/tcp.replayed.jsonl" "$T/tcp.jsonl"
+        python3 tools/lcm_log.py "$T/tcp.lcm" detections-csv --types "$types" > "$T/tcp.det.csv"
+        check "tcp: LCM log -> detections CSV has one row per detection" \
+            test "$(($(wc -l < "$T/tcp.det.csv") - 1))" -eq "$(python3 -c "import json,sys;print(sum(len(json.loads(l)['detections']) for l in open('$T/tcp.jsonl')))")"
+    fi
 }
 
 run_transport tcp "tcp:127.0.0.1:$PORT" "tcp:127.0.0.1:$PORT"

@@ -176,6 +176,24 @@ static void test_run_overflow_counted(void **state)
     assert_int_equal(out.runs_dropped, 400u * 300u - SONAR_MAX_RUNS);
 }
 
+static void test_min_beams_and_max_extent(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(20, 20, 100, 159, 200);  /* one beam, 60 cells: a zero-area line */
+    blob(100, 104, 100, 119, 200); /* 5 beams, ~0.2 m */
+    blob(200, 230, 500, 503, 200); /* a 31-beam arc at 10 m: ~4.9 m wide */
+    assert_int_equal(run_sweep(&c), 3);
+    c.min_beams = 2;
+    assert_int_equal(run_sweep(&c), 2);
+    c.max_extent_m = 3.0f;
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].points, 100);
+    c.max_extent_m = -1.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+}
+
 static void test_bad_input(void **state)
 {
     struct sonar_detector_config c = cfg();
@@ -203,6 +221,7 @@ int main(void)
         cmocka_unit_test(test_angle_offset_rotates),
         cmocka_unit_test(test_threshold_uses_previous_sweep),
         cmocka_unit_test(test_run_overflow_counted),
+        cmocka_unit_test(test_min_beams_and_max_extent),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

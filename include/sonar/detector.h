@@ -14,7 +14,8 @@
  * beam). At the end of a sweep, runs that touch (within link_beams beams and link_m metres of
  * range gap) form groups; groups smaller than min_points cells are noise and dropped; the number
  * of remaining groups (at most max_clusters, the largest first) is k, and their centroids seed
- * weighted k-means over the runs. Each cluster of >= min_points cells becomes a detection.
+ * weighted k-means over the runs. Each cluster of >= min_points cells, spanning >= min_beams beams
+ * and no wider than max_extent_m (when set), becomes a detection.
  *
  * Threshold: a cell is foreground when its value > T, T = max(min_threshold, floor(mean + k std))
  * over the foreground cells of the previous sweep (the study's rule, one sweep behind so it can
@@ -30,6 +31,8 @@ struct sonar_detector_config {
     uint16_t min_points;   /* cells a detection needs, 1..65535 */
     float link_m;          /* range gap bridged inside a group, metres, 0..10 */
     float angle_offset;    /* gradians added to every angle of the output frame, -400..400 */
+    uint8_t min_beams;     /* beams a detection must span, 0..255 (0 or 1: any) */
+    float max_extent_m;    /* detections wider than this (hull diameter, metres) are structure; 0 = no limit */
 };
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */

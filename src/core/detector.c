@@ -14,7 +14,8 @@ int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_co
         cfg->min_threshold > 254u || cfg->max_clusters < 1 || cfg->max_clusters > SONAR_MAX_CLUSTERS ||
         cfg->iterations < 1 || cfg->iterations > 100 || cfg->link_beams < 1 || cfg->link_beams > 8 ||
         cfg->min_points < 1 || !(cfg->link_m >= 0.0f && cfg->link_m <= 10.0f) ||
-        !(cfg->angle_offset >= -400.0f && cfg->angle_offset <= 400.0f))
+        !(cfg->angle_offset >= -400.0f && cfg->angle_offset <= 400.0f) ||
+        !(cfg->max_extent_m >= 0.0f && cfg->max_extent_m <= 1000.0f))
         return SONAR_ERR_ARG;
     memset(d, 0, sizeof(*d));
     d->cfg = *cfg;
@@ -297,7 +298,7 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
 {
     uint64_t w = 0, s = 0;
     int64_t sx = 0, sy = 0;
-    uint16_t i, nw = 0, beam = 0xFFFFu;
+    uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
     uint32_t lo = 0, hi = 0;
     int h, v;
     double th = (double)d->cfg.angle_offset * 3.14159265358979323846 / 200.0, c = cos(th), sn = sin(th);
@@ -318,6 +319,7 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
                 hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * hi + 1u));
             }
             beam = r->beam;
+            nbeams++;
             lo = r->start;
             hi = end;
         } else {
@@ -325,13 +327,24 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
             hi = end > hi ? end : hi;
         }
     }
-    if (w < d->cfg.min_points || beam == 0xFFFFu)
+    if (w < d->cfg.min_points || beam == 0xFFFFu || nbeams < d->cfg.min_beams)
         return 0;
     hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * lo + 1u));
     hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * hi + 1u));
     h = sonar_hull_build(d->work, nw, d->hull, 2 * SONAR_HULL_WORK);
     if (h < 1)
         return 0;
+    if (d->cfg.max_extent_m > 0.0f) {
+        /* hull diameter: the widest pair of vertices (h <= 2 * SONAR_HULL_WORK, once per cluster) */
+        int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), lim2 = lim * lim;
+        int a, b;
+        for (a = 0; a < h; a++)
+            for (b = a + 1; b < h; b++) {
+                int64_t dx = (int64_t)d->hull[a].x - d->hull[b].x, dy = (int64_t)d->hull[a].y - d->hull[b].y;
+                if (dx * dx + dy * dy > lim2)
+                    return 0;
+            }
+    }
     memset(o, 0, sizeof(*o));
     o->points = (uint32_t)w;
     o->mean_intensity = (float)((double)s / (double)w);

@@ -11,7 +11,7 @@ enum {
     OPT_REPLAY = 256, OPT_SONAR, OPT_BAUD, OPT_LCM, OPT_PREFIX, OPT_FILTERED, OPT_NO_LCM, OPT_SWEEPS, OPT_MODE,
     OPT_SECTOR, OPT_STEP, OPT_GAIN, OPT_FREQUENCY, OPT_SAMPLES, OPT_TX, OPT_CONFIG, OPT_RANGE, OPT_SOS, OPT_OFFSET,
     OPT_MEDIAN, OPT_BACKGROUND, OPT_BG_WARMUP, OPT_BG_STEP, OPT_BG_MARGIN, OPT_THRESHOLD, OPT_MIN_THRESHOLD,
-    OPT_CLUSTERS, OPT_MIN_POINTS, OPT_ITERATIONS, OPT_LINK_M, OPT_LINK_BEAMS, OPT_MAX_STEP, OPT_JSON, OPT_CSV_OUT,
+    OPT_CLUSTERS, OPT_MIN_POINTS, OPT_MIN_BEAMS, OPT_MAX_EXTENT, OPT_ITERATIONS, OPT_LINK_M, OPT_LINK_BEAMS, OPT_MAX_STEP, OPT_JSON, OPT_CSV_OUT,
     OPT_STAGE, OPT_QUIET, OPT_HELP, OPT_VERSION
 };
 
@@ -44,6 +44,8 @@ static const struct option longs[] = {
     {"min-threshold", required_argument, NULL, OPT_MIN_THRESHOLD},
     {"clusters", required_argument, NULL, OPT_CLUSTERS},
     {"min-points", required_argument, NULL, OPT_MIN_POINTS},
+    {"min-beams", required_argument, NULL, OPT_MIN_BEAMS},
+    {"max-extent", required_argument, NULL, OPT_MAX_EXTENT},
     {"iterations", required_argument, NULL, OPT_ITERATIONS},
     {"link-m", required_argument, NULL, OPT_LINK_M},
     {"link-beams", required_argument, NULL, OPT_LINK_BEAMS},
@@ -99,6 +101,8 @@ void options_usage(const char *prog)
            "  --min-threshold T      cells must exceed at least T grey levels, 0..254 (default 16)\n"
            "  --clusters MAX         most detections per sweep, 1..%d (default 8)\n"
            "  --min-points N         cells a detection needs, 1..65535 (default 20)\n"
+           "  --min-beams N          beams a detection must span, 0..255 (default 1)\n"
+           "  --max-extent M         drop detections wider than M metres (structure), 0 = no limit (default 0)\n"
            "  --iterations N         k-means rounds at most, 1..100 (default 10)\n"
            "  --link-m M             range gap in metres still joining one object, 0..10 (default 0.15)\n"
            "  --link-beams N         beams apart still joining one object, 1..8 (default 2)\n"
@@ -243,6 +247,8 @@ static int apply(struct sonard_options *o, int c, const char *a, const char *pro
     case OPT_MIN_THRESHOLD: if (whole("--min-threshold", a, 0, 254, "grey levels", &l, err, errlen)) return -1; p->detector.min_threshold = (uint8_t)l; break;
     case OPT_CLUSTERS: if (whole("--clusters", a, 1, SONAR_MAX_CLUSTERS, "clusters", &l, err, errlen)) return -1; p->detector.max_clusters = (uint8_t)l; break;
     case OPT_MIN_POINTS: if (whole("--min-points", a, 1, 65535, "cells", &l, err, errlen)) return -1; p->detector.min_points = (uint16_t)l; break;
+    case OPT_MIN_BEAMS: if (whole("--min-beams", a, 0, 255, "beams", &l, err, errlen)) return -1; p->detector.min_beams = (uint8_t)l; break;
+    case OPT_MAX_EXTENT: if (num("--max-extent", a, 0, 1000, "metres (0 = no limit)", &v, err, errlen)) return -1; p->detector.max_extent_m = (float)v; break;
     case OPT_ITERATIONS: if (whole("--iterations", a, 1, 100, "rounds", &l, err, errlen)) return -1; p->detector.iterations = (uint8_t)l; break;
     case OPT_LINK_M: if (num("--link-m", a, 0, 10, "metres", &v, err, errlen)) return -1; p->detector.link_m = (float)v; break;
     case OPT_LINK_BEAMS: if (whole("--link-beams", a, 1, 8, "beams", &l, err, errlen)) return -1; p->detector.link_beams = (uint8_t)l; break;
