@@ -29,7 +29,7 @@ UNIT      = ping ping360 geometry median background sweep kmeans hull detector p
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit fuzz check-noheap e2e live realdata crosscheck spy opencv-ref asan bench demo cross size clean help venv
+.PHONY: all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -134,7 +134,7 @@ check-noheap: $(CORE_OBJ)
 ## asan: the unit and end-to-end tests under AddressSanitizer and UndefinedBehaviorSanitizer
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
-	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live realdata
 
 ## demo: simulate a pool scene, replay it through sonard, print detections against the truth
 demo: deps all
@@ -149,6 +149,15 @@ $(BUILD)/bench: tools/bench.c $(BUILD)/libsonarcore.a
 
 $(BUILD)/bench_opencv: tools/bench_opencv.cpp
 	$(CXX) -std=c++17 -O2 $< -o $@ $(OPENCV_FLAGS)
+
+## eval: docs/results.md and docs/figures: the study's table, SNR/PSNR/CNR, detection scores (simulated, AquaScan)
+eval: deps all venv
+	.venv/bin/python tools/eval.py --build $(BUILD)
+
+## figures: the figure set for any recording: make figures CSV=FILE.csv OUT=DIR [ARGS="--range 20"]
+figures: all venv
+	@test -n "$(CSV)" -a -n "$(OUT)" || { echo "usage: make figures CSV=FILE.csv OUT=DIR [ARGS='sonard options']"; exit 2; }
+	.venv/bin/python tools/figures.py $(CSV) --out $(OUT) -- $(ARGS)
 
 venv: .venv/.done
 .venv/.done: tools/requirements.txt

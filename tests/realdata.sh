@@ -43,7 +43,7 @@ check "a truncated .bin: named record and byte, the beams before it kept" sh -c 
 
 # AquaScan text matrices + labels -> CSV + truth.
 python3 tools/aquascan2csv.py "$R/aquascan" --out "$T/aq" --range 15 > "$T/aq.out"
-check "AquaScan -> CSV: 51 sweeps and 237 labelled people" sh -c "grep -q 'sonar4: 30 sweeps, 146' '$T/aq.out' && grep -q 'sonar11: 21 sweeps, 91' '$T/aq.out'"
+check "AquaScan -> CSV: 51 sweeps and 237 labelled people (2 sweeps have no label file)" sh -c "grep -q 'sonar4: 30 sweeps (0 without labels, not scored), 146' '$T/aq.out' && grep -q 'sonar11: 21 sweeps (2 without labels, not scored), 91' '$T/aq.out'"
 for s in sonar4 sonar11; do
     "$B/sonard" --replay "$T/aq/$s.csv" --json --quiet > "$T/$s.jsonl"
     check "AquaScan $s replays with one sonard sweep per recorded sweep" \

@@ -102,9 +102,13 @@ def main():
                                  "box_gradians": [round((yc - h / 2) * 400, 2), round((yc + h / 2) * 400, 2)],
                                  "box_range_m": [round((xc - w / 2) * a.range, 3), round((xc + w / 2) * a.range, 3)]})
                 labels_total += len(objs)
-                truth["sweeps"].append({"sweep": k, "file": os.path.basename(path), "objects": objs})
+                # no label file: the truth of this sweep is unknown, not "nobody there"
+                truth["sweeps"].append({"sweep": k, "file": os.path.basename(path), "labelled": os.path.exists(lab),
+                                        "objects": objs})
         json.dump(truth, open(os.path.join(a.out, f"{sonar}.truth.json"), "w"))
-        print(f"{sonar}: {len(files)} sweeps, {labels_total} labelled people -> {a.out}/{sonar}.csv (range assumed {a.range} m)")
+        unl = sum(1 for x in truth["sweeps"] if not x["labelled"])
+        print(f"{sonar}: {len(files)} sweeps ({unl} without labels, not scored), {labels_total} labelled people -> "
+              f"{a.out}/{sonar}.csv (range assumed {a.range} m)")
 
 
 if __name__ == "__main__":

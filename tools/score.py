@@ -3,7 +3,7 @@
 
 A detection is a true positive when its centroid lies within --gate metres of a not yet matched
 truth object of the same sweep (closest pairs first); other detections are false positives,
-unmatched objects false negatives. Prints precision, recall, F1, centroid error and false alarms
+unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
 per sweep; with --min-precision/--min-recall/--max-error it exits 1 when a target is missed.
 """
 import argparse
@@ -36,7 +36,8 @@ def main():
     ap.add_argument("--label", default="")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
-    truth = {s["sweep"]: s["objects"] for s in json.load(open(a.truth))["sweeps"]}
+    # sweeps marked "labelled": false have unknown truth: neither their detections nor their objects count
+    truth = {s["sweep"]: s["objects"] for s in json.load(open(a.truth))["sweeps"] if s.get("labelled", True)}
     sweeps = {}
     for n, line in enumerate(open(a.detections), 1):
         line = line.strip()
