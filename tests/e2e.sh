@@ -5,11 +5,7 @@ set -u
 B=${1:-build}
 T=$(mktemp -d /tmp/sonard-e2e.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
-ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
-check() { name=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$name"; else ko "$name"; sed 's/^/    /' "$T/out"; fi; }
+. "$(dirname "$0")/lib.sh"
 
 # Scenes. Pool: walls throughout, two gate posts from sweep 2, a moving buoy from sweep 3; scored
 # with sonard's DEFAULT configuration (median 5, per-angle background). Open water: objects from

@@ -8,11 +8,7 @@ T=$(mktemp -d /tmp/sonard-live.XXXXXX)
 PORT=$(( 20000 + ($$ % 20000) ))
 FEEDPID=""
 trap '[ -n "$FEEDPID" ] && kill $FEEDPID 2>/dev/null; rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
-ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
-check() { what=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$what"; else ko "$what"; sed 's/^/    /' "$T/out"; fi; }
+. "$(dirname "$0")/lib.sh"
 types="$B/lcm/python"
 "$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json" --sweeps 7
 "$B/sonar-sim" --scene pool --out "$T/pool5.csv" --truth "$T/pool5.json" --sweeps 5

@@ -11,11 +11,7 @@ if [ ! -d "$R/aquascan" ] || [ ! -f "$R/pingviewer_noah/test_ping_log.decoded" ]
 fi
 T=$(mktemp -d /tmp/sonard-real.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
-ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
-check() { what=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$what"; else ko "$what"; sed 's/^/    /' "$T/out"; fi; }
+. "$(dirname "$0")/lib.sh"
 
 # Ping Viewer .bin -> CSV: a log built from the real noah beams, frame-unaligned chunks, junk first.
 for enc in utf16 utf8; do
