@@ -169,7 +169,7 @@ def main():
     presets = {  # noqa: the quality loop uses the aquascan one
         "default": [],
         "range": ["--background", "range"],
-        "aquascan": ["--background", "range", "--median", "5x5", "--min-points", "40", "--min-beams", "2", "--max-extent", "3"],
+        "aquascan": ["--background", "range", "--median", "5x5", "--min-points", "40", "--min-beams", "3", "--max-extent", "3"],
         "study (in sonard)": ["--background", "range", "--median", "5x5", "--bg-margin", "0"],
     }
 
