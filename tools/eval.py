@@ -280,7 +280,7 @@ def main():
     L.append("## 4. Figures (simulated pool, sweep 4)\n")
     captions = {"waterfall.png": "Waterfall plots: raw, median-filtered and foreground (after background subtraction).",
                 "detections.png": "Cartesian view: raw data (left); foreground with each detection's hull and centroid (red) and "
-                                  "the truth (white circles) (right).",
+                                  "the truth (black dashed circles) (right).",
                 "difference.png": "Difference maps, original − filtered, for the CSV approach (sonard) and the image approach.",
                 "clusters.png": "k-means clusters: the cells above the threshold before clustering, and after, coloured by "
                                 "cluster with hulls."}

@@ -98,7 +98,7 @@ def cartesian(ax, m, angles, rng, title, dets=None, truth=None, vmax=255, cmap="
             ax.plot(d["x_m"], d["y_m"], "r+", ms=8)
     if truth:
         for o in truth:
-            ax.add_patch(plt.Circle((o["x"], o["y"]), max(o.get("radius", 0.2), 0.15), fill=False, color="w", lw=0.8, ls="--"))
+            ax.add_patch(plt.Circle((o["x"], o["y"]), max(o.get("radius", 0.2), 0.15), fill=False, color="k", lw=1.0, ls="--"))
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -128,7 +128,7 @@ def make_all(build, path, out, args=(), sweep=None, truth=None, image_fg=None, t
     plt.close(fig)
     fig, axs = plt.subplots(1, 2, figsize=(13, 6))
     cartesian(axs[0], R, a, rng, f"raw, sweep {k}", truth=truth)
-    sc = cartesian(axs[1], F, a, rng, f"foreground + detections (red), truth (white), sweep {k}", dets.get(k), truth)
+    sc = cartesian(axs[1], F, a, rng, f"foreground + detections (red), truth (black dashed), sweep {k}", dets.get(k), truth)
     fig.colorbar(sc, ax=axs, label="grey level")
     names.append(f"detections{tag}.png")
     fig.savefig(os.path.join(out, names[-1]), dpi=90)
