@@ -88,7 +88,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 	@mkdir -p $(dir $@)
 	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $^ -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
 
-## test: install deps, then unit tests, OpenCV reference checks, end-to-end scenes, check-noheap
+## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap
 test: deps
 	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live realdata crosscheck check-noheap
 
@@ -136,11 +136,11 @@ asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live realdata
 
-## demo: simulate a pool scene, replay it through sonard, print detections against the truth
+## demo: a simulated Ping360 (sonar-feed) driven live by sonard, LCM to a log, detections against the truth
 demo: deps all
 	@sh tools/demo.sh $(BUILD)
 
-## bench: per-stage speed against OpenCV, memcpy and the study's Python pipeline (creates .venv)
+## bench: per-stage speed against OpenCV, memcpy and the study's Python pipeline; live sweep time, recovery, CPU, RSS (creates .venv)
 bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv
 	@sh tools/bench.sh $(BUILD)
 
