@@ -84,6 +84,14 @@ PY
 check "faulty link: no beam from a corrupt frame (beams published = good device_data frames)" \
     sh -c "python3 tools/lcm_log.py '$T/faulty.lcm' summary --types '$types' | grep -q \"^SONAR_BEAM \$(python3 -c \"import json;print(json.load(open('$T/status.json'))['beams'])\")\$\""
 
+# A stall: the device goes quiet for 1 s mid-sweep; sonard retries (the re-homing allowance covers it) and goes on.
+feed "tcp:127.0.0.1:$((PORT + 7))" --pace fast --exit-after-motor-off --stall-at 300 --stall 1.0
+timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 7))" --range 12 --sweeps 2 --json --no-lcm \
+    > "$T/stall.jsonl" 2> "$T/stall.err"; rc=$?
+wait $FEEDPID 2>/dev/null; FEEDPID=""
+check "stall of 1 s: sonard retries without reconnecting and finishes" \
+    sh -c "test $rc -eq 0 && test \$(wc -l < '$T/stall.jsonl') -eq 2 && grep -q 'timeouts [1-9]' '$T/stall.err' && grep -q 'reconnects 0' '$T/stall.err' && grep -q '^stall_ms 1000' '$T/feed.log'"
+
 # auto_transmit on firmware > 3.3.0, and the fallback to stepping on 3.3.0.
 feed "tcp:127.0.0.1:$((PORT + 3))" --pace fast --exit-after-motor-off --firmware 3.3.8
 timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 3))" --range 12 --sweeps 5 --mode auto --json --no-lcm \
