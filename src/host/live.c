@@ -46,6 +46,7 @@ struct live {
     unsigned long sweeps;
     unsigned long write_errors;
     float proc_us[PROC_RING];
+    float sorted[PROC_RING]; /* scratch for the percentiles */
     unsigned long nproc;
     struct sonar_ping360_data cur; /* the beam being processed, for the filtered publish */
     int64_t cur_utime;
@@ -196,7 +197,7 @@ static int cmpf(const void *a, const void *b)
 
 static void status(struct live *L, int64_t now)
 {
-    static float sorted[PROC_RING];
+    float *sorted = L->sorted;
     struct publisher_status s;
     unsigned n = (unsigned)(L->nproc < PROC_RING ? L->nproc : PROC_RING);
     memcpy(sorted, L->proc_us, n * sizeof(float));

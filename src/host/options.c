@@ -274,7 +274,7 @@ static int apply(struct sonard_options *o, int c, const char *a, const char *pro
     return 0;
 }
 
-/* Values in a config file outlive parsing: they point into this per-options string pool. */
+/* Values from a config file outlive parsing: they are kept in the options' own string pool. */
 static char *keep(char *pool, size_t cap, size_t *used, const char *s)
 {
     size_t n = strlen(s) + 1;
@@ -354,8 +354,6 @@ static int read_config(struct sonard_options *o, const char *path, const char *p
 
 int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)
 {
-    /* The pool holds config-file strings; it is per process, like argv, so it lives as long. */
-    static char pool[8192];
     struct parse_state ps = {0};
     int c, i, r;
     memset(o, 0, sizeof(*o));
@@ -372,7 +370,7 @@ int options_parse(int argc, char **argv, struct sonard_options *o, char *err, si
         const char *path = strncmp(a, "--config=", 9) == 0 ? a + 9 : strcmp(a, "--config") == 0 && i + 1 < argc ? argv[i + 1] : NULL;
         if (path != NULL) {
             snprintf(o->config_path, sizeof(o->config_path), "%s", path);
-            if (read_config(o, path, argv[0], &ps, pool, sizeof(pool), err, errlen) != 0)
+            if (read_config(o, path, argv[0], &ps, o->pool, sizeof(o->pool), err, errlen) != 0)
                 return -1;
         }
     }

@@ -25,6 +25,7 @@ struct sonard_options {
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
     char config_path[256];
+    char pool[8192]; /* strings read from the config file, which the fields above may point into */
 };
 
 /*
