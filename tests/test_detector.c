@@ -1,4 +1,4 @@
-/* test_detector.c -- grouping sets k (separate objects apart, one object whole), small groups dropped, wrap, offset, limits. */
+/* test_detector.c -- grouping sets k, k-means stays inside groups and cuts wide ones, the rules (size, beams, range, aspect, extent), tracking, wrap, offset, limits. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -194,6 +194,122 @@ static void test_min_beams_and_max_extent(void **state)
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
 
+/* Adds the 400 beams of fg as the next sweep, without a new init, and ends it. */
+static int next_sweep(void)
+{
+    int a;
+    for (a = 0; a < 400; a++)
+        assert_int_equal(sonar_detector_add(&det, (uint16_t)a, fg[a], N, RANGE, 1000 * a), SONAR_OK);
+    return sonar_detector_end(&det, &out);
+}
+
+static void test_kmeans_stays_inside_groups(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int i;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    /*
+     * A wall arc at 6 m over 61 beams, and a small object 0.2 m nearer at the arc's middle: two
+     * groups, but the arc's centroid (on its chord, ~5.8 m) lies on the object. Free Lloyd would
+     * hand the object's centre the middle of the wall; inside groups each keeps its own cells.
+     */
+    blob(100, 160, 300, 305, 90);
+    blob(128, 132, 280, 289, 150);
+    assert_int_equal(run_sweep(&c), 2);
+    assert_int_equal(out.det[0].points, 61 * 6);
+    assert_int_equal(out.det[1].points, 50);
+    assert_true(fabs(out.det[1].mean_intensity - 150.0f) < 1e-3);
+    for (i = 0; i < 2; i++)
+        assert_true(out.det[i].points == 50 || out.det[i].area_m2 > 0.5f);
+}
+
+static void test_split_cuts_wide_group(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int i;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    /* Two 5 x 20 objects at 6 m, 45 beams (~4.2 m) apart, joined by a faint one-sample bridge. */
+    blob(100, 104, 300, 319, 200);
+    blob(145, 149, 300, 319, 200);
+    blob(105, 144, 310, 310, 60);
+    c.max_extent_m = 3.0f;
+    assert_int_equal(run_sweep(&c), 0); /* one group 4.2 m wide: structure */
+    assert_int_equal(out.groups, 1);
+    c.split_points = 60;
+    assert_int_equal(run_sweep(&c), 2); /* cut in three; the bridge's middle piece is too small */
+    for (i = 0; i < 2; i++) {
+        assert_true(out.det[i].points >= 100 && out.det[i].points < 130);
+        assert_true(out.det[i].area_m2 < 0.5f);
+    }
+    assert_true(out.det[0].bearing_deg < 90.0f * 104.0f / 100.0f + 2.0f || out.det[1].bearing_deg < 90.0f * 104.0f / 100.0f + 2.0f);
+    assert_true(out.det[0].bearing_deg > 90.0f * 145.0f / 100.0f - 2.0f || out.det[1].bearing_deg > 90.0f * 145.0f / 100.0f - 2.0f);
+    c.split_points = 300; /* pieces need more cells than either object has */
+    assert_int_equal(run_sweep(&c), 0);
+    c.split_points = 60;
+    c.max_extent_m = 0.0f; /* no width limit: nothing to cut, the group stays whole */
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].points, 2 * 100 + 40);
+}
+
+static void test_min_range_and_aspect(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(20, 24, 40, 59, 200);    /* 5 x 20 at ~1 m */
+    blob(100, 104, 200, 219, 200); /* 5 x 20 at ~4 m: along 0.4 m, across ~0.31 m */
+    blob(200, 201, 300, 399, 200); /* a radial streak at 6-8 m: along 2 m, across ~0.22 m */
+    assert_int_equal(run_sweep(&c), 3);
+    c.min_range_m = 2.0f;
+    assert_int_equal(run_sweep(&c), 2);
+    c.max_aspect = 2.0f;
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].points, 100);
+    assert_true(out.det[0].range_m > 3.9f && out.det[0].range_m < 4.5f);
+    c.max_aspect = 0.05f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+    c.max_aspect = 0.0f;
+    c.min_range_m = -1.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+}
+
+static void test_tracking_confirms_with_fewer_cells(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int pass;
+    (void)state;
+    for (pass = 0; pass < 2; pass++) {
+        c.track_m = pass ? 1.0f : 0.0f;
+        c.track_points = 10;
+        memset(fg, 0, sizeof(fg));
+        blob(100, 104, 200, 219, 150); /* sweep 1: a clear object at 4 m */
+        assert_int_equal(run_sweep(&c), 1);
+        memset(fg, 0, sizeof(fg));
+        blob(101, 103, 205, 208, 150); /* sweep 2: 12 cells where it was... */
+        blob(300, 302, 205, 208, 150); /* ...and 12 cells where nothing was */
+        if (!pass) {
+            assert_int_equal(next_sweep(), 0); /* no tracking: both below min_points */
+            continue;
+        }
+        assert_int_equal(next_sweep(), 1);
+        assert_int_equal(out.det[0].points, 12);
+        assert_true(out.det[0].bearing_deg < 100.0f);
+        /* sweep 3: the tracked object moved 0.4 m along the beam: still inside the gate */
+        memset(fg, 0, sizeof(fg));
+        blob(101, 103, 225, 228, 150);
+        assert_int_equal(next_sweep(), 1);
+        /* sweep 4: a jump of 2 m leaves the gate */
+        memset(fg, 0, sizeof(fg));
+        blob(101, 103, 325, 328, 150);
+        assert_int_equal(next_sweep(), 0);
+    }
+    c.track_m = 1.0f;
+    c.track_points = 0;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+}
+
 static void test_bad_input(void **state)
 {
     struct sonar_detector_config c = cfg();
@@ -222,6 +338,10 @@ int main(void)
         cmocka_unit_test(test_threshold_uses_previous_sweep),
         cmocka_unit_test(test_run_overflow_counted),
         cmocka_unit_test(test_min_beams_and_max_extent),
+        cmocka_unit_test(test_kmeans_stays_inside_groups),
+        cmocka_unit_test(test_split_cuts_wide_group),
+        cmocka_unit_test(test_min_range_and_aspect),
+        cmocka_unit_test(test_tracking_confirms_with_fewer_cells),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,9 +1,10 @@
-/* test_kmeans.c -- seeding, Lloyd on hand-made blobs, weights, skipped points, determinism. */
+/* test_kmeans.c -- seeding, Lloyd on hand-made blobs, weights, skipped points, determinism, Lloyd kept inside parts. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -90,6 +91,58 @@ static void test_deterministic_and_bounded(void **state)
         assert_int_equal(la[i], la[i % 6]);
 }
 
+static void test_within_parts(void **state)
+{
+    /*
+     * Part 0: a long bar from x = 0 to 900 (a wall); part 1: a small blob at x = 1000, 100 from
+     * the bar's end. Free Lloyd lets the blob's centre take the bar's far end; within parts it
+     * cannot, and the bar's two centres cut it in two.
+     */
+    struct sonar_point p[11];
+    struct sonar_centroid c[3] = {{450, 0}, {900, 0}, {1000, 0}}, f[3];
+    const uint8_t part[3] = {0, 0, 1};
+    uint8_t l[11], lf[11];
+    int i;
+    (void)state;
+    for (i = 0; i < 10; i++) {
+        p[i].x = i * 100;
+        p[i].y = 0;
+        p[i].w = 1;
+        l[i] = 0;
+    }
+    p[10].x = 1000;
+    p[10].y = 0;
+    p[10].w = 1;
+    l[10] = 2;
+    memcpy(f, c, sizeof(f));
+    assert_true(sonar_kmeans_lloyd(p, 11, lf, f, 3, 10) >= 1);
+    assert_int_equal(lf[9], 2); /* free: the blob's centre steals x = 900 */
+    assert_true(sonar_kmeans_lloyd_within(p, 11, l, c, part, 3, 10) >= 2);
+    for (i = 0; i < 10; i++)
+        assert_int_equal(l[i], i < 6 ? 0 : 1); /* the bar in two; x = 500 is a tie, to the lower index */
+    assert_int_equal(l[10], 2);
+    assert_int_equal(c[2].x, 1000);
+    assert_int_equal(c[0].x, 250);
+    assert_int_equal(c[1].x, 750);
+    /* one centre per part: only the parts' means */
+    {
+        struct sonar_centroid one[2] = {{0, 0}, {5000, 5000}};
+        const uint8_t pp[2] = {7, 9};
+        for (i = 0; i < 11; i++)
+            l[i] = i < 10 ? 0 : 1;
+        assert_true(sonar_kmeans_lloyd_within(p, 11, l, one, pp, 2, 10) >= 1);
+        assert_int_equal(one[0].x, 450);
+        assert_int_equal(one[1].x, 1000);
+    }
+    l[3] = 5; /* an entry label beyond k */
+    assert_int_equal(sonar_kmeans_lloyd_within(p, 11, l, c, part, 3, 10), SONAR_ERR_ARG);
+    p[3].w = 0; /* ...is fine on a skipped point, which comes back SKIP */
+    l[3] = 5;
+    assert_true(sonar_kmeans_lloyd_within(p, 11, l, c, part, 3, 10) >= 1);
+    assert_int_equal(l[3], SONAR_KMEANS_SKIP);
+    assert_int_equal(sonar_kmeans_lloyd_within(p, 11, l, c, NULL, 3, 10), SONAR_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -97,6 +150,7 @@ int main(void)
         cmocka_unit_test(test_weights_and_skips),
         cmocka_unit_test(test_empty_cluster_keeps_centre),
         cmocka_unit_test(test_deterministic_and_bounded),
+        cmocka_unit_test(test_within_parts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

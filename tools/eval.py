@@ -144,6 +144,17 @@ def fmt(x, d=3):
     return "—" if x is None or (isinstance(x, float) and not np.isfinite(x)) else f"{x:.{d}f}"
 
 
+def conf_args(path):
+    """A sonard key = value file as command-line flags, so results.md can show them."""
+    args = []
+    for line in open(path):
+        line = line.split("#", 1)[0].strip()
+        if line:
+            key, value = (x.strip() for x in line.split("=", 1))
+            args += [f"--{key}", value]
+    return args
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build")
@@ -166,11 +177,11 @@ def main():
             "--out", f"{W}/aq", "--range", str(a.aquascan_range)])
         datasets += [("AquaScan sonar4", f"{W}/aq/sonar4.csv", f"{W}/aq/sonar4.truth.json", a.aquascan_range),
                      ("AquaScan sonar11", f"{W}/aq/sonar11.csv", f"{W}/aq/sonar11.truth.json", a.aquascan_range)]
-    presets = {  # noqa: the quality loop uses the aquascan one
+    presets = {  # the quality loop uses the occupied-pool one
         "default": [],
         "range": ["--background", "range"],
-        "aquascan": ["--background", "range", "--median", "5x5", "--min-points", "40", "--min-beams", "3", "--max-extent", "3"],
-        "study (in sonard)": ["--background", "range", "--median", "5x5", "--bg-margin", "0"],
+        "occupied-pool": conf_args(os.path.join(os.path.dirname(__file__), "..", "docs", "presets", "occupied-pool.conf")),
+        "study filters (sonard detector)": ["--background", "range", "--median", "5x5", "--bg-margin", "0"],
     }
 
     # ---------------- 1. the study's table: load to filtered output, three methods, same files, one run
@@ -195,13 +206,13 @@ def main():
         mask = truth_mask(angles, sweeps, raw.shape[1], rng, truth)
         ours_med = ours_filtered(B, path, [], W, "median")
         ours_fg = ours_filtered(B, path, [], W, "foreground")
-        ours_rg = ours_filtered(B, path, presets["aquascan"], W, "foreground")
+        ours_rg = ours_filtered(B, path, presets["occupied-pool"], W, "foreground")
         st_med, st_fg = study_filtered(raw, sweeps)
         with tempfile.TemporaryDirectory() as tmp:
             im_med, im_fg = image_pipeline(path, tmp)
         quality.append((name, [("raw", raw, "—"), ("CSV approach (sonard): median 5", ours_med, "median"),
                                ("CSV approach (sonard): + per-angle background (default)", ours_fg, "foreground"),
-                               ("CSV approach (sonard): aquascan preset (5x5, range background)", ours_rg, "foreground"),
+                               ("CSV approach (sonard): occupied-pool preset (5x5, range background)", ours_rg, "foreground"),
                                ("study: median_filter 5x5", st_med, "median"), ("study: + median background", st_fg, "foreground"),
                                ("image approach: medianBlur 5", im_med, "median"), ("image approach: + median background", im_fg, "foreground")],
                         raw, mask))
@@ -228,7 +239,7 @@ def main():
     figs = figures.make_all(B, f"{W}/pool.csv", figdir, [], 4, pool_truth[4], im_fg)
     if have_real:
         aq_truth = {s["sweep"]: s["objects"] for s in json.load(open(f"{W}/aq/sonar4.truth.json"))["sweeps"]}
-        figures.make_all(B, f"{W}/aq/sonar4.csv", f"{W}/figures", presets["aquascan"], 10, aq_truth[10], None, "_aquascan")
+        figures.make_all(B, f"{W}/aq/sonar4.csv", f"{W}/figures", presets["occupied-pool"], 10, aq_truth[10], None, "_aquascan")
 
     # ---------------- write docs/results.md
     L = []
@@ -268,8 +279,8 @@ def main():
     L.append("A detection is a true positive when its centroid lies within 1 m of a not yet matched labelled object of the "
              "same sweep (closest pairs first); `tools/score.py`. AquaScan: the range is not recorded; "
              f"**{a.aquascan_range:g} m is assumed** (the recorder's default; its evaluation script used 13 m), and the labelled "
-             "YOLO boxes (gradians x range fraction) are scored at their centres. The `aquascan` preset was tuned on sonar4 "
-             "only; sonar11 is held out.\n")
+             "YOLO boxes (gradians x range fraction) are scored at their centres. The `occupied-pool` preset "
+             "(`docs/presets/occupied-pool.conf`) was tuned on sonar4 only; sonar11 is held out.\n")
     L.append("| data | method | configuration | precision | recall | F1 | centroid error (m) | false alarms / sweep |")
     L.append("|---|---|---|---:|---:|---:|---:|---:|")
     for name, method, cfg, s in scores:

@@ -4,7 +4,7 @@
 A detection is a true positive when its centroid lies within --gate metres of a not yet matched
 truth object of the same sweep (closest pairs first); other detections are false positives,
 unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
-per sweep; with --min-precision/--min-recall/--max-error it exits 1 when a target is missed.
+per sweep; with --min-precision/--min-recall/--min-f1/--max-error it exits 1 when a target is missed.
 """
 import argparse
 import json
@@ -32,6 +32,7 @@ def main():
     ap.add_argument("--gate", type=float, default=1.0, help="match distance, metres (default 1.0)")
     ap.add_argument("--min-precision", type=float)
     ap.add_argument("--min-recall", type=float)
+    ap.add_argument("--min-f1", type=float)
     ap.add_argument("--max-error", type=float, help="largest mean centroid error, metres")
     ap.add_argument("--label", default="")
     ap.add_argument("--verbose", action="store_true")
@@ -72,6 +73,9 @@ def main():
         ok = False
     if a.min_recall is not None and r < a.min_recall:
         print(f"FAIL: recall {r:.3f} < {a.min_recall}")
+        ok = False
+    if a.min_f1 is not None and f1 < a.min_f1:
+        print(f"FAIL: F1 {f1:.3f} < {a.min_f1}")
         ok = False
     if a.max_error is not None and not (err <= a.max_error):
         print(f"FAIL: centroid error {err:.3f} m > {a.max_error} m")

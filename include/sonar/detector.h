@@ -1,4 +1,4 @@
-/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector ~ 28 B * SONAR_MAX_RUNS + 6 KB. */
+/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector ~ 28 B * SONAR_MAX_RUNS + 6.2 KB. */
 #ifndef SONAR_DETECTOR_H
 #define SONAR_DETECTOR_H
 
@@ -12,10 +12,16 @@
 /*
  * A beam's foreground cells above the threshold are stored as runs (contiguous samples of one
  * beam). At the end of a sweep, runs that touch (within link_beams beams and link_m metres of
- * range gap) form groups; groups smaller than min_points cells are noise and dropped; the number
- * of remaining groups (at most max_clusters, the largest first) is k, and their centroids seed
- * weighted k-means over the runs. Each cluster of >= min_points cells, spanning >= min_beams beams
- * and no wider than max_extent_m (when set), becomes a detection.
+ * range gap) form groups; groups smaller than min_points cells (track_points, when tracking is
+ * on) are noise and dropped. Each remaining group (at most max_clusters, the largest first) seeds
+ * one k-means centre at its centroid; a group wider than max_extent_m, when split_points is set,
+ * seeds one centre per max_extent_m / 2 of its width (farthest-point), so that k-means can cut
+ * objects joined by a faint bridge or lying on a wall. Lloyd's iterations stay inside each group
+ * (a wall's centre cannot take an object's runs). Each cluster becomes a detection when it has
+ * >= min_points cells (>= track_points within track_m of a detection of the previous sweep),
+ * spans >= min_beams beams, lies at >= min_range_m, is no longer along the beam than max_aspect
+ * times its width across, is no wider than max_extent_m, and, when cut from a wider group, has
+ * >= split_points cells. At most max_clusters detections, the largest first.
  *
  * Threshold: a cell is foreground when its value > T, T = max(min_threshold, floor(mean + k std))
  * over the foreground cells of the previous sweep (the study's rule, one sweep behind so it can
@@ -33,6 +39,12 @@ struct sonar_detector_config {
     float angle_offset;    /* gradians added to every angle of the output frame, -400..400 */
     uint8_t min_beams;     /* beams a detection must span, 0..255 (0 or 1: any) */
     float max_extent_m;    /* detections wider than this (hull diameter, metres) are structure; 0 = no limit */
+    uint16_t split_points; /* cells a piece cut from a group wider than max_extent_m needs; 0 = never cut */
+    float min_range_m;     /* detections nearer than this (centroid, metres, 0..1000) are dropped: the
+                              transducer's ring-down and its mount; 0 = none */
+    float max_aspect;      /* length along the beam / width across, 0 or 0.1..100; 0 = no limit */
+    float track_m;         /* gate to the previous sweep's detections, metres, 0..100; 0 = no tracking */
+    uint16_t track_points; /* cells a cluster inside the gate needs (used when < min_points) */
 };
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */
@@ -54,7 +66,7 @@ struct sonar_detections {
     uint16_t beams;        /* beams in the sweep */
     uint16_t runs;         /* foreground runs kept */
     uint32_t runs_dropped; /* runs beyond SONAR_MAX_RUNS */
-    uint16_t groups;       /* groups of >= min_points cells before clustering */
+    uint16_t groups;       /* groups big enough to seed a centre, before clustering */
     uint8_t threshold;     /* T used for the sweep's last beam */
     uint8_t count;         /* detections, largest first */
     struct sonar_detection det[SONAR_MAX_CLUSTERS];
@@ -84,6 +96,8 @@ struct sonar_detector {
     uint32_t runs_dropped;
     uint16_t nruns, beams, n;
     uint8_t have_prev, threshold;
+    uint8_t ntracks;                                /* detections of the previous sweep */
+    struct sonar_centroid tracks[SONAR_MAX_CLUSTERS]; /* their centroids, mm, device frame */
 };
 
 /* Validates cfg (copied) and starts sweep 0. Returns SONAR_OK or SONAR_ERR_ARG naming nothing: check ranges above. */

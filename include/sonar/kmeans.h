@@ -38,6 +38,18 @@ SONAR_CHECK int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, str
 SONAR_CHECK int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels,
                                    struct sonar_centroid *c, uint8_t k, uint8_t iterations);
 
+/*
+ * Lloyd's algorithm kept inside parts: centre j belongs to part[j] (any tag), and a point may only
+ * move between centres of the part its entry label names. On entry labels[i] is a centre of point
+ * i's part (0..k-1; ignored when w == 0). Otherwise as sonar_kmeans_lloyd: nearest centre of the
+ * part, lowest index on ties; at most `iterations` rounds (1..255), early stop when nothing moves.
+ * With one centre per part it only computes each part's centroid; with several it cuts a part.
+ * Returns the rounds run, or SONAR_ERR_ARG (also for an entry label >= k on a weighted point).
+ */
+SONAR_CHECK int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels,
+                                          struct sonar_centroid *c, const uint8_t *part, uint8_t k,
+                                          uint8_t iterations);
+
 /* Sum over points of w * squared distance to the centre of its label (OpenCV's "compactness"). */
 double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
                             const struct sonar_centroid *c);

@@ -1,4 +1,4 @@
-/* detector.c -- runs -> groups (bounded union-find) -> seeded k-means -> incremental hulls; O(runs * link window) per sweep, no heap. */
+/* detector.c -- runs -> groups (bounded union-find) -> k-means inside groups -> rules -> incremental hulls; O(runs * (link window + k)) per sweep, no heap. */
 #include "sonar/detector.h"
 
 #include <math.h>
@@ -6,7 +6,6 @@
 
 #include "tables_internal.h"
 
-#define NOISE 0xFEu
 
 int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_config *cfg)
 {
@@ -15,7 +14,10 @@ int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_co
         cfg->iterations < 1 || cfg->iterations > 100 || cfg->link_beams < 1 || cfg->link_beams > 8 ||
         cfg->min_points < 1 || !(cfg->link_m >= 0.0f && cfg->link_m <= 10.0f) ||
         !(cfg->angle_offset >= -400.0f && cfg->angle_offset <= 400.0f) ||
-        !(cfg->max_extent_m >= 0.0f && cfg->max_extent_m <= 1000.0f))
+        !(cfg->max_extent_m >= 0.0f && cfg->max_extent_m <= 1000.0f) ||
+        !(cfg->min_range_m >= 0.0f && cfg->min_range_m <= 1000.0f) ||
+        !(cfg->max_aspect == 0.0f || (cfg->max_aspect >= 0.1f && cfg->max_aspect <= 100.0f)) ||
+        !(cfg->track_m >= 0.0f && cfg->track_m <= 100.0f) || (cfg->track_m > 0.0f && cfg->track_points < 1))
         return SONAR_ERR_ARG;
     memset(d, 0, sizeof(*d));
     d->cfg = *cfg;
@@ -211,14 +213,90 @@ static void link_runs(struct sonar_detector *d)
     }
 }
 
-/* Groups -> k seeds (the largest groups' centroids); runs of small groups are marked noise. */
-static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, uint16_t *groups)
+static int64_t dist2_mm(int32_t ax, int32_t ay, int32_t bx, int32_t by)
+{
+    int64_t dx = (int64_t)ax - bx, dy = (int64_t)ay - by;
+    return dx * dx + dy * dy;
+}
+
+/* Cells a group needs to seed a centre: the smaller of min_points and, when tracking, track_points. */
+static uint16_t seed_min(const struct sonar_detector *d)
+{
+    if (d->cfg.track_m > 0.0f && d->cfg.track_points < d->cfg.min_points)
+        return d->cfg.track_points;
+    return d->cfg.min_points;
+}
+
+/* Width of each kept group: the larger side of the box around its runs' end cells, mm. */
+static void group_widths(struct sonar_detector *d, const uint16_t *root, uint8_t k, int32_t *width)
+{
+    int32_t x0[SONAR_MAX_CLUSTERS], x1[SONAR_MAX_CLUSTERS], y0[SONAR_MAX_CLUSTERS], y1[SONAR_MAX_CLUSTERS];
+    uint16_t i;
+    uint8_t j, e;
+    for (j = 0; j < k; j++) {
+        x0[j] = y0[j] = INT32_MAX;
+        x1[j] = y1[j] = INT32_MIN;
+    }
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        if (d->pts[i].w == 0)
+            continue;
+        for (j = 0; j < k && root[j] != r->parent; j++)
+            ;
+        for (e = 0; e < 2; e++) {
+            uint32_t cell = e ? (uint32_t)r->start + d->pts[i].w - 1u : r->start;
+            struct sonar_hull_point p = polar_mm(d, d->angles[r->beam], 2u * cell + 1u);
+            x0[j] = p.x < x0[j] ? p.x : x0[j];
+            x1[j] = p.x > x1[j] ? p.x : x1[j];
+            y0[j] = p.y < y0[j] ? p.y : y0[j];
+            y1[j] = p.y > y1[j] ? p.y : y1[j];
+        }
+    }
+    for (j = 0; j < k; j++)
+        width[j] = x1[j] - x0[j] > y1[j] - y0[j] ? x1[j] - x0[j] : y1[j] - y0[j];
+}
+
+/* One more centre for group `root`: its run farthest from the group's centres so far (maximin). */
+static int add_split_seed(const struct sonar_detector *d, struct sonar_centroid *c, const uint8_t *part, uint8_t k,
+                          uint8_t g, uint16_t root)
+{
+    int64_t far_d = 0;
+    int32_t far_i = -1;
+    uint16_t i;
+    uint8_t j;
+    for (i = 0; i < d->nruns; i++) {
+        int64_t near_d = -1;
+        if (d->pts[i].w == 0 || d->runs[i].parent != root)
+            continue;
+        for (j = 0; j < k; j++)
+            if (part[j] == g) {
+                int64_t e = dist2_mm(d->pts[i].x, d->pts[i].y, c[j].x, c[j].y);
+                near_d = near_d < 0 || e < near_d ? e : near_d;
+            }
+        if (near_d > far_d) {
+            far_d = near_d;
+            far_i = i;
+        }
+    }
+    if (far_i < 0)
+        return 0;
+    c[k].x = d->pts[far_i].x;
+    c[k].y = d->pts[far_i].y;
+    return 1;
+}
+
+/*
+ * Groups -> k centres, part[j] = the group of centre j, labels = each run's group centre (runs of
+ * small groups get weight 0 and stay out). Returns k.
+ */
+static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, uint8_t *part, uint16_t *groups)
 {
     uint16_t root[SONAR_MAX_CLUSTERS];
+    int32_t width[SONAR_MAX_CLUSTERS];
     int64_t sx[SONAR_MAX_CLUSTERS], sy[SONAR_MAX_CLUSTERS];
     uint64_t sw[SONAR_MAX_CLUSTERS];
-    uint8_t k = 0, j;
-    uint16_t i;
+    uint8_t k = 0, ng, j;
+    uint16_t i, need = seed_min(d);
     struct sonar_detector_run *r = d->runs;
     for (i = 0; i < d->nruns; i++) {
         r[i].parent = find(r, i);
@@ -231,7 +309,7 @@ static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, u
     *groups = 0;
     for (i = 0; i < d->nruns; i++) {
         uint8_t at;
-        if (r[i].parent != i || r[i].size < d->cfg.min_points)
+        if (r[i].parent != i || r[i].size < need)
             continue;
         (*groups)++;
         /* Keep the max_clusters largest, in descending size (earlier wins ties). */
@@ -252,11 +330,13 @@ static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, u
         uint16_t p = r[i].parent;
         for (j = 0; j < k && root[j] != p; j++)
             ;
-        /* Noise, or a group beyond max_clusters: k-means skips weight 0, so nothing is swallowed. */
+        /* Noise, or a group beyond max_clusters: weight 0 keeps it out of every cluster. */
         if (j == k) {
             d->pts[i].w = 0;
+            d->labels[i] = SONAR_KMEANS_SKIP;
             continue;
         }
+        d->labels[i] = j;
         sx[j] += (int64_t)d->pts[i].x * d->pts[i].w;
         sy[j] += (int64_t)d->pts[i].y * d->pts[i].w;
         sw[j] += d->pts[i].w;
@@ -264,6 +344,22 @@ static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, u
     for (j = 0; j < k; j++) {
         c[j].x = (int32_t)(sx[j] / (int64_t)sw[j]);
         c[j].y = (int32_t)(sy[j] / (int64_t)sw[j]);
+        part[j] = j;
+    }
+    if (d->cfg.split_points == 0 || !(d->cfg.max_extent_m > 0.0f))
+        return k;
+    /* Wide groups, largest first, get a centre per half max_extent_m while centres remain. */
+    group_widths(d, root, k, width);
+    ng = k;
+    for (j = 0; j < ng; j++) {
+        int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), piece = lim / 2 > 0 ? lim / 2 : 1;
+        int64_t want = (width[j] + piece - 1) / piece, have = 1;
+        if (width[j] <= lim)
+            continue;
+        for (; have < want && k < SONAR_MAX_CLUSTERS && add_split_seed(d, c, part, k, j, root[j]); have++) {
+            part[k] = j;
+            k++;
+        }
     }
     return k;
 }
@@ -293,13 +389,49 @@ static void rotate(float *x, float *y, double c, double s)
     *y = (float)ny;
 }
 
-/* Cluster j -> detection; returns 0 when it has fewer than min_points cells. */
-static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_detection *o)
+/* Within track_m of a detection of the previous sweep? (device frame, mm) */
+static int tracked(const struct sonar_detector *d, int32_t x, int32_t y)
+{
+    int64_t gate = (int64_t)((double)d->cfg.track_m * 1000.0);
+    uint8_t t;
+    for (t = 0; t < d->ntracks; t++)
+        if (dist2_mm(x, y, d->tracks[t].x, d->tracks[t].y) <= gate * gate)
+            return 1;
+    return 0;
+}
+
+/*
+ * Is a cluster of w cells over nbeams beams and samples [rlo, rhi], centroid (x, y) mm, an object?
+ * Every rule but the hull's diameter; `cut` = the cluster is a piece of a wider group.
+ */
+static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, uint32_t rlo, uint32_t rhi, int32_t x,
+                  int32_t y, int cut)
+{
+    uint64_t need = d->cfg.min_points;
+    double rc = sqrt((double)x * x + (double)y * y) / 1000.0;
+    if (d->cfg.track_m > 0.0f && d->cfg.track_points < need && tracked(d, x, y))
+        need = d->cfg.track_points;
+    if (w < need || nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
+        return 0;
+    if (d->cfg.max_aspect > 0.0f) {
+        /* Along: the cells' range span. Across: its beams times the sweep's step, at the centroid's range. */
+        uint16_t step = d->beams > 1u ? angle_gap(d->angles[0], d->angles[1]) : 1u;
+        double along = (double)(rhi - rlo + 1u) * (double)d->range_m / (double)d->n;
+        double across = (double)nbeams * (double)(step ? step : 1u) * 3.14159265358979323846 / 200.0 * rc;
+        if (along > (double)d->cfg.max_aspect * across)
+            return 0;
+    }
+    return 1;
+}
+
+/* Cluster j -> detection and its device-frame centroid *at (mm); returns 0 when it is not an object. */
+static int make_detection(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o,
+                          struct sonar_centroid *at)
 {
     uint64_t w = 0, s = 0;
     int64_t sx = 0, sy = 0;
     uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
-    uint32_t lo = 0, hi = 0;
+    uint32_t lo = 0, hi = 0, rlo = UINT32_MAX, rhi = 0;
     int h, v;
     double th = (double)d->cfg.angle_offset * 3.14159265358979323846 / 200.0, c = cos(th), sn = sin(th);
     for (i = 0; i < d->nruns; i++) {
@@ -312,6 +444,8 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
         sx += (int64_t)d->pts[i].x * d->pts[i].w;
         sy += (int64_t)d->pts[i].y * d->pts[i].w;
         end = (uint32_t)r->start + d->pts[i].w - 1u;
+        rlo = r->start < rlo ? r->start : rlo;
+        rhi = end > rhi ? end : rhi;
         /* Runs of one beam lie on one ray: only its nearest and farthest cells can be hull vertices. */
         if (r->beam != beam) {
             if (beam != 0xFFFFu) {
@@ -327,7 +461,11 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
             hi = end > hi ? end : hi;
         }
     }
-    if (w < d->cfg.min_points || beam == 0xFFFFu || nbeams < d->cfg.min_beams)
+    if (w == 0 || beam == 0xFFFFu)
+        return 0;
+    at->x = (int32_t)(sx / (int64_t)w);
+    at->y = (int32_t)(sy / (int64_t)w);
+    if (!passes(d, w, nbeams, rlo, rhi, at->x, at->y, cut))
         return 0;
     hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * lo + 1u));
     hull_push(d, &nw, polar_mm(d, d->angles[beam], 2u * hi + 1u));
@@ -370,8 +508,9 @@ static int make_detection(struct sonar_detector *d, uint8_t j, struct sonar_dete
 
 int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
 {
-    struct sonar_centroid c[SONAR_MAX_CLUSTERS];
-    uint8_t k = 0, j;
+    struct sonar_centroid c[SONAR_MAX_CLUSTERS], at[SONAR_MAX_CLUSTERS];
+    uint8_t part[SONAR_MAX_CLUSTERS];
+    uint8_t k = 0, j, q;
     if (d == NULL || out == NULL)
         return SONAR_ERR_ARG;
     out->sweep = d->sweep;
@@ -384,25 +523,35 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
     out->count = 0;
     if (d->nruns > 0) {
         link_runs(d);
-        k = seed_groups(d, c, &out->groups);
+        k = seed_groups(d, c, part, &out->groups);
     }
-    if (k > 0 && sonar_kmeans_lloyd(d->pts, d->nruns, d->labels, c, k, d->cfg.iterations) > 0) {
+    if (k > 0 && sonar_kmeans_lloyd_within(d->pts, d->nruns, d->labels, c, part, k, d->cfg.iterations) > 0) {
         for (j = 0; j < k; j++) {
-            struct sonar_detection *o = &out->det[out->count];
-            uint8_t at;
-            if (!make_detection(d, j, o))
+            struct sonar_detection o;
+            struct sonar_centroid a;
+            uint8_t pos;
+            int cut = 0;
+            for (q = 0; q < k; q++)
+                cut |= q != j && part[q] == part[j];
+            if (!make_detection(d, j, cut, &o, &a))
                 continue;
-            /* Largest first; insertion keeps equal sizes in cluster order. */
-            for (at = out->count; at > 0 && out->det[at - 1].points < o->points; at--)
+            /* Largest first, at most max_clusters; equal sizes keep cluster order. */
+            for (pos = out->count; pos > 0 && out->det[pos - 1].points < o.points; pos--)
                 ;
-            if (at != out->count) {
-                struct sonar_detection t = *o;
-                memmove(&out->det[at + 1], &out->det[at], (size_t)(out->count - at) * sizeof(t));
-                out->det[at] = t;
-            }
+            if (pos >= d->cfg.max_clusters)
+                continue;
+            if (out->count == d->cfg.max_clusters)
+                out->count--;
+            memmove(&out->det[pos + 1], &out->det[pos], (size_t)(out->count - pos) * sizeof(o));
+            memmove(&at[pos + 1], &at[pos], (size_t)(out->count - pos) * sizeof(a));
+            out->det[pos] = o;
+            at[pos] = a;
             out->count++;
         }
     }
+    /* This sweep's objects are the next sweep's tracks. */
+    d->ntracks = out->count;
+    memcpy(d->tracks, at, (size_t)out->count * sizeof(at[0]));
     /* A sweep with no foreground at all (background still seeding, or empty) has no statistics to lend. */
     d->have_prev = 0;
     if (d->cells > 0 && d->sum > 0) {

@@ -105,6 +105,70 @@ int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *label
     return (int)iterations;
 }
 
+/* Nearest centre sharing part tag `tag`; `from` is one such centre, so there is always an answer. */
+static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_centroid *c, const uint8_t *part, uint8_t k,
+                          uint8_t from)
+{
+    uint8_t j, best = from, tag = part[from];
+    int64_t bd = dist2(p, &c[from]);
+    for (j = 0; j < k; j++) {
+        int64_t d;
+        if (part[j] != tag || j == from)
+            continue;
+        d = dist2(p, &c[j]);
+        if (d < bd || (d == bd && j < best)) {
+            bd = d;
+            best = j;
+        }
+    }
+    return best;
+}
+
+int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+                              const uint8_t *part, uint8_t k, uint8_t iterations)
+{
+    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
+    uint64_t sw[SONAR_KMEANS_MAX_K];
+    unsigned it;
+    uint16_t i;
+    uint8_t j;
+    if (pts == NULL || labels == NULL || c == NULL || part == NULL || k < 1 || k > SONAR_KMEANS_MAX_K ||
+        iterations < 1)
+        return SONAR_ERR_ARG;
+    for (i = 0; i < n; i++) {
+        if (pts[i].w == 0)
+            labels[i] = SONAR_KMEANS_SKIP;
+        else if (labels[i] >= k)
+            return SONAR_ERR_ARG;
+    }
+    for (it = 0; it < iterations; it++) {
+        unsigned changed = 0;
+        memset(sx, 0, sizeof(sx));
+        memset(sy, 0, sizeof(sy));
+        memset(sw, 0, sizeof(sw));
+        for (i = 0; i < n; i++) {
+            uint8_t l;
+            if (pts[i].w == 0)
+                continue;
+            l = nearest_in(&pts[i], c, part, k, labels[i]);
+            changed += l != labels[i];
+            labels[i] = l;
+            sx[l] += (int64_t)pts[i].x * pts[i].w;
+            sy[l] += (int64_t)pts[i].y * pts[i].w;
+            sw[l] += pts[i].w;
+        }
+        /* The first round always updates: entry centres need not be the parts' means yet. */
+        for (j = 0; j < k; j++)
+            if (sw[j] > 0) {
+                c[j].x = rounded_mean(sx[j], sw[j]);
+                c[j].y = rounded_mean(sy[j], sw[j]);
+            }
+        if (changed == 0 && it > 0)
+            return (int)it + 1;
+    }
+    return (int)iterations;
+}
+
 double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
                             const struct sonar_centroid *c)
 {

@@ -20,6 +20,7 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.link_beams = 2;
     cfg->detector.min_points = 20;
     cfg->detector.link_m = 0.15f;
+    cfg->detector.track_points = 10;
     cfg->detector.angle_offset = 0.0f;
 }
 

@@ -11,7 +11,7 @@ enum {
     OPT_REPLAY = 256, OPT_SONAR, OPT_BAUD, OPT_LCM, OPT_PREFIX, OPT_FILTERED, OPT_NO_LCM, OPT_SWEEPS, OPT_MODE,
     OPT_SECTOR, OPT_STEP, OPT_GAIN, OPT_FREQUENCY, OPT_SAMPLES, OPT_TX, OPT_CONFIG, OPT_RANGE, OPT_SOS, OPT_OFFSET,
     OPT_MEDIAN, OPT_BACKGROUND, OPT_BG_WARMUP, OPT_BG_STEP, OPT_BG_MARGIN, OPT_THRESHOLD, OPT_MIN_THRESHOLD,
-    OPT_CLUSTERS, OPT_MIN_POINTS, OPT_MIN_BEAMS, OPT_MAX_EXTENT, OPT_ITERATIONS, OPT_LINK_M, OPT_LINK_BEAMS, OPT_MAX_STEP, OPT_JSON, OPT_CSV_OUT,
+    OPT_CLUSTERS, OPT_MIN_POINTS, OPT_MIN_BEAMS, OPT_MAX_EXTENT, OPT_SPLIT_POINTS, OPT_MIN_RANGE, OPT_MAX_ASPECT, OPT_TRACK_M, OPT_TRACK_POINTS, OPT_ITERATIONS, OPT_LINK_M, OPT_LINK_BEAMS, OPT_MAX_STEP, OPT_JSON, OPT_CSV_OUT,
     OPT_STAGE, OPT_QUIET, OPT_HELP, OPT_VERSION
 };
 
@@ -46,6 +46,11 @@ static const struct option longs[] = {
     {"min-points", required_argument, NULL, OPT_MIN_POINTS},
     {"min-beams", required_argument, NULL, OPT_MIN_BEAMS},
     {"max-extent", required_argument, NULL, OPT_MAX_EXTENT},
+    {"split-points", required_argument, NULL, OPT_SPLIT_POINTS},
+    {"min-range", required_argument, NULL, OPT_MIN_RANGE},
+    {"max-aspect", required_argument, NULL, OPT_MAX_ASPECT},
+    {"track-m", required_argument, NULL, OPT_TRACK_M},
+    {"track-points", required_argument, NULL, OPT_TRACK_POINTS},
     {"iterations", required_argument, NULL, OPT_ITERATIONS},
     {"link-m", required_argument, NULL, OPT_LINK_M},
     {"link-beams", required_argument, NULL, OPT_LINK_BEAMS},
@@ -95,14 +100,23 @@ void options_usage(const char *prog)
            "                         per-angle, 8 beams range)\n"
            "  --bg-step N            grey levels the background moves per observation, 1..64 (default 1)\n"
            "  --bg-margin N          contrast margin: a cell must exceed the background b by b*N/16\n"
-           "                         before it counts, 0..64; 0 = the study's plain subtraction (default 8)\n"
-           "detector (once per sweep)\n"
+           "                         before it counts, 0..64; 0 = the study's plain subtraction (default 8)\n",
+           prog, prog);
+    printf("detector (once per sweep)\n"
            "  --threshold K          foreground cells > mean + K std of the previous sweep, 0..20 (default 3)\n"
            "  --min-threshold T      cells must exceed at least T grey levels, 0..254 (default 16)\n"
            "  --clusters MAX         most detections per sweep, 1..%d (default 8)\n"
            "  --min-points N         cells a detection needs, 1..65535 (default 20)\n"
            "  --min-beams N          beams a detection must span, 0..255 (default 1)\n"
            "  --max-extent M         drop detections wider than M metres (structure), 0 = no limit (default 0)\n"
+           "  --split-points N       cut groups wider than --max-extent with k-means into pieces about half\n"
+           "                         of it across, keeping pieces of >= N cells; 0 = drop them whole (default 0)\n"
+           "  --min-range M          drop detections nearer than M metres (ring-down, the mount), 0..1000 (default 0)\n"
+           "  --max-aspect R         drop detections R times longer along the beam than across (radial\n"
+           "                         streaks), 0.1..100, 0 = no limit (default 0)\n"
+           "  --track-m M            a cluster within M metres of a detection of the previous sweep needs\n"
+           "                         only --track-points cells, 0..100, 0 = off (default 0)\n"
+           "  --track-points N       cells a tracked cluster needs, 1..65535 (default 10)\n"
            "  --iterations N         k-means rounds at most, 1..100 (default 10)\n"
            "  --link-m M             range gap in metres still joining one object, 0..10 (default 0.15)\n"
            "  --link-beams N         beams apart still joining one object, 1..8 (default 2)\n"
@@ -112,7 +126,7 @@ void options_usage(const char *prog)
            "  --stage S              replay --csv-out: export after raw | median | foreground (default foreground)\n"
            "  --quiet                no per-sweep text and no summary\n"
            "  --help, --version\n",
-           prog, prog, SONAR_MAX_CLUSTERS);
+           SONAR_MAX_CLUSTERS);
 }
 
 static int num(const char *name, const char *s, double lo, double hi, const char *unit, double *v, char *err, size_t n)
@@ -249,6 +263,18 @@ static int apply(struct sonard_options *o, int c, const char *a, const char *pro
     case OPT_MIN_POINTS: if (whole("--min-points", a, 1, 65535, "cells", &l, err, errlen)) return -1; p->detector.min_points = (uint16_t)l; break;
     case OPT_MIN_BEAMS: if (whole("--min-beams", a, 0, 255, "beams", &l, err, errlen)) return -1; p->detector.min_beams = (uint8_t)l; break;
     case OPT_MAX_EXTENT: if (num("--max-extent", a, 0, 1000, "metres (0 = no limit)", &v, err, errlen)) return -1; p->detector.max_extent_m = (float)v; break;
+    case OPT_SPLIT_POINTS: if (whole("--split-points", a, 0, 65535, "cells (0 = never cut)", &l, err, errlen)) return -1; p->detector.split_points = (uint16_t)l; break;
+    case OPT_MIN_RANGE: if (num("--min-range", a, 0, 1000, "metres", &v, err, errlen)) return -1; p->detector.min_range_m = (float)v; break;
+    case OPT_MAX_ASPECT:
+        if (num("--max-aspect", a, 0, 100, "ratio (0 = no limit)", &v, err, errlen)) return -1;
+        if (v > 0.0 && v < 0.1) {
+            snprintf(err, errlen, "--max-aspect: '%s' is below 0.1 (0 = no limit)", a);
+            return -1;
+        }
+        p->detector.max_aspect = (float)v;
+        break;
+    case OPT_TRACK_M: if (num("--track-m", a, 0, 100, "metres (0 = off)", &v, err, errlen)) return -1; p->detector.track_m = (float)v; break;
+    case OPT_TRACK_POINTS: if (whole("--track-points", a, 1, 65535, "cells", &l, err, errlen)) return -1; p->detector.track_points = (uint16_t)l; break;
     case OPT_ITERATIONS: if (whole("--iterations", a, 1, 100, "rounds", &l, err, errlen)) return -1; p->detector.iterations = (uint8_t)l; break;
     case OPT_LINK_M: if (num("--link-m", a, 0, 10, "metres", &v, err, errlen)) return -1; p->detector.link_m = (float)v; break;
     case OPT_LINK_BEAMS: if (whole("--link-beams", a, 1, 8, "beams", &l, err, errlen)) return -1; p->detector.link_beams = (uint8_t)l; break;
