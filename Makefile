@@ -15,6 +15,8 @@ HOST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -D_POSIX_C_SOURCE=20
 TEST_CFLAGS = -std=c99 -Wall -Wextra -Werror -Wshadow $(OPT) -g $(SAN) -Iinclude -Isrc/host -Isrc/core \
               -D_POSIX_C_SOURCE=200809L -DUNIT_TESTING -MMD -MP $(EXTRA_CFLAGS)
 LDLIBS    = -lm
+# Sources and objects of a rule: -MMD also lists headers as prerequisites, which clang refuses as inputs.
+INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
@@ -66,38 +68,38 @@ $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 	$(AR) rcs $@ $^
 
 $(BUILD)/sonard: $(BUILD)/host/sonard.o $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
-	$(CC) $(SAN) $^ -o $@ -llcm $(LDLIBS)
+	$(CC) $(SAN) $(INPUTS) -o $@ -llcm $(LDLIBS)
 
 $(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Wno-conversion $^ -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $^ -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/pvbin2csv: tools/pvbin2csv.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $^ -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(TEST_CFLAGS) $^ -o $@ -lcmocka $(LDLIBS)
+	$(CC) $(TEST_CFLAGS) $(INPUTS) -o $@ -lcmocka $(LDLIBS)
 
 $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $^ -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
+	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $(INPUTS) -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
 
-## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap
+## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live realdata crosscheck check-noheap
+	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
 
 $(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(TEST_CFLAGS) $^ -o $@ $(LDLIBS)
+	$(CC) $(TEST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
 ## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40)
 fuzz: $(BUILD)/tests/fuzz_parser
@@ -145,7 +147,7 @@ bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv
 	@sh tools/bench.sh $(BUILD)
 
 $(BUILD)/bench: tools/bench.c $(BUILD)/libsonarcore.a
-	$(CC) $(HOST_CFLAGS) -Wno-conversion $^ -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/bench_opencv: tools/bench_opencv.cpp
 	$(CXX) -std=c++17 -O2 $< -o $@ $(OPENCV_FLAGS)

@@ -29,6 +29,15 @@ fa=$(python3 tools/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false 
 check "the study's range background keeps the walls: >= 1 false alarm a sweep (got $fa)" \
     awk -v f="$fa" 'BEGIN { exit !(f >= 1.0) }' 
 
+# Several --config files apply in order; a string from the first survives reading the second; flags win.
+printf 'csv-out = %s\nstage = raw\nmin-points = 7\n' "$T/multi.csv" > "$T/a.conf"
+printf '# the second file\nmin-points = 60000\nmedian = 3\n' > "$T/b.conf"
+"$B/sonard" --replay "$T/pool.csv" --json --quiet --config "$T/a.conf" --config "$T/b.conf" > "$T/multi.jsonl" 2>&1
+check "two --config files: the later overrides (no detections at 60000 points), the earlier's csv-out kept" \
+    sh -c "test \$(wc -l < '$T/multi.csv') -eq \$(wc -l < '$T/pool.csv') && ! grep -q x_m '$T/multi.jsonl'"
+"$B/sonard" --replay "$T/pool.csv" --json --quiet --config "$T/a.conf" --config "$T/b.conf" --min-points 20 > "$T/multi2.jsonl" 2>&1
+check "a flag overrides both --config files" grep -q x_m "$T/multi2.jsonl"
+
 # Exports: every row comes out, and the export replays.
 "$B/sonard" --replay "$T/pool.csv" --quiet --csv-out "$T/fg.csv" --stage foreground > /dev/null 2>&1
 check "--csv-out writes one row per beam" test "$(wc -l < "$T/fg.csv")" -eq "$(wc -l < "$T/pool.csv")"

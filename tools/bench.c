@@ -10,6 +10,7 @@
 #include "sonar/hull.h"
 #include "sonar/kmeans.h"
 #include "sonar/median.h"
+#include "sonar/pipeline.h"
 
 #define BEAMS 400
 #define N 1200
@@ -74,7 +75,8 @@ int main(int argc, char **argv)
     double t_med[REPS], t_step[REPS], t_cpy[REPS], t_det[REPS], t_km[REPS], t_bg[REPS], t_st[REPS], t_2d[REPS];
     static struct sonar_median2d m2d;
     struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
-    struct sonar_detector_config dc = {3.0f, 16, 8, 10, 2, 20, 0.15f, 0.0f};
+    struct sonar_pipeline_config defaults;
+    struct sonar_detector_config dc;
     static struct sonar_point pts[5000];
     static uint8_t labels[5000];
     static struct sonar_hull_point hp[5000], hull[10000];
@@ -84,6 +86,8 @@ int main(int argc, char **argv)
     int r, i, j, sink = 0;
     unsigned worst_runs = 0;
 
+    sonar_pipeline_defaults(&defaults);
+    dc = defaults.detector; /* sonard's defaults: k = 3, floor 16, 8 clusters, 20 points, 0.15 m link */
     make_sweeps();
     snprintf(path, sizeof(path), "%s/bench_sweep.bin", dir);
     f = fopen(path, "wb");
@@ -142,13 +146,20 @@ int main(int argc, char **argv)
             sink++;
         t_2d[r] = (now() - t0) / (BEAMS * N) * 1e9;
     }
-    /* A sweep that fills the run table: the detector's worst case. */
+    /* A sweep that fills the run table, with every rule on and wide groups cut into the most
+       pieces: the detector's worst case. */
     for (r = 0; r < REPS; r++) {
         struct sonar_detector_config worst = dc;
         double t0;
         worst.min_threshold = 0;
         worst.threshold_k = 0.0f;
         worst.max_clusters = SONAR_MAX_CLUSTERS;
+        worst.max_extent_m = 1.0f;
+        worst.split_points = 1;
+        worst.max_aspect = 2.0f;
+        worst.min_range_m = 0.5f;
+        worst.track_m = 1.0f;
+        worst.track_points = 1;
         if (sonar_detector_init(&det, &worst) != SONAR_OK)
             return 1;
         for (i = 0; i < BEAMS; i++)

@@ -256,25 +256,23 @@ static void group_widths(struct sonar_detector *d, const uint16_t *root, uint8_t
         width[j] = x1[j] - x0[j] > y1[j] - y0[j] ? x1[j] - x0[j] : y1[j] - y0[j];
 }
 
-/* One more centre for group `root`: its run farthest from the group's centres so far (maximin). */
-static int add_split_seed(const struct sonar_detector *d, struct sonar_centroid *c, const uint8_t *part, uint8_t k,
-                          uint8_t g, uint16_t root)
+/*
+ * One more centre, c[k], for group `root`: its run farthest from the nearest of the group's
+ * centres (maximin). labels[i] holds that nearest centre, so each new centre costs two passes.
+ */
+static int add_split_seed(struct sonar_detector *d, struct sonar_centroid *c, uint8_t k, uint16_t root)
 {
     int64_t far_d = 0;
     int32_t far_i = -1;
     uint16_t i;
-    uint8_t j;
     for (i = 0; i < d->nruns; i++) {
-        int64_t near_d = -1;
-        if (d->pts[i].w == 0 || d->runs[i].parent != root)
+        const struct sonar_point *p = &d->pts[i];
+        int64_t e;
+        if (p->w == 0 || d->runs[i].parent != root)
             continue;
-        for (j = 0; j < k; j++)
-            if (part[j] == g) {
-                int64_t e = dist2_mm(d->pts[i].x, d->pts[i].y, c[j].x, c[j].y);
-                near_d = near_d < 0 || e < near_d ? e : near_d;
-            }
-        if (near_d > far_d) {
-            far_d = near_d;
+        e = dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y);
+        if (e > far_d) {
+            far_d = e;
             far_i = i;
         }
     }
@@ -282,6 +280,13 @@ static int add_split_seed(const struct sonar_detector *d, struct sonar_centroid 
         return 0;
     c[k].x = d->pts[far_i].x;
     c[k].y = d->pts[far_i].y;
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_point *p = &d->pts[i];
+        if (p->w == 0 || d->runs[i].parent != root)
+            continue;
+        if (dist2_mm(p->x, p->y, c[k].x, c[k].y) < dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y))
+            d->labels[i] = k;
+    }
     return 1;
 }
 
@@ -356,7 +361,7 @@ static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, u
         int64_t want = (width[j] + piece - 1) / piece, have = 1;
         if (width[j] <= lim)
             continue;
-        for (; have < want && k < SONAR_MAX_CLUSTERS && add_split_seed(d, c, part, k, j, root[j]); have++) {
+        for (; have < want && k < SONAR_MAX_CLUSTERS && add_split_seed(d, c, k, root[j]); have++) {
             part[k] = j;
             k++;
         }

@@ -85,7 +85,8 @@ void options_usage(const char *prog)
            "  --publish-filtered     also publish foreground beams on SONAR_BEAM_FILTERED\n"
            "  --no-lcm               publish nothing (JSON / CSV only)\n"
            "  --csv-out FILE         record raw beams in the study's CSV, plus metadata columns\n"
-           "  --config FILE          key = value lines, keys as the long options; flags override it\n"
+           "  --config FILE          key = value lines, keys as the long options; several apply in order;\n"
+           "                         flags override them\n"
            "geometry\n"
            "  --range M              metres, 1..60 (default 2, Ping Viewer's; in replay: the file's range_m=\n"
            "                         metadata when present)\n"
@@ -313,12 +314,12 @@ static char *keep(char *pool, size_t cap, size_t *used, const char *s)
     return r;
 }
 
+/* One --config file; *used carries the string pool's fill across several files. */
 static int read_config(struct sonard_options *o, const char *path, const char *prog, struct parse_state *ps,
-                       char *pool, size_t cap, char *err, size_t errlen)
+                       char *pool, size_t cap, size_t *used, char *err, size_t errlen)
 {
     char line[512], msg[256];
     unsigned long ln = 0;
-    size_t used = 0;
     FILE *f = fopen(path, "r");
     if (f == NULL) {
         snprintf(err, errlen, "--config %s: %s", path, strerror(errno));
@@ -363,7 +364,7 @@ static int read_config(struct sonard_options *o, const char *path, const char *p
             if (v[0] == 'f' || v[0] == 'n' || v[0] == '0')
                 continue;
         }
-        if ((v = keep(pool, cap, &used, v)) == NULL) {
+        if ((v = keep(pool, cap, used, v)) == NULL) {
             snprintf(err, errlen, "%s:%lu: the file's values exceed %zu bytes", path, ln, cap);
             fclose(f);
             return -1;
@@ -381,6 +382,7 @@ static int read_config(struct sonard_options *o, const char *path, const char *p
 int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)
 {
     struct parse_state ps = {0};
+    size_t used = 0;
     int c, i, r;
     memset(o, 0, sizeof(*o));
     sonar_pipeline_defaults(&o->pipeline);
@@ -396,7 +398,8 @@ int options_parse(int argc, char **argv, struct sonard_options *o, char *err, si
         const char *path = strncmp(a, "--config=", 9) == 0 ? a + 9 : strcmp(a, "--config") == 0 && i + 1 < argc ? argv[i + 1] : NULL;
         if (path != NULL) {
             snprintf(o->config_path, sizeof(o->config_path), "%s", path);
-            if (read_config(o, path, argv[0], &ps, o->pool, sizeof(o->pool), err, errlen) != 0)
+            /* Several files apply in order, each overriding the ones before. */
+            if (read_config(o, path, argv[0], &ps, o->pool, sizeof(o->pool), &used, err, errlen) != 0)
                 return -1;
         }
     }

@@ -24,7 +24,7 @@ struct sonard_options {
     int no_lcm;
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
-    char config_path[256];
+    char config_path[256]; /* the last --config file */
     char pool[8192]; /* strings read from the config file, which the fields above may point into */
 };
 
