@@ -33,6 +33,7 @@ run_transport() {
         > "$T/$name.jsonl" 2> "$T/$name.err"; rc=$?
     wait $FEEDPID 2>/dev/null; FEEDPID=""
     check "$name: sonard exits 0 after --sweeps 7" test "$rc" -eq 0
+    check "$name: exactly 7 sweeps, though a fast device answers before the next read" test "$(wc -l < "$T/$name.jsonl")" -eq 7
     check "$name: detections meet precision/recall >= 0.95, error <= 0.3 m" \
         python3 tools/score.py "$T/pool.json" "$T/$name.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
     python3 tools/lcm_log.py "$T/$name.lcm" detections --types "$types" > "$T/$name.lcm.jsonl" 2>&1

@@ -292,7 +292,9 @@ static void on_event(struct live *L, const struct sonar_ping360_event *ev, int64
         say(L, "scanning (%s)%s", L->drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping", "");
         break;
     case SONAR_P360_EV_BEAM:
-        beam_in(L, &ev->data);
+        /* After the sweeps asked for, beams still in flight are not a new sweep. */
+        if (L->stop != STOP_SWEEPS)
+            beam_in(L, &ev->data);
         break;
     case SONAR_P360_EV_LINK_LOST:
         drop_link(L, now, ev->backoff_us, "no reply");
@@ -308,7 +310,14 @@ static void on_event(struct live *L, const struct sonar_ping360_event *ev, int64
 static void read_link(struct live *L, int64_t now)
 {
     uint8_t buf[4096];
-    for (;;) {
+    const int was_running = L->stop == RUNNING;
+    int reads;
+    /*
+     * A fast device (or sonar-feed --pace fast on loopback) answers each request before the next
+     * read, so this could read for ever: bound it, and leave as soon as a stop becomes due, so
+     * signals, timers and --sweeps are served by the poll loop (which then sends motor_off).
+     */
+    for (reads = 0; reads < 16 && !(was_running && L->stop != RUNNING); reads++) {
         ssize_t n = link_read(&L->link, buf, sizeof(buf));
         const uint8_t *in = buf;
         size_t len;
