@@ -33,8 +33,8 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
     printf "%-46s %11.3f us %11.3f us %9.1fx  (memcpy of the same 1200 bytes)\n", "per-beam step (median+background+stats+runs)", step, cpy, step / cpy
     printf "%-46s %11.3f us %11.3f us %9.2fx  (OpenCV medianBlur alone on the beam; target <= 1)\n", "per-beam step vs OpenCV medianBlur alone", step, cvrow * 1.2, step / (cvrow * 1.2)
     printf "%-46s %11.3f us\n", "  of which background update+subtract", bg
-    printf "%-46s %11.3f ms %11.3f ms %9.0fx  (device: one beam at 12 m, 1-grad steps)\n", "detection of a sweep (typical: 20 moving objects)", det, beam_ms, beam_ms / det
-    printf "%-46s %11.3f ms\n", "detection of a sweep (worst: run table full, cut in 16)", detw
+    printf "%-46s %11.3f ms %11.3f ms %9.0fx  (device: one beam at 12 m, 1-grad steps)\n", "sweep detection, typical (20 moving objects)", det, beam_ms, beam_ms / det
+    printf "%-46s %11.3f ms\n", "sweep detection, worst (1024 runs, 16 pieces)", detw
     printf "%-46s %11.3f ms %11.3f ms %9.2fx  (OpenCV kmeans PP + convexHull)\n", "k-means + hull, 5000 points, 6 clusters", km, cvkm, cvkm / km
     printf "%-46s %11.1f ms %11.1f ms %9.0fx  (the study'"'"'s Python pipeline, load to detections)\n", "--replay of " rows " rows (whole process)", rep, pyt * 1000, pyt * 1000 / rep
     printf "%-46s %14s %11.1f ms\n", "  Python load to end of filtering (paper'"'"'s def.)", "", pyf * 1000
