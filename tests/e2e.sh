@@ -29,6 +29,9 @@ fa=$(python3 tools/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false 
 check "the study's range background keeps the walls: >= 1 false alarm a sweep (got $fa)" \
     awk -v f="$fa" 'BEGIN { exit !(f >= 1.0) }' 
 
+# The shipped preset parses and runs (scored on the real recordings by tests/realdata.sh).
+check "docs/presets/occupied-pool.conf is read and runs" sh -c "'$B/sonard' --replay '$T/open.csv' --json --quiet --config docs/presets/occupied-pool.conf > '$T/preset.jsonl' && test -s '$T/preset.jsonl'"
+
 # Several --config files apply in order; a string from the first survives reading the second; flags win.
 printf 'csv-out = %s\nstage = raw\nmin-points = 7\n' "$T/multi.csv" > "$T/a.conf"
 printf '# the second file\nmin-points = 60000\nmedian = 3\n' > "$T/b.conf"
