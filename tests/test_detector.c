@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -310,6 +311,93 @@ static void test_tracking_confirms_with_fewer_cells(void **state)
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
 
+/* Brute force: every pair of runs within lb beams (round the turn) that touch, O(runs^2). */
+struct brun {
+    int beam, s, e; /* samples [s, e] */
+    int parent, size;
+};
+static struct brun br[SONAR_MAX_RUNS];
+
+static int bfind(int i)
+{
+    while (br[i].parent != i)
+        i = br[i].parent;
+    return i;
+}
+
+static int cmp_int_desc(const void *a, const void *b)
+{
+    return *(const int *)b - *(const int *)a;
+}
+
+static void test_linking_matches_brute_force(void **state)
+{
+    int trial;
+    (void)state;
+    srand(11);
+    for (trial = 0; trial < 60; trial++) {
+        struct sonar_detector_config c = cfg();
+        int n = 0, i, j, k, a, want[SONAR_MAX_RUNS], got[SONAR_MAX_CLUSTERS], nw = 0;
+        uint32_t gap;
+        memset(fg, 0, sizeof(fg));
+        for (k = 0; k < 40; k++) { /* objects */
+            int a0 = rand() % 400, s0 = rand() % (N - 40);
+            blob(a0, a0 + rand() % 6, s0, s0 + rand() % 30, 200);
+        }
+        for (k = 0; k < 600; k++) /* speckle */
+            fg[rand() % 400][rand() % N] = 200;
+        c.threshold_k = 0.0f;
+        c.min_threshold = 100;
+        c.link_beams = (uint8_t)(1 + rand() % 4);
+        c.link_m = (float)(rand() % 31) / 100.0f;
+        c.min_points = 25;
+        c.max_clusters = SONAR_MAX_CLUSTERS;
+        c.iterations = 1;
+        (void)run_sweep(&c);
+        /* the same runs, by hand */
+        for (a = 0; a < 400; a++)
+            for (i = 0; i < N; i++)
+                if (fg[a][i] > 100) {
+                    for (j = i; j + 1 < N && fg[a][j + 1] > 100; j++)
+                        ;
+                    br[n].beam = a;
+                    br[n].s = i;
+                    br[n].e = j;
+                    br[n].parent = n;
+                    br[n].size = 0;
+                    n++;
+                    i = j;
+                }
+        assert_true(n <= SONAR_MAX_RUNS);
+        assert_int_equal(out.runs, n);
+        gap = (uint32_t)((double)c.link_m * N / (double)RANGE);
+        for (i = 0; i < n; i++)
+            for (j = 0; j < i; j++) {
+                int db = abs(br[i].beam - br[j].beam);
+                int lo = br[i].s > br[j].s ? br[i].s : br[j].s, hi = br[i].e < br[j].e ? br[i].e : br[j].e;
+                if ((db <= c.link_beams || 400 - db <= c.link_beams) && lo <= hi + 1 + (int)gap) {
+                    int ri = bfind(i), rj = bfind(j);
+                    if (ri != rj)
+                        br[ri].parent = rj;
+                }
+            }
+        for (i = 0; i < n; i++)
+            br[bfind(i)].size += br[i].e - br[i].s + 1;
+        for (i = 0; i < n; i++)
+            if (bfind(i) == i && br[i].size >= c.min_points)
+                want[nw++] = br[i].size;
+        assert_int_equal(out.groups, nw);
+        /* up to SONAR_MAX_CLUSTERS groups, each one detection of exactly its cells */
+        qsort(want, (size_t)nw, sizeof(int), cmp_int_desc);
+        for (i = 0; i < out.count; i++)
+            got[i] = (int)out.det[i].points;
+        if (nw <= SONAR_MAX_CLUSTERS) {
+            assert_int_equal(out.count, nw);
+            assert_memory_equal(got, want, (size_t)nw * sizeof(int));
+        }
+    }
+}
+
 static void test_bad_input(void **state)
 {
     struct sonar_detector_config c = cfg();
@@ -342,6 +430,7 @@ int main(void)
         cmocka_unit_test(test_split_cuts_wide_group),
         cmocka_unit_test(test_min_range_and_aspect),
         cmocka_unit_test(test_tracking_confirms_with_fewer_cells),
+        cmocka_unit_test(test_linking_matches_brute_force),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

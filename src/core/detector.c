@@ -1,4 +1,4 @@
-/* detector.c -- runs -> groups (bounded union-find) -> k-means inside groups -> rules -> incremental hulls; O(runs * (link window + k)) per sweep, no heap. */
+/* detector.c -- runs -> groups (union-find, beam-by-beam merge) -> k-means inside groups -> rules -> incremental hulls; O(runs * (link_beams + k * iterations)) per sweep, no heap. */
 #include "sonar/detector.h"
 
 #include <math.h>
@@ -190,17 +190,43 @@ static uint16_t angle_gap(uint16_t a, uint16_t b)
     return g > 200u ? (uint16_t)(400u - g) : g;
 }
 
+/*
+ * Unites the touching runs of two beams' run lists [a, ae) and [b, be). Each list is sorted by
+ * start and, its runs being disjoint, by end too, so a merge that steps past whichever run ends
+ * first meets every touching pair or one that joins the same groups through a neighbour in its own
+ * beam (linked below): O(length of both lists).
+ */
+static void link_beams(struct sonar_detector *d, uint16_t a, uint16_t ae, uint16_t b, uint16_t be, uint32_t gap)
+{
+    while (a < ae && b < be) {
+        uint32_t ea = (uint32_t)d->runs[a].start + d->pts[a].w, eb = (uint32_t)d->runs[b].start + d->pts[b].w;
+        if (touch(d, a, b, gap))
+            unite(d->runs, a, b);
+        if (ea <= eb)
+            a++;
+        if (eb <= ea)
+            b++;
+    }
+}
+
 static void link_runs(struct sonar_detector *d)
 {
     uint32_t gap = (uint32_t)((double)d->cfg.link_m * (double)d->n / (double)d->range_m);
-    uint16_t i, j, lb = d->cfg.link_beams;
-    for (i = 1; i < d->nruns; i++)
-        for (j = i; j-- > 0;) {
-            if (d->runs[i].beam - d->runs[j].beam > lb)
-                break;
-            if (touch(d, i, j, gap))
-                unite(d->runs, i, j);
+    uint16_t i, j, e, lb = d->cfg.link_beams;
+    /* Runs are stored beam by beam, each beam's in range order: link each beam to itself and to the lb before it. */
+    for (i = 0; i < d->nruns; i = e) {
+        uint16_t beam = d->runs[i].beam, p1 = i;
+        for (e = (uint16_t)(i + 1u); e < d->nruns && d->runs[e].beam == beam; e++)
+            if (touch(d, (uint16_t)(e - 1u), e, gap)) /* in one beam, neighbours suffice: gaps only grow */
+                unite(d->runs, (uint16_t)(e - 1u), e);
+        while (p1 > 0 && beam - d->runs[p1 - 1u].beam <= lb) {
+            uint16_t p0 = (uint16_t)(p1 - 1u), pb = d->runs[p0].beam;
+            while (p0 > 0 && d->runs[p0 - 1u].beam == pb)
+                p0--;
+            link_beams(d, p0, p1, i, e, gap);
+            p1 = p0;
         }
+    }
     /* A full turn: the last beams adjoin the first ones across the start angle. */
     if (d->beams > 2u * lb + 1u) {
         uint16_t step = angle_gap(d->angles[0], d->angles[1]);
