@@ -252,6 +252,20 @@ def main():
                 open(out, "w").write(sh([f"{B}/sonard", "--replay", f"{W}/aq/{rec}.csv", "--json", "--quiet", *base, *extra]))
                 row.append(score(f"{W}/aq/{rec}.truth.json", out))
             ablation.append((label, " ".join(extra), row))
+        # The range is assumed; the preset's rules and the 1 m gate are in metres, so show what another guess does.
+        for rng in (13.0, a.aquascan_range, 20.0):
+            d = f"{W}/aq{rng:g}"
+            if rng != a.aquascan_range:
+                sh([sys.executable, os.path.join(os.path.dirname(__file__), "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
+                    "--out", d, "--range", str(rng)])
+            else:
+                d = f"{W}/aq"
+            row = []
+            for rec in ("sonar4", "sonar11"):
+                out = f"{d}/{rec}.range.jsonl"
+                open(out, "w").write(sh([f"{B}/sonard", "--replay", f"{d}/{rec}.csv", "--json", "--quiet", *base]))
+                row.append(score(f"{d}/{rec}.truth.json", out))
+            ablation.append((f"assumed range {rng:g} m", "aquascan2csv.py --range " + f"{rng:g}", row))
 
     # ---------------- 4. figures (simulated scene; AquaScan figures stay in build/ since its licence is unclear)
     with tempfile.TemporaryDirectory() as tmp:
@@ -335,7 +349,8 @@ def main():
                 L.append(f"| {method} | {tp} | {fp} | {fn} | {tp / max(1, tp + fp):.3f} | {tp / max(1, tp + fn):.3f} | "
                          f"{2 * tp / max(1, 2 * tp + fp + fn):.3f} |")
     if ablation:
-        L.append("\nThe preset's rules one at a time (each row changes the preset as shown; same scorer):\n")
+        L.append("\nThe preset's rules one at a time (each row changes the preset as shown; same scorer), and the "
+                 "assumed range (the rules and the 1 m gate are in metres, so the guess matters):\n")
         L.append("| variant | change | F1 sonar4 (tuning) | F1 sonar11 (held out) | F1 both |")
         L.append("|---|---|---:|---:|---:|")
         for label, extra, (s4, s11) in ablation:
