@@ -212,7 +212,7 @@ static void link_beams(struct sonar_detector *d, uint16_t a, uint16_t ae, uint16
 static void link_runs(struct sonar_detector *d)
 {
     uint32_t gap = (uint32_t)((double)d->cfg.link_m * (double)d->n / (double)d->range_m);
-    uint16_t i, j, e, lb = d->cfg.link_beams;
+    uint16_t i, e, lb = d->cfg.link_beams;
     /* Runs are stored beam by beam, each beam's in range order: link each beam to itself and to the lb before it. */
     for (i = 0; i < d->nruns; i = e) {
         uint16_t beam = d->runs[i].beam, p1 = i;
@@ -231,11 +231,24 @@ static void link_runs(struct sonar_detector *d)
     if (d->beams > 2u * lb + 1u) {
         uint16_t step = angle_gap(d->angles[0], d->angles[1]);
         uint16_t reach = (uint16_t)(lb * (step ? step : 1u));
-        if (angle_gap(d->angles[0], d->angles[d->beams - 1u]) <= reach)
-            for (i = d->nruns; i-- > 0 && d->runs[i].beam + lb >= d->beams;)
-                for (j = 0; j < i && d->runs[j].beam < lb; j++)
-                    if (angle_gap(d->angles[d->runs[i].beam], d->angles[d->runs[j].beam]) <= reach && touch(d, i, j, gap))
-                        unite(d->runs, i, j);
+        uint16_t a0, a1 = d->nruns;
+        if (angle_gap(d->angles[0], d->angles[d->beams - 1u]) > reach)
+            return;
+        /* Each of the last lb beams against each of the first lb, merged as above. */
+        while (a1 > 0 && d->runs[a1 - 1u].beam + lb >= d->beams) {
+            uint16_t ab = d->runs[a1 - 1u].beam, b0 = 0;
+            for (a0 = (uint16_t)(a1 - 1u); a0 > 0 && d->runs[a0 - 1u].beam == ab; a0--)
+                ;
+            while (b0 < a0 && d->runs[b0].beam < lb) {
+                uint16_t bb = d->runs[b0].beam, b1;
+                for (b1 = (uint16_t)(b0 + 1u); b1 < a0 && d->runs[b1].beam == bb; b1++)
+                    ;
+                if (angle_gap(d->angles[ab], d->angles[bb]) <= reach)
+                    link_beams(d, b0, b1, a0, a1, gap);
+                b0 = b1;
+            }
+            a1 = a0;
+        }
     }
 }
 
