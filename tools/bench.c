@@ -211,7 +211,6 @@ int main(int argc, char **argv)
 
     printf("sweep_detect_ms %.4f\n", median_of(t_st, REPS));
     printf("sweep_detect_objects %d\n", (int)out.count);
-    printf("sweep_detect_runs %u dropped %u threshold %u\n", (unsigned)out.runs, (unsigned)out.runs_dropped, (unsigned)out.threshold);
     printf("sweep_detect_worst_ms %.4f\n", median_of(t_det, REPS));
     printf("sweep_detect_worst_runs %d\n", (int)worst_runs);
     printf("kmeans_hull_5000_ms %.4f\n", median_of(t_km, REPS));

@@ -266,8 +266,8 @@ static uint16_t seed_min(const struct sonar_detector *d)
     return d->cfg.min_points;
 }
 
-/* Width of each kept group: the larger side of the box around its runs' end cells, mm. */
-static void group_widths(struct sonar_detector *d, const uint16_t *root, uint8_t k, int32_t *width)
+/* Width of each kept group (labels[i] = its index): the larger side of the box around its runs' end cells, mm. */
+static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *width)
 {
     int32_t x0[SONAR_MAX_CLUSTERS], x1[SONAR_MAX_CLUSTERS], y0[SONAR_MAX_CLUSTERS], y1[SONAR_MAX_CLUSTERS];
     uint16_t i;
@@ -280,8 +280,7 @@ static void group_widths(struct sonar_detector *d, const uint16_t *root, uint8_t
         const struct sonar_detector_run *r = &d->runs[i];
         if (d->pts[i].w == 0)
             continue;
-        for (j = 0; j < k && root[j] != r->parent; j++)
-            ;
+        j = d->labels[i];
         for (e = 0; e < 2; e++) {
             uint32_t cell = e ? (uint32_t)r->start + d->pts[i].w - 1u : r->start;
             struct sonar_hull_point p = polar_mm(d, d->angles[r->beam], 2u * cell + 1u);
@@ -393,7 +392,7 @@ static uint8_t seed_groups(struct sonar_detector *d, struct sonar_centroid *c, u
     if (d->cfg.split_points == 0 || !(d->cfg.max_extent_m > 0.0f))
         return k;
     /* Wide groups, largest first, get a centre per half max_extent_m while centres remain. */
-    group_widths(d, root, k, width);
+    group_widths(d, k, width);
     ng = k;
     for (j = 0; j < ng; j++) {
         int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), piece = lim / 2 > 0 ? lim / 2 : 1;

@@ -66,45 +66,6 @@ static int32_t rounded_mean(int64_t sum, uint64_t w)
     return (int32_t)(sum >= 0 ? (sum + half) / (int64_t)w : -((-sum + half) / (int64_t)w));
 }
 
-int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
-                       uint8_t k, uint8_t iterations)
-{
-    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
-    uint64_t sw[SONAR_KMEANS_MAX_K];
-    unsigned it;
-    uint16_t i;
-    uint8_t j;
-    if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1)
-        return SONAR_ERR_ARG;
-    memset(labels, SONAR_KMEANS_SKIP, n);
-    for (it = 0; it < iterations; it++) {
-        unsigned changed = 0;
-        memset(sx, 0, sizeof(sx));
-        memset(sy, 0, sizeof(sy));
-        memset(sw, 0, sizeof(sw));
-        for (i = 0; i < n; i++) {
-            uint8_t l;
-            if (pts[i].w == 0)
-                continue;
-            l = nearest(&pts[i], c, k, NULL);
-            changed += l != labels[i];
-            labels[i] = l;
-            sx[l] += (int64_t)pts[i].x * pts[i].w;
-            sy[l] += (int64_t)pts[i].y * pts[i].w;
-            sw[l] += pts[i].w;
-        }
-        /* Invariant: labels hold the nearest centre of the centres used this round. */
-        if (changed == 0)
-            return (int)it + 1;
-        for (j = 0; j < k; j++)
-            if (sw[j] > 0) {
-                c[j].x = rounded_mean(sx[j], sw[j]);
-                c[j].y = rounded_mean(sy[j], sw[j]);
-            }
-    }
-    return (int)iterations;
-}
-
 /* Nearest centre sharing part tag `tag`; `from` is one such centre, so there is always an answer. */
 static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_centroid *c, const uint8_t *part, uint8_t k,
                           uint8_t from)
@@ -124,23 +85,15 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_centro
     return best;
 }
 
-int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
-                              const uint8_t *part, uint8_t k, uint8_t iterations)
+/* Lloyd's rounds, free (part == NULL) or kept inside parts; arguments already checked. */
+static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+                 const uint8_t *part, uint8_t k, uint8_t iterations)
 {
     int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
     uint64_t sw[SONAR_KMEANS_MAX_K];
     unsigned it;
     uint16_t i;
     uint8_t j;
-    if (pts == NULL || labels == NULL || c == NULL || part == NULL || k < 1 || k > SONAR_KMEANS_MAX_K ||
-        iterations < 1)
-        return SONAR_ERR_ARG;
-    for (i = 0; i < n; i++) {
-        if (pts[i].w == 0)
-            labels[i] = SONAR_KMEANS_SKIP;
-        else if (labels[i] >= k)
-            return SONAR_ERR_ARG;
-    }
     for (it = 0; it < iterations; it++) {
         unsigned changed = 0;
         memset(sx, 0, sizeof(sx));
@@ -150,23 +103,51 @@ int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t
             uint8_t l;
             if (pts[i].w == 0)
                 continue;
-            l = nearest_in(&pts[i], c, part, k, labels[i]);
+            l = part == NULL ? nearest(&pts[i], c, k, NULL) : nearest_in(&pts[i], c, part, k, labels[i]);
             changed += l != labels[i];
             labels[i] = l;
             sx[l] += (int64_t)pts[i].x * pts[i].w;
             sy[l] += (int64_t)pts[i].y * pts[i].w;
             sw[l] += pts[i].w;
         }
-        /* The first round always updates: entry centres need not be the parts' means yet. */
+        /*
+         * Moving the centres when nothing changed leaves them where they were, except in a first
+         * round inside parts: entry centres need not be their parts' means yet.
+         */
         for (j = 0; j < k; j++)
             if (sw[j] > 0) {
                 c[j].x = rounded_mean(sx[j], sw[j]);
                 c[j].y = rounded_mean(sy[j], sw[j]);
             }
-        if (changed == 0 && it > 0)
+        if (changed == 0 && (it > 0 || part == NULL))
             return (int)it + 1;
     }
     return (int)iterations;
+}
+
+int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+                       uint8_t k, uint8_t iterations)
+{
+    if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1)
+        return SONAR_ERR_ARG;
+    memset(labels, SONAR_KMEANS_SKIP, n);
+    return lloyd(pts, n, labels, c, NULL, k, iterations);
+}
+
+int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+                              const uint8_t *part, uint8_t k, uint8_t iterations)
+{
+    uint16_t i;
+    if (pts == NULL || labels == NULL || c == NULL || part == NULL || k < 1 || k > SONAR_KMEANS_MAX_K ||
+        iterations < 1)
+        return SONAR_ERR_ARG;
+    for (i = 0; i < n; i++) {
+        if (pts[i].w == 0)
+            labels[i] = SONAR_KMEANS_SKIP;
+        else if (labels[i] >= k)
+            return SONAR_ERR_ARG;
+    }
+    return lloyd(pts, n, labels, c, part, k, iterations);
 }
 
 double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
