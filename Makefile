@@ -20,18 +20,19 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/csv.c src/host/options.c src/host/report.c
+HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
-LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/publish.o
+LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 geometry median background sweep kmeans hull detector pipeline csv
-UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%)
+UNIT      = ping ping360 geometry median background sweep kmeans hull detector pipeline csv options
+UNIT_LIVE = app sinks
+UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -60,7 +61,7 @@ $(BUILD)/lcm/.stamp: $(LCM_TYPES)
 $(BUILD)/lcm/c/%.o: $(BUILD)/lcm/.stamp
 	$(CC) -std=c99 -O2 -g $(SAN) -I$(BUILD)/lcm/c -Wno-pedantic -Wno-unused-parameter -c $(BUILD)/lcm/c/$*.c -o $@
 
-$(BUILD)/host/publish.o: src/host/publish.c $(BUILD)/lcm/.stamp
+$(BUILD)/host/sinks.o: src/host/sinks.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -c $< -o $@
 
@@ -86,13 +87,18 @@ $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) $(INPUTS) -o $@ -lcmocka $(LDLIBS)
 
+# The app core and the sinks are tested with the live objects and the generated LCM types.
+$(UNIT_LIVE:%=$(BUILD)/tests/test_%): $(BUILD)/tests/test_%: tests/test_%.c $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) -I$(BUILD)/lcm/c $(INPUTS) -o $@ -lcmocka -llcm $(LDLIBS)
+
 $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $(INPUTS) -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit opencv-ref fuzz e2e live realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -107,6 +113,17 @@ fuzz: $(BUILD)/tests/fuzz_parser
 
 opencv-ref: $(BUILD)/tests/test_opencv_ref
 	@echo "== $<"; $<
+
+$(BUILD)/config_doc: tools/config_doc.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
+
+## docs: regenerate docs/configuration.md from the option table (src/host/options.c)
+docs: $(BUILD)/config_doc
+	$(BUILD)/config_doc docs/configuration.md.in > docs/configuration.md
+
+## docs-check: fail when docs/configuration.md differs from what the option table generates
+docs-check: $(BUILD)/config_doc
+	@$(BUILD)/config_doc docs/configuration.md.in | diff -u docs/configuration.md - && echo "docs-check: docs/configuration.md matches the option table"
 
 ## e2e: simulate the pool and open-water scenes, replay them, score against the truth
 e2e: all

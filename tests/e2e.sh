@@ -62,6 +62,18 @@ head -c 300000 /dev/urandom > "$T/random.csv"
 "$B/sonard" --replay "$T/random.csv" > /dev/null 2>&1; rc=$?
 check "random bytes: no crash, exit 1" test "$rc" -eq 1
 
+# Values that once overflowed (issue 8): a timestamp near 9.2e18 s, range metadata 1e308, a cast-overflowing sample period.
+head -3 "$T/pool.csv" > "$T/ovf.csv"
+sed -n 4p "$T/pool.csv" | sed 's/^[0-9]*,/9223372036854775807,/' >> "$T/ovf.csv"
+sed -n 5p "$T/pool.csv" | sed 's/$/,range_m=1e308/' >> "$T/ovf.csv"
+sed -n 6p "$T/pool.csv" | sed 's/$/,sample_period=1e30/' >> "$T/ovf.csv"
+"$B/sonard" --replay "$T/ovf.csv" --quiet > /dev/null 2> "$T/ovf.err"; rc=$?
+check "timestamp 9.2e18 s: named and skipped" grep -q "ovf.csv:4: timestamp seconds '9223372036854775807' is not an integer within" "$T/ovf.err"
+check "range_m=1e308: named and skipped" grep -q "ovf.csv:5: metadata range_m=1e308 is not a number in 0..1000; row skipped" "$T/ovf.err"
+check "sample_period=1e30: named and skipped, the good rows used (exit 0)" sh -c "grep -q 'ovf.csv:6: metadata sample_period=1e30' '$T/ovf.err' && test $rc -eq 0"
+"$B/sonard" --replay "$T/pool.csv" --config "$T" > /dev/null 2> "$T/err"; rc=$?
+check "--config given a directory: exit 2, named" sh -c "test $rc -eq 2 && grep -q -- '--config $T: not a regular file' '$T/err'"
+
 # Configuration errors name the option, the value and the unit.
 "$B/sonard" --replay "$T/pool.csv" --range 0 2> "$T/err" > /dev/null; rc=$?
 check "--range 0 rejected with exit 2" test "$rc" -eq 2

@@ -118,6 +118,32 @@ check "--csv-out records raw beams with metadata columns" grep -q 'range_m=11.99
 "$B/sonard" --replay "$T/rec.csv" --json 2>/dev/null | head -3 > "$T/rec.jsonl"
 check "the live recording replays to the same detections" cmp "$T/rec.jsonl" "$T/conf.jsonl"
 
+# SIGHUP: the --config file is re-read; detector settings change at the next sweep, the link stays up;
+# a bad file is named with its line and the running settings stay.
+lines() { wc -l < "$1" 2>/dev/null || echo 0; }
+waitlines() { i=0; while [ "$(lines "$1")" -lt "$2" ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done; }
+printf 'range = 12\nmin-points = 20\n' > "$T/hup.conf"
+feed "tcp:127.0.0.1:$((PORT + 8))" --pace fast
+# Not under timeout(1), which forwards only the first SIGHUP; a watchdog bounds it instead.
+"$B/sonard" --config "$T/hup.conf" --sonar "tcp:127.0.0.1:$((PORT + 8))" --json --no-lcm \
+    > "$T/hup.jsonl" 2> "$T/hup.err" & SPID=$!
+( sleep 60; kill -KILL $SPID 2>/dev/null ) & WDOG=$!
+waitlines "$T/hup.jsonl" 3
+printf 'range = 12\nmin-points = 60000\n' > "$T/hup.conf"
+kill -HUP $SPID; n1=$(lines "$T/hup.jsonl")
+waitlines "$T/hup.jsonl" $((n1 + 4))
+printf 'range = 12\nmin-points = many\n' > "$T/hup.conf"
+kill -HUP $SPID; n2=$(lines "$T/hup.jsonl")
+waitlines "$T/hup.jsonl" $((n2 + 3))
+kill -TERM $SPID; wait $SPID; rc=$?
+kill $WDOG 2>/dev/null
+endfeed
+check "SIGHUP: detections before the reload" sh -c "sed -n '3,${n1}p' '$T/hup.jsonl' | grep -q x_m"
+check "SIGHUP: none from the second sweep after it (min-points 60000), the link kept" \
+    sh -c "sed -n '$((n1 + 2)),\$p' '$T/hup.jsonl' | grep -q x_m && exit 1; grep -q 'reconnects 0' '$T/hup.err' && test $rc -eq 0"
+check "SIGHUP: a bad file is named with its line; the running settings stay" \
+    sh -c "grep -q \"hup.conf:2: --min-points: 'many' is not a whole number\" '$T/hup.err' && grep -q 'the running settings stay' '$T/hup.err' && test \$(sed -n '$((n2 + 2)),\$p' '$T/hup.jsonl' | wc -l) -ge 1"
+
 # SIGTERM: motor_off, then exit 0.
 feed "tcp:127.0.0.1:$((PORT + 6))" --pace device
 timeout 30 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 6))" --range 2 --no-lcm --quiet & SPID=$!

@@ -25,6 +25,10 @@ enum sonar_background_mode {
  * subtraction a contrast test, x must exceed b by b * margin / 16 before anything is left (a
  * constant-false-alarm-rate rule); margin = 0 is the study's plain subtraction.
  */
+#define SONAR_BG_WARMUP_MAX 64 /* warmup 1..64 */
+#define SONAR_BG_STEP_MAX 64   /* step 1..64 */
+#define SONAR_BG_MARGIN_MAX 64 /* margin 0..64 */
+
 struct sonar_background_config {
     uint8_t mode;   /* enum sonar_background_mode */
     uint8_t warmup; /* observations averaged to seed a cell, 1..64 */
@@ -42,8 +46,15 @@ struct sonar_background {
     uint8_t margin;
 };
 
+/* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. cfg must not be NULL. */
+const char *sonar_background_config_check(const struct sonar_background_config *cfg);
+
 /* Validates cfg (copied) and empties the model. Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_background_init(struct sonar_background *bg, const struct sonar_background_config *cfg);
+
+/* Changes step and margin in place, keeping the model; a new mode or warmup needs init (a fresh
+ * model). Returns SONAR_OK or SONAR_ERR_ARG (nothing changed). */
+SONAR_CHECK int sonar_background_tune(struct sonar_background *bg, const struct sonar_background_config *cfg);
 
 /* Forgets every cell (e.g. after the range or sample count changed). */
 void sonar_background_reset(struct sonar_background *bg);

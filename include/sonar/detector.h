@@ -28,6 +28,18 @@
  * be applied as beams arrive); when there is no previous sweep, or it had no foreground at all
  * (the background was still seeding), over the current sweep's cells seen so far.
  */
+/* Ranges of the config fields: sonar_detector_config_check and sonard's option table both use these. */
+#define SONAR_DET_K_MAX 20            /* threshold_k 0..20 */
+#define SONAR_DET_MIN_THRESHOLD_MAX 254
+#define SONAR_DET_ITERATIONS_MAX 100
+#define SONAR_DET_LINK_BEAMS_MAX 8
+#define SONAR_DET_LINK_M_MAX 10       /* metres */
+#define SONAR_DET_ANGLE_OFFSET_MAX 400 /* gradians, either sign */
+#define SONAR_DET_DISTANCE_MAX 1000   /* max_extent_m and min_range_m, metres */
+#define SONAR_DET_ASPECT_MIN 0.1      /* max_aspect: 0 (off) or 0.1..100 */
+#define SONAR_DET_ASPECT_MAX 100
+#define SONAR_DET_TRACK_M_MAX 100     /* metres */
+
 struct sonar_detector_config {
     float threshold_k;     /* k of mean + k std, 0..20 */
     uint8_t min_threshold; /* floor of T, 0..254 */
@@ -100,7 +112,13 @@ struct sonar_detector {
     struct sonar_centroid tracks[SONAR_MAX_CLUSTERS]; /* their centroids, mm, device frame */
 };
 
-/* Validates cfg (copied) and starts sweep 0. Returns SONAR_OK or SONAR_ERR_ARG naming nothing: check ranges above. */
+/*
+ * Checks every field against the ranges above. Returns NULL when cfg is valid, else a static
+ * string naming the first bad field and its rule, e.g. "link_beams: 1..8". cfg must not be NULL.
+ */
+const char *sonar_detector_config_check(const struct sonar_detector_config *cfg);
+
+/* Validates cfg (copied, see sonar_detector_config_check) and starts sweep 0. Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_config *cfg);
 
 /*
@@ -114,5 +132,9 @@ SONAR_CHECK int sonar_detector_add(struct sonar_detector *d, uint16_t angle, con
 
 /* Ends the sweep: fills *out and starts the next sweep. Returns the detection count or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out);
+
+/* Replaces the rules between sweeps (call it right after sonar_detector_end); the previous sweep's
+ * threshold statistics and tracks are kept. Returns SONAR_OK or SONAR_ERR_ARG (nothing changed). */
+SONAR_CHECK int sonar_detector_set_config(struct sonar_detector *d, const struct sonar_detector_config *cfg);
 
 #endif

@@ -12,6 +12,7 @@
 
 enum sonar_ping360_state {
     SONAR_P360_DOWN = 0,     /* no link: the host must (re)connect, then call sonar_ping360_connected */
+    SONAR_P360_CONNECTING = 1, /* host only: the transport is opening (the driver stays DOWN meanwhile) */
     SONAR_P360_PROBING = 2,  /* waiting for device_information */
     SONAR_P360_SCANNING = 3, /* stepping: one transducer request per beam */
     SONAR_P360_AUTO = 4,     /* the device streams auto_device_data */
@@ -87,6 +88,12 @@ struct sonar_ping360 {
     uint8_t nack_run;      /* consecutive NACKs */
     uint8_t have_info;
 };
+
+/* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. cfg must not be NULL. */
+const char *sonar_ping360_config_check(const struct sonar_ping360_config *cfg);
+
+/* The state's name: "down", "connecting", "probing", "scanning", "auto", "stopping", "stopped"; never NULL. */
+const char *sonar_ping360_state_str(int state);
 
 /*
  * Validates cfg (copied) and derives sample period, samples and transmit duration. Returns

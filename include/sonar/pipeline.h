@@ -38,8 +38,12 @@ struct sonar_pipeline_config {
     void *user;
 };
 
+#define SONAR_PIPE_MAX_STEP_MAX 200 /* max_step 1..200 gradians */
+#define SONAR_PIPE_MAX_RANGE_M 1000 /* a beam's range_m must be in (0, 1000] metres: the detector's mm arithmetic */
+
 struct sonar_pipeline {
     const struct sonar_pipeline_config *cfg;
+    const struct sonar_pipeline_config *next; /* pending sonar_pipeline_reconfigure, or NULL */
     struct sonar_sweep sweep;
     struct sonar_median2d m2d;
     struct sonar_background bg;
@@ -54,6 +58,12 @@ struct sonar_pipeline {
     uint32_t sweeps;   /* sweeps ended */
 };
 
+/*
+ * Checks every field, the background's and the detector's included. Returns NULL when cfg is
+ * valid, else a static string naming the first bad field and its rule ("detector.link_beams: 1..8").
+ */
+const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg);
+
 /* Validates cfg (kept by pointer: it must outlive p). Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
 
@@ -63,10 +73,20 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg);
 /*
  * Processes one beam. When the beam starts a new sweep (wrap, reversal, jump, or a change of n
  * or range, which also resets the background), the previous sweep is finished first and
- * on_sweep is called with its detections. Returns SONAR_OK or SONAR_ERR_ARG (bad beam; nothing
+ * on_sweep is called with its detections. Returns SONAR_OK or SONAR_ERR_ARG (bad beam: n outside
+ * 1..SONAR_MAX_SAMPLES, angle > 399, range_m outside (0, SONAR_PIPE_MAX_RANGE_M] or NaN; nothing
  * changed).
  */
 SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b);
+
+/*
+ * Schedules cfg (kept by pointer: it must outlive p) to take over when the next sweep starts,
+ * right after the open sweep's on_sweep. The detector's rules, the background's step and margin
+ * change in place; a new median, background mode or warm-up, or max_step, starts a fresh
+ * background. With no sweep open it applies at once. Returns SONAR_OK or SONAR_ERR_ARG (invalid:
+ * nothing scheduled, the running config stays).
+ */
+SONAR_CHECK int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
 
 /* Ends the open sweep (end of a recording, or shutdown): flushes the 2-D median, calls on_sweep. */
 SONAR_CHECK int sonar_pipeline_finish(struct sonar_pipeline *p);

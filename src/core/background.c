@@ -3,10 +3,34 @@
 
 #include <string.h>
 
+#define STR2(x) #x
+#define STR(x) STR2(x)
+
+const char *sonar_background_config_check(const struct sonar_background_config *cfg)
+{
+    if (cfg->mode > SONAR_BACKGROUND_RANGE)
+        return "mode: off, per-angle or range";
+    if (cfg->warmup < 1 || cfg->warmup > SONAR_BG_WARMUP_MAX)
+        return "warmup: 1.." STR(SONAR_BG_WARMUP_MAX) " observations";
+    if (cfg->step < 1 || cfg->step > SONAR_BG_STEP_MAX)
+        return "step: 1.." STR(SONAR_BG_STEP_MAX) " grey levels";
+    if (cfg->margin > SONAR_BG_MARGIN_MAX)
+        return "margin: 0.." STR(SONAR_BG_MARGIN_MAX) " sixteenths";
+    return NULL;
+}
+
+int sonar_background_tune(struct sonar_background *bg, const struct sonar_background_config *cfg)
+{
+    if (bg == NULL || cfg == NULL || sonar_background_config_check(cfg) != NULL)
+        return SONAR_ERR_ARG;
+    bg->step = cfg->step;
+    bg->margin = cfg->margin;
+    return SONAR_OK;
+}
+
 int sonar_background_init(struct sonar_background *bg, const struct sonar_background_config *cfg)
 {
-    if (bg == NULL || cfg == NULL || cfg->mode > SONAR_BACKGROUND_RANGE || cfg->warmup < 1 || cfg->warmup > 64 ||
-        cfg->step < 1 || cfg->step > 64 || cfg->margin > 64)
+    if (bg == NULL || cfg == NULL || sonar_background_config_check(cfg) != NULL)
         return SONAR_ERR_ARG;
     bg->mode = cfg->mode;
     bg->warmup = cfg->warmup;

@@ -17,6 +17,37 @@
 #define BACKOFF_MIN_US 250000
 #define BACKOFF_MAX_US 5000000
 
+const char *sonar_ping360_config_check(const struct sonar_ping360_config *c)
+{
+    if (!(c->range_m >= 1.0f && c->range_m <= 60.0f))
+        return "range_m: 1..60 metres";
+    if (!(c->speed_of_sound >= 1300.0f && c->speed_of_sound <= 1700.0f))
+        return "speed_of_sound: 1300..1700 m/s";
+    if (c->samples != 0 && (c->samples < SONAR_DEVICE_MIN_SAMPLES || c->samples > SONAR_DEVICE_MAX_SAMPLES))
+        return "samples: 0 (automatic) or 200..1200";
+    if (c->transmit_duration != 0 && (c->transmit_duration < SONAR_MIN_TX_US || c->transmit_duration > SONAR_MAX_TX_US))
+        return "transmit_duration: 0 (automatic) or 5..500 us";
+    if (c->gain > 2)
+        return "gain: 0 low, 1 normal, 2 high";
+    if (c->frequency < 500 || c->frequency > 1000)
+        return "frequency: 500..1000 kHz";
+    if (c->start_angle > 399 || c->stop_angle > 399)
+        return "start_angle, stop_angle: 0..399 gradians";
+    if (c->step < 1 || c->step > 50)
+        return "step: 1..50 gradians";
+    if (c->use_auto && c->step > 10)
+        return "step: 1..10 gradians with auto_transmit";
+    if (!c->full_circle && c->start_angle == c->stop_angle)
+        return "stop_angle: differs from start_angle in a sector";
+    return NULL;
+}
+
+const char *sonar_ping360_state_str(int state)
+{
+    static const char *const names[] = {"down", "connecting", "probing", "scanning", "auto", "stopping", "stopped"};
+    return state >= 0 && state <= SONAR_P360_STOPPED ? names[state] : "unknown";
+}
+
 int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_config *cfg,
                        const struct sonar_ping360_io *io)
 {
@@ -25,12 +56,7 @@ int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_confi
     int r;
     if (d == NULL || c == NULL || io == NULL || io->send == NULL)
         return SONAR_ERR_ARG;
-    if (!(c->range_m >= 1.0f && c->range_m <= 60.0f) || !(c->speed_of_sound >= 1300.0f && c->speed_of_sound <= 1700.0f) ||
-        (c->samples != 0 && (c->samples < SONAR_DEVICE_MIN_SAMPLES || c->samples > SONAR_DEVICE_MAX_SAMPLES)) ||
-        (c->transmit_duration != 0 && (c->transmit_duration < SONAR_MIN_TX_US || c->transmit_duration > SONAR_MAX_TX_US)) ||
-        c->gain > 2 || c->frequency < 500 || c->frequency > 1000 || c->start_angle > 399 || c->stop_angle > 399 ||
-        c->step < 1 || c->step > 50 || (c->use_auto && c->step > 10) ||
-        (!c->full_circle && c->start_angle == c->stop_angle))
+    if (sonar_ping360_config_check(c) != NULL)
         return SONAR_ERR_ARG;
     memset(d, 0, sizeof(*d));
     d->cfg = *c;

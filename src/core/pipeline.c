@@ -24,12 +24,25 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.angle_offset = 0.0f;
 }
 
+const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
+{
+    const char *why;
+    if (cfg->median2d != 0 && cfg->median2d != 3 && !(cfg->median2d == 5 && SONAR_MAX_MEDIAN2D >= 5))
+        return "median2d: 0, 3 or 5 (up to SONAR_MAX_MEDIAN2D)";
+    if (cfg->median2d == 0 && cfg->median != 1 && (cfg->median < 3 || cfg->median > SONAR_MAX_MEDIAN || !(cfg->median & 1u)))
+        return "median: 1 (off) or odd 3..SONAR_MAX_MEDIAN";
+    if (cfg->max_step < 1 || cfg->max_step > SONAR_PIPE_MAX_STEP_MAX)
+        return "max_step: 1..200 gradians";
+    /* The sub-configs' checks name their own fields; the prefix is implied by the field names. */
+    if ((why = sonar_background_config_check(&cfg->background)) != NULL)
+        return why;
+    return sonar_detector_config_check(&cfg->detector);
+}
+
 int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg)
 {
     int r;
-    if (p == NULL || cfg == NULL)
-        return SONAR_ERR_ARG;
-    if (cfg->median2d == 0 && cfg->median != 1 && (cfg->median < 3 || cfg->median > SONAR_MAX_MEDIAN || !(cfg->median & 1u)))
+    if (p == NULL || cfg == NULL || sonar_pipeline_config_check(cfg) != NULL)
         return SONAR_ERR_ARG;
     memset(p, 0, sizeof(*p));
     p->cfg = cfg;
@@ -68,6 +81,35 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     return r == SONAR_ERR_FULL ? SONAR_OK : r;
 }
 
+/* Moves to p->next at a sweep boundary (no sweep open). */
+static int switch_config(struct sonar_pipeline *p)
+{
+    const struct sonar_pipeline_config *old = p->cfg, *c = p->next;
+    int r, fresh;
+    p->next = NULL;
+    fresh = c->median != old->median || c->median2d != old->median2d || c->max_step != old->max_step ||
+            c->background.mode != old->background.mode || c->background.warmup != old->background.warmup;
+    p->cfg = c;
+    if ((r = sonar_detector_set_config(&p->det, &c->detector)) != SONAR_OK)
+        return r;
+    if (!fresh)
+        return sonar_background_tune(&p->bg, &c->background);
+    /* The filtered values the model learned no longer match: relearn from the next beam. */
+    if ((r = sonar_sweep_init(&p->sweep, c->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
+        return r;
+    if (c->median2d != 0 && (r = sonar_median2d_init(&p->m2d, c->median2d)) != SONAR_OK)
+        return r;
+    return sonar_background_init(&p->bg, &c->background);
+}
+
+int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg)
+{
+    if (p == NULL || p->cfg == NULL || cfg == NULL || sonar_pipeline_config_check(cfg) != NULL)
+        return SONAR_ERR_ARG;
+    p->next = cfg;
+    return p->open ? SONAR_OK : switch_config(p);
+}
+
 static int end_sweep(struct sonar_pipeline *p)
 {
     struct sonar_median_row meta;
@@ -84,7 +126,7 @@ static int end_sweep(struct sonar_pipeline *p)
     p->sweeps++;
     if (p->cfg->on_sweep != NULL)
         p->cfg->on_sweep(p->cfg->user, &p->out);
-    return SONAR_OK;
+    return p->next != NULL ? switch_config(p) : SONAR_OK;
 }
 
 int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
@@ -92,7 +134,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     int r, cut;
     int changed;
     if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
-        b->angle > 399u || !(b->range_m > 0.0f))
+        b->angle > 399u || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
     changed = p->n != 0 && (b->n != p->n || b->range_m != p->range_m);
     if (changed) {

@@ -27,6 +27,13 @@ int csv_open(struct csv_reader *r, const char *path)
     return 0;
 }
 
+void csv_open_stream(struct csv_reader *r, FILE *f, const char *name)
+{
+    memset(r, 0, sizeof(*r));
+    r->path = name;
+    r->f = f;
+}
+
 void csv_close(struct csv_reader *r)
 {
     if (r->owned && r->f != NULL)
@@ -67,10 +74,14 @@ static int parse_i64(const char *s, int64_t *v)
     return 0;
 }
 
-static void meta(struct csv_row *row, const char *tok)
+/* key=value metadata: unknown keys are ignored; a known key must carry a number in its range. */
+static int meta(struct csv_row *row, const char *tok, char *err, size_t errlen)
 {
     static const char *const keys[] = {"range_m", "sample_period", "speed_of_sound", "gain",
                                        "transmit_duration", "transmit_frequency"};
+    static const double lo[] = {0.0, 0.0, CSV_META_SOS_MIN, 0.0, 0.0, 0.0};
+    static const double hi[] = {CSV_META_RANGE_MAX, CSV_META_U16_MAX, CSV_META_SOS_MAX, 255.0, CSV_META_U16_MAX,
+                                CSV_META_U16_MAX};
     double *dst[6];
     const char *eq = strchr(tok, '=');
     size_t i, klen;
@@ -83,12 +94,19 @@ static void meta(struct csv_row *row, const char *tok)
     dst[4] = &row->transmit_duration;
     dst[5] = &row->transmit_frequency;
     klen = (size_t)(eq - tok);
-    v = strtod(eq + 1, &end);
-    if (*end != '\0')
-        return;
     for (i = 0; i < 6; i++)
         if (strlen(keys[i]) == klen && strncmp(tok, keys[i], klen) == 0)
-            *dst[i] = v;
+            break;
+    if (i == 6)
+        return 0;
+    v = strtod(eq + 1, &end);
+    /* range_m must be > 0; the rest may be 0. NaN fails both comparisons. */
+    if (eq[1] == '\0' || *end != '\0' || !(v >= lo[i] && v <= hi[i]) || (i == 0 && !(v > 0.0))) {
+        snprintf(err, errlen, "metadata %s is not a number in %g..%g", tok, lo[i], hi[i]);
+        return -1;
+    }
+    *dst[i] = v;
+    return 0;
 }
 
 /* Parses the timestamp and angle fields off *p. Returns 0, or -1 with err set. */
@@ -105,15 +123,15 @@ static int parse_head(char **p, struct csv_row *row, char *err, size_t errlen)
         }
         *dot = '\0';
         fl = strlen(dot + 1);
-        if (parse_i64(t, &row->sec) != 0 || fl == 0 || fl > 9 || strspn(dot + 1, "0123456789") != fl) {
+        if (parse_i64(t, &row->sec) != 0 || row->sec > CSV_MAX_SEC || row->sec < -CSV_MAX_SEC || fl == 0 || fl > 9 || strspn(dot + 1, "0123456789") != fl) {
             snprintf(err, errlen, "timestamp '%s.%s' is not sec.nsec", t, dot + 1);
             return -1;
         }
         memcpy(frac, dot + 1, fl);
         row->nsec = (uint32_t)strtoul(frac, NULL, 10);
     } else {
-        if (parse_i64(t, &row->sec) != 0) {
-            snprintf(err, errlen, "timestamp seconds '%s' is not an integer", t);
+        if (parse_i64(t, &row->sec) != 0 || row->sec > CSV_MAX_SEC || row->sec < -CSV_MAX_SEC) {
+            snprintf(err, errlen, "timestamp seconds '%s' is not an integer within +-%lld", t, (long long)CSV_MAX_SEC);
             return -1;
         }
         t = next_field(p);
@@ -159,8 +177,7 @@ static int odd_token(struct csv_row *row, const char *tok, size_t len, unsigned 
         memcpy(kv, tok, len);
         kv[len] = '\0';
         *in_meta = 1;
-        meta(row, kv);
-        return 0;
+        return meta(row, kv, err, errlen);
     }
     snprintf(err, errlen, "sample %lu '%.*s' is not a number", count + 1, (int)(len > 20 ? 20 : len), tok);
     return -1;
@@ -344,6 +361,8 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
             return 0;
         r->line++;
         len = strlen(r->buf);
+        /* The tokenizers read up to 63 bytes past the NUL; make them this line's zeros, not an older line's text. */
+        memset(r->buf + len, 0, 64);
         if (len == CSV_LINE_MAX - 1 && r->buf[len - 1] != '\n') {
             int c;
             while ((c = fgetc(r->f)) != EOF && c != '\n')

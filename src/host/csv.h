@@ -16,8 +16,16 @@
  *   sec.nsec,angle,...                   timestamp combined
  * An optional header line (first field not a number) is skipped; '...' tokens and '[' ']' are
  * ignored. Fields `key=value` after the samples carry metadata (range_m, sample_period,
- * speed_of_sound, gain, transmit_duration, transmit_frequency); unknown keys are ignored.
+ * speed_of_sound, gain, transmit_duration, transmit_frequency); unknown keys are ignored, and a
+ * known key with a value outside its range (CSV_META_* below) rejects the row.
+ * Seconds are bounded to +-CSV_MAX_SEC so that sec * 10^6 + nsec / 1000 fits an int64_t.
+ * docs/csv-contract.md states the reader's guarantees.
  */
+#define CSV_MAX_SEC 9223372036853LL /* INT64_MAX / 10^6 - 1 */
+#define CSV_META_RANGE_MAX 1000.0    /* range_m, metres: (0, 1000] */
+#define CSV_META_SOS_MIN 1000.0      /* speed_of_sound, m/s: 1000..2000 */
+#define CSV_META_SOS_MAX 2000.0
+#define CSV_META_U16_MAX 65535.0     /* sample_period, transmit_duration, transmit_frequency: 0..65535 */
 struct csv_row {
     int64_t sec;
     uint32_t nsec;
@@ -37,12 +45,15 @@ struct csv_reader {
     unsigned long bad;
     uint16_t expect_n;      /* samples per row, fixed by the first good row */
     int seen_data;
-    char buf[CSV_LINE_MAX + 64]; /* the tokenizer reads up to 63 bytes past the NUL */
+    char buf[CSV_LINE_MAX + 64]; /* the tokenizer reads up to 63 bytes past the NUL: zeroed per line */
     char iobuf[1 << 20];
 };
 
 /* Opens path ("-" = stdin). Returns 0, or -1 with errno set. */
 int csv_open(struct csv_reader *r, const char *path);
+
+/* Reads an open stream (not closed by csv_close); name is used in messages. */
+void csv_open_stream(struct csv_reader *r, FILE *f, const char *name);
 void csv_close(struct csv_reader *r);
 
 /*

@@ -1,391 +1,186 @@
-/* options.c -- sonard option parsing from the command line and a key = value file; every value is range-checked and a bad one is named with its unit. */
+/* options.c -- sonard's option table: every option once, with its field, range, unit, default and help; parsing and whole-config checks; no heap. */
 #include "options.h"
 
-#include <errno.h>
-#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum {
-    OPT_REPLAY = 256, OPT_SONAR, OPT_BAUD, OPT_LCM, OPT_PREFIX, OPT_FILTERED, OPT_NO_LCM, OPT_SWEEPS, OPT_MODE,
-    OPT_SECTOR, OPT_STEP, OPT_GAIN, OPT_FREQUENCY, OPT_SAMPLES, OPT_TX, OPT_CONFIG, OPT_RANGE, OPT_SOS, OPT_OFFSET,
-    OPT_MEDIAN, OPT_BACKGROUND, OPT_BG_WARMUP, OPT_BG_STEP, OPT_BG_MARGIN, OPT_THRESHOLD, OPT_MIN_THRESHOLD,
-    OPT_CLUSTERS, OPT_MIN_POINTS, OPT_MIN_BEAMS, OPT_MAX_EXTENT, OPT_SPLIT_POINTS, OPT_MIN_RANGE, OPT_MAX_ASPECT, OPT_TRACK_M, OPT_TRACK_POINTS, OPT_ITERATIONS, OPT_LINK_M, OPT_LINK_BEAMS, OPT_MAX_STEP, OPT_JSON, OPT_CSV_OUT,
-    OPT_STAGE, OPT_QUIET, OPT_HELP, OPT_VERSION
+#define F(field) offsetof(struct sonard_options, field)
+#define D(field) offsetof(struct sonard_options, pipeline.detector.field)
+#define B(field) offsetof(struct sonard_options, pipeline.background.field)
+#define V(field) offsetof(struct sonard_options, device.field)
+/* Rows: name, metavariable, type, in files, on SIGHUP, offset, lo, hi, unit, default, help, choices, parser */
+#define SECTION(title) {title, NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL}
+
+static int parse_sonar(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    if (strncmp(v, "serial:", 7) != 0 && strncmp(v, "udp:", 4) != 0 && strncmp(v, "tcp:", 4) != 0) {
+        snprintf(err, n, "--sonar: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->sonar = v;
+    return HOST_OK;
+}
+
+static int parse_baud(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    char *end;
+    long b;
+    if (strcmp(v, "auto") == 0) {
+        o->baud = -1;
+        return HOST_OK;
+    }
+    b = strtol(v, &end, 10);
+    if (*v == '\0' || *end != '\0' || b < 1200 || b > 4000000) {
+        snprintf(err, n, "--baud: '%s' is not a whole number in 1200..4000000 bits/s (or auto)", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->baud = b;
+    return HOST_OK;
+}
+
+static int parse_sector(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    unsigned s0, s1;
+    char tail;
+    if (strcmp(v, "full") == 0) {
+        o->device.full_circle = 1;
+        o->device.start_angle = 0;
+        return HOST_OK;
+    }
+    if (sscanf(v, "%u:%u%c", &s0, &s1, &tail) != 2 || s0 > 399 || s1 > 399 || s0 == s1) {
+        snprintf(err, n, "--sector: '%s' is not START:STOP in gradians 0..399 (START != STOP), or full", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->device.full_circle = 0;
+    o->device.start_angle = (uint16_t)s0;
+    o->device.stop_angle = (uint16_t)s1;
+    return HOST_OK;
+}
+
+static int parse_median(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    char *end;
+    long w;
+    if (strcmp(v, "3x3") == 0 || strcmp(v, "5x5") == 0) {
+        o->pipeline.median2d = (uint8_t)(v[0] - '0');
+        return HOST_OK;
+    }
+    w = strtol(v, &end, 10);
+    if (*v == '\0' || *end != '\0' || w < 1 || w > SONAR_MAX_MEDIAN) {
+        snprintf(err, n, "--median: '%s' is not a whole number in 1..%d samples (odd), or 3x3 / 5x5", v, SONAR_MAX_MEDIAN);
+        return HOST_ERR_CONFIG;
+    }
+    if (w % 2 == 0) {
+        snprintf(err, n, "--median: '%s' is even; use 1 (off), 3, 5, 7, 9, 3x3 or 5x5", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->pipeline.median = (uint8_t)w;
+    o->pipeline.median2d = 0;
+    return HOST_OK;
+}
+
+static const struct opt_spec spec[] = {
+    SECTION("live"),
+    {"sonar", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
+     "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092)", NULL, parse_sonar},
+    {"baud", "N|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "bits/s 1200..4000000, or auto", "115200",
+     "serial bit rate; auto tries Ping Viewer's list after a line break", NULL, parse_baud},
+    {"mode", "step|auto", OPT_CHOICE, 1, 0, V(use_auto), 0, 0, "step or auto", "step",
+     "step: one transducer request per beam; auto: auto_transmit\nwhen the firmware is newer than 3.3.0, else step",
+     "step=0|auto=1", NULL},
+    {"sector", "START:STOP", OPT_CUSTOM, 1, 0, 0, 0, 0, "START:STOP gradians 0..399, or full", "full",
+     "swept back and forth from START up to STOP (mod 400); full: full turns", NULL, parse_sector},
+    {"step", "G", OPT_U8, 1, 0, V(step), 1, 50, "gradians", "1", "gradians per beam (at most 10 in auto mode)", NULL, NULL},
+    {"gain", "G", OPT_U8, 1, 0, V(gain), 0, 2, "(0 low, 1 normal, 2 high)", "0", "receiver gain", NULL, NULL},
+    {"frequency", "F", OPT_U16, 1, 0, V(frequency), 500, 1000, "kHz", "750", "transmit frequency", NULL, NULL},
+    {"samples", "N", OPT_U16, 1, 0, V(samples), 200, 1200, "samples", "the most the range allows", "samples per beam", NULL, NULL},
+    {"transmit-duration", "U", OPT_U16, 1, 0, V(transmit_duration), 5, 500, "us", "automatic: 8000 R / c, >= 2.5 samples",
+     "transmit pulse length", NULL, NULL},
+    {"sweeps", "N", OPT_LONG, 1, 0, F(sweeps), 1, 1e9, "sweeps", "run until SIGINT/SIGTERM", "stop (motor_off) after N sweeps", NULL, NULL},
+    {"lcm", "URL", OPT_STR, 1, 0, F(lcm_url), 0, 0, "LCM URL", "LCM's own: $LCM_DEFAULT_URL, else udpm ttl=0",
+     "LCM provider; file:///path.lcm?mode=w writes a log", NULL, NULL},
+    {"channel-prefix", "P", OPT_STR, 1, 0, F(channel_prefix), 0, 30, "text", "none",
+     "prepended to SONAR_BEAM, SONAR_DETECTIONS, SONAR_STATUS (several sonars)", NULL, NULL},
+    {"publish-filtered", NULL, OPT_FLAG, 1, 0, F(publish_filtered), 0, 0, NULL, "off",
+     "also publish foreground beams on SONAR_BEAM_FILTERED", NULL, NULL},
+    {"no-lcm", NULL, OPT_FLAG, 1, 0, F(no_lcm), 0, 0, NULL, "off", "publish nothing (JSON / CSV only)", NULL, NULL},
+    {"csv-out", "FILE", OPT_STR, 1, 0, F(csv_out), 0, 0, "file", NULL,
+     "record beams in the study's CSV plus metadata columns (live: raw;\nreplay: the --stage)", NULL, NULL},
+    {"config", "FILE", OPT_ACTION, 0, 0, 0, 0, 0, "file", NULL,
+     "key = value lines, keys as the long options; several apply in order,\nflags override them; re-read on SIGHUP", NULL, NULL},
+    SECTION("replay"),
+    {"replay", "FILE", OPT_STR, 0, 0, F(replay), 0, 0, "file, - for stdin", NULL,
+     "process a recording in the study's CSV form instead of a live sonar", NULL, NULL},
+    {"stage", "S", OPT_CHOICE, 1, 0, F(stage), 0, 0, "raw, median or foreground", "foreground",
+     "replay --csv-out: export after this stage", "raw=0|median=1|foreground=2", NULL},
+    SECTION("geometry"),
+    {"range", "M", OPT_F64, 1, 0, F(range_m), 1, 60, "metres", "2, or in replay the file's range_m= metadata",
+     "range of the sonar", NULL, NULL},
+    {"speed-of-sound", "C", OPT_F64, 1, 0, F(speed_of_sound), 1300, 1700, "m/s", "1500",
+     "fresh water ~1480, salt ~1520 at 20 C", NULL, NULL},
+    {"angle-offset", "G", OPT_F32, 1, 1, D(angle_offset), -SONAR_DET_ANGLE_OFFSET_MAX, SONAR_DET_ANGLE_OFFSET_MAX,
+     "gradians", "0", "added to every angle of the output frame (Ping Viewer's forward is 200)", NULL, NULL},
+    SECTION("filters"),
+    {"median", "W|KxK", OPT_CUSTOM, 1, 1, 0, 0, 0, "1 (off), 3, 5, 7, 9, 3x3 or 5x5", "5",
+     "median along range, or K x K over adjacent beams (the study's)", NULL, parse_median},
+    {"background", "MODE", OPT_CHOICE, 1, 1, B(mode), 0, 0, "per-angle, range or off", "per-angle",
+     "per-angle: each angle learns its own; range: the study's median\nacross the beams of a sweep",
+     "off=0|per-angle=1|range=2", NULL},
+    {"bg-warmup", "N", OPT_U8, 1, 1, B(warmup), 1, SONAR_BG_WARMUP_MAX, "observations", "2 per-angle, 8 range",
+     "observations averaged to seed the background", NULL, NULL},
+    {"bg-step", "N", OPT_U8, 1, 1, B(step), 1, SONAR_BG_STEP_MAX, "grey levels", "1",
+     "grey levels the background moves per observation", NULL, NULL},
+    {"bg-margin", "N", OPT_U8, 1, 1, B(margin), 0, SONAR_BG_MARGIN_MAX, "sixteenths of the background", "8",
+     "a cell must exceed the background b by b*N/16; 0 = the study's\nplain subtraction", NULL, NULL},
+    SECTION("detector (once per sweep)"),
+    {"threshold", "K", OPT_F32, 1, 1, D(threshold_k), 0, SONAR_DET_K_MAX, "standard deviations", "3",
+     "foreground cells > mean + K std of the previous sweep", NULL, NULL},
+    {"min-threshold", "T", OPT_U8, 1, 1, D(min_threshold), 0, SONAR_DET_MIN_THRESHOLD_MAX, "grey levels", "16",
+     "cells must exceed at least T", NULL, NULL},
+    {"clusters", "MAX", OPT_U8, 1, 1, D(max_clusters), 1, SONAR_MAX_CLUSTERS, "clusters", "8", "most detections per sweep", NULL, NULL},
+    {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "20", "cells a detection needs", NULL, NULL},
+    {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams", "1", "beams a detection must span", NULL, NULL},
+    {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "0",
+     "drop detections wider than M (structure: walls, lane ropes)", NULL, NULL},
+    {"split-points", "N", OPT_U16, 1, 1, D(split_points), 0, 65535, "cells (0 = never cut)", "0",
+     "cut groups wider than --max-extent with k-means into pieces about\nhalf of it across, keeping pieces of >= N cells", NULL, NULL},
+    {"min-range", "M", OPT_F32, 1, 1, D(min_range_m), 0, SONAR_DET_DISTANCE_MAX, "metres", "0",
+     "drop detections nearer than M (ring-down, the mount)", NULL, NULL},
+    {"max-aspect", "R", OPT_F32, 1, 1, D(max_aspect), 0, SONAR_DET_ASPECT_MAX, "ratio (0 = no limit, else >= 0.1)", "0",
+     "drop detections R times longer along the beam than across", NULL, NULL},
+    {"track-m", "M", OPT_F32, 1, 1, D(track_m), 0, SONAR_DET_TRACK_M_MAX, "metres (0 = off)", "0",
+     "a cluster within M of a detection of the previous sweep needs only\n--track-points cells", NULL, NULL},
+    {"track-points", "N", OPT_U16, 1, 1, D(track_points), 1, 65535, "cells", "10", "cells a tracked cluster needs", NULL, NULL},
+    {"iterations", "N", OPT_U8, 1, 1, D(iterations), 1, SONAR_DET_ITERATIONS_MAX, "rounds", "10", "k-means rounds at most", NULL, NULL},
+    {"link-m", "M", OPT_F32, 1, 1, D(link_m), 0, SONAR_DET_LINK_M_MAX, "metres", "0.15", "range gap still joining one object", NULL, NULL},
+    {"link-beams", "N", OPT_U8, 1, 1, D(link_beams), 1, SONAR_DET_LINK_BEAMS_MAX, "beams", "2", "beams apart still joining one object", NULL, NULL},
+    {"max-step", "G", OPT_U16, 1, 1, offsetof(struct sonard_options, pipeline.max_step), 1, SONAR_PIPE_MAX_STEP_MAX,
+     "gradians", "20", "an angle move larger than G starts a sweep", NULL, NULL},
+    SECTION("output"),
+    {"json", NULL, OPT_FLAG, 1, 0, F(json), 0, 0, NULL, "off", "one JSON line per sweep on stdout", NULL, NULL},
+    {"quiet", NULL, OPT_FLAG, 1, 0, F(quiet), 0, 0, NULL, "off", "no per-sweep text and no summary", NULL, NULL},
+    {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
+    {"version", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "the version", NULL, NULL},
 };
 
-static const struct option longs[] = {
-    {"replay", required_argument, NULL, OPT_REPLAY},
-    {"sonar", required_argument, NULL, OPT_SONAR},
-    {"baud", required_argument, NULL, OPT_BAUD},
-    {"lcm", required_argument, NULL, OPT_LCM},
-    {"channel-prefix", required_argument, NULL, OPT_PREFIX},
-    {"publish-filtered", no_argument, NULL, OPT_FILTERED},
-    {"no-lcm", no_argument, NULL, OPT_NO_LCM},
-    {"sweeps", required_argument, NULL, OPT_SWEEPS},
-    {"mode", required_argument, NULL, OPT_MODE},
-    {"sector", required_argument, NULL, OPT_SECTOR},
-    {"step", required_argument, NULL, OPT_STEP},
-    {"gain", required_argument, NULL, OPT_GAIN},
-    {"frequency", required_argument, NULL, OPT_FREQUENCY},
-    {"samples", required_argument, NULL, OPT_SAMPLES},
-    {"transmit-duration", required_argument, NULL, OPT_TX},
-    {"config", required_argument, NULL, OPT_CONFIG},
-    {"range", required_argument, NULL, OPT_RANGE},
-    {"speed-of-sound", required_argument, NULL, OPT_SOS},
-    {"angle-offset", required_argument, NULL, OPT_OFFSET},
-    {"median", required_argument, NULL, OPT_MEDIAN},
-    {"background", required_argument, NULL, OPT_BACKGROUND},
-    {"bg-warmup", required_argument, NULL, OPT_BG_WARMUP},
-    {"bg-step", required_argument, NULL, OPT_BG_STEP},
-    {"bg-margin", required_argument, NULL, OPT_BG_MARGIN},
-    {"threshold", required_argument, NULL, OPT_THRESHOLD},
-    {"min-threshold", required_argument, NULL, OPT_MIN_THRESHOLD},
-    {"clusters", required_argument, NULL, OPT_CLUSTERS},
-    {"min-points", required_argument, NULL, OPT_MIN_POINTS},
-    {"min-beams", required_argument, NULL, OPT_MIN_BEAMS},
-    {"max-extent", required_argument, NULL, OPT_MAX_EXTENT},
-    {"split-points", required_argument, NULL, OPT_SPLIT_POINTS},
-    {"min-range", required_argument, NULL, OPT_MIN_RANGE},
-    {"max-aspect", required_argument, NULL, OPT_MAX_ASPECT},
-    {"track-m", required_argument, NULL, OPT_TRACK_M},
-    {"track-points", required_argument, NULL, OPT_TRACK_POINTS},
-    {"iterations", required_argument, NULL, OPT_ITERATIONS},
-    {"link-m", required_argument, NULL, OPT_LINK_M},
-    {"link-beams", required_argument, NULL, OPT_LINK_BEAMS},
-    {"max-step", required_argument, NULL, OPT_MAX_STEP},
-    {"json", no_argument, NULL, OPT_JSON},
-    {"csv-out", required_argument, NULL, OPT_CSV_OUT},
-    {"stage", required_argument, NULL, OPT_STAGE},
-    {"quiet", no_argument, NULL, OPT_QUIET},
-    {"help", no_argument, NULL, OPT_HELP},
-    {"version", no_argument, NULL, OPT_VERSION},
-    {NULL, 0, NULL, 0}};
+static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "sonard"};
 
-void options_usage(const char *prog)
+SONAR_STATIC_ASSERT(sizeof(spec) / sizeof(spec[0]) <= 64, given_bits_fit);
+
+const struct opt_schema *options_schema(void) { return &schema; }
+
+void options_markdown(FILE *f) { opt_markdown(&schema, f); }
+
+static void defaults(struct sonard_options *o)
 {
-    printf("usage: %s --sonar URL [options]      live: drive a Ping360, publish over LCM\n"
-           "       %s --replay FILE.csv [options] offline: a recording in the study's CSV form\n\n"
-           "live\n"
-           "  --sonar URL            serial:/dev/ttyUSB0[:BAUD] | udp:HOST:PORT (Ethernet Ping360: 12345,\n"
-           "                         BlueOS bridge: 9092) | tcp:HOST:PORT\n"
-           "  --baud N|auto          serial bit rate (default 115200; auto tries Ping Viewer's list)\n"
-           "  --mode step|auto       step: one transducer request per beam; auto: auto_transmit when the\n"
-           "                         firmware is newer than 3.3.0, else step (default step)\n"
-           "  --sector START:STOP    gradians 0..399, swept back and forth; 'full' for full turns (default full)\n"
-           "  --step G               gradians per beam, 1..50 (1..10 in auto mode) (default 1)\n"
-           "  --gain G               0 low, 1 normal, 2 high (default 0)\n"
-           "  --frequency F          transmit frequency, kHz 500..1000 (default 750)\n"
-           "  --samples N            samples per beam, 200..1200 (default: the most the range allows)\n"
-           "  --transmit-duration U  us 5..500 (default: automatic, 8000 R / c floored at 2.5 samples)\n"
-           "  --sweeps N             stop after N sweeps (default: run until SIGINT/SIGTERM)\n"
-           "  --lcm URL              LCM provider (default LCM's own: $LCM_DEFAULT_URL, else udpm ttl=0)\n"
-           "  --channel-prefix P     channels P + SONAR_BEAM, SONAR_DETECTIONS, SONAR_STATUS (default none)\n"
-           "  --publish-filtered     also publish foreground beams on SONAR_BEAM_FILTERED\n"
-           "  --no-lcm               publish nothing (JSON / CSV only)\n"
-           "  --csv-out FILE         record raw beams in the study's CSV, plus metadata columns\n"
-           "  --config FILE          key = value lines, keys as the long options; several apply in order;\n"
-           "                         flags override them\n"
-           "geometry\n"
-           "  --range M              metres, 1..60 (default 2, Ping Viewer's; in replay: the file's range_m=\n"
-           "                         metadata when present)\n"
-           "  --speed-of-sound C     m/s, 1300..1700 (default 1500)\n"
-           "  --angle-offset G       gradians added to every angle of the output frame, -400..400 (default 0)\n"
-           "filters\n"
-           "  --median W|KxK         1 (off), 3, 5, 7 or 9 samples along range, or 3x3 / 5x5 over adjacent\n"
-           "                         beams (the study's median_filter) (default 5)\n"
-           "  --background MODE      per-angle | range | off (default per-angle; range = the study's median\n"
-           "                         across the beams of a sweep)\n"
-           "  --bg-warmup N          observations averaged to seed the background, 1..64 (default 2 sweeps\n"
-           "                         per-angle, 8 beams range)\n"
-           "  --bg-step N            grey levels the background moves per observation, 1..64 (default 1)\n"
-           "  --bg-margin N          contrast margin: a cell must exceed the background b by b*N/16\n"
-           "                         before it counts, 0..64; 0 = the study's plain subtraction (default 8)\n",
-           prog, prog);
-    printf("detector (once per sweep)\n"
-           "  --threshold K          foreground cells > mean + K std of the previous sweep, 0..20 (default 3)\n"
-           "  --min-threshold T      cells must exceed at least T grey levels, 0..254 (default 16)\n"
-           "  --clusters MAX         most detections per sweep, 1..%d (default 8)\n"
-           "  --min-points N         cells a detection needs, 1..65535 (default 20)\n"
-           "  --min-beams N          beams a detection must span, 0..255 (default 1)\n"
-           "  --max-extent M         drop detections wider than M metres (structure), 0 = no limit (default 0)\n"
-           "  --split-points N       cut groups wider than --max-extent with k-means into pieces about half\n"
-           "                         of it across, keeping pieces of >= N cells; 0 = drop them whole (default 0)\n"
-           "  --min-range M          drop detections nearer than M metres (ring-down, the mount), 0..1000 (default 0)\n"
-           "  --max-aspect R         drop detections R times longer along the beam than across (radial\n"
-           "                         streaks), 0.1..100, 0 = no limit (default 0)\n"
-           "  --track-m M            a cluster within M metres of a detection of the previous sweep needs\n"
-           "                         only --track-points cells, 0..100, 0 = off (default 0)\n"
-           "  --track-points N       cells a tracked cluster needs, 1..65535 (default 10)\n"
-           "  --iterations N         k-means rounds at most, 1..100 (default 10)\n"
-           "  --link-m M             range gap in metres still joining one object, 0..10 (default 0.15)\n"
-           "  --link-beams N         beams apart still joining one object, 1..8 (default 2)\n"
-           "  --max-step G           an angle move larger than G gradians starts a sweep, 1..200 (default 20)\n"
-           "output\n"
-           "  --json                 one JSON line per sweep on stdout\n"
-           "  --stage S              replay --csv-out: export after raw | median | foreground (default foreground)\n"
-           "  --quiet                no per-sweep text and no summary\n"
-           "  --help, --version\n",
-           SONAR_MAX_CLUSTERS);
-}
-
-static int num(const char *name, const char *s, double lo, double hi, const char *unit, double *v, char *err, size_t n)
-{
-    char *end;
-    double x = strtod(s, &end);
-    if (*s == '\0' || *end != '\0' || !(x >= lo && x <= hi)) {
-        snprintf(err, n, "%s: '%s' is not a number in %g..%g %s", name, s, lo, hi, unit);
-        return -1;
-    }
-    *v = x;
-    return 0;
-}
-
-static int whole(const char *name, const char *s, long lo, long hi, const char *unit, long *v, char *err, size_t n)
-{
-    char *end;
-    long x = strtol(s, &end, 10);
-    if (*s == '\0' || *end != '\0' || x < lo || x > hi) {
-        snprintf(err, n, "%s: '%s' is not a whole number in %ld..%ld %s", name, s, lo, hi, unit);
-        return -1;
-    }
-    *v = x;
-    return 0;
-}
-
-struct parse_state {
-    int warmup_set;
-};
-
-/* Applies one option; returns 0, 1 (help/version shown) or -1 with err set. */
-static int apply(struct sonard_options *o, int c, const char *a, const char *prog, struct parse_state *ps, char *err,
-                 size_t errlen)
-{
-    struct sonar_pipeline_config *p = &o->pipeline;
-    struct sonar_ping360_config *d = &o->device;
-    double v;
-    long l;
-    switch (c) {
-    case OPT_REPLAY: o->replay = a; break;
-    case OPT_SONAR:
-        if (strncmp(a, "serial:", 7) != 0 && strncmp(a, "udp:", 4) != 0 && strncmp(a, "tcp:", 4) != 0) {
-            snprintf(err, errlen, "--sonar: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", a);
-            return -1;
-        }
-        o->sonar = a;
-        break;
-    case OPT_BAUD:
-        if (strcmp(a, "auto") == 0)
-            o->baud = -1;
-        else if (whole("--baud", a, 1200, 4000000, "bits/s (or auto)", &o->baud, err, errlen))
-            return -1;
-        break;
-    case OPT_LCM: o->lcm_url = a; break;
-    case OPT_PREFIX:
-        if (strlen(a) >= sizeof(o->channel_prefix) - 1) {
-            snprintf(err, errlen, "--channel-prefix: '%s' is longer than %d characters", a, (int)sizeof(o->channel_prefix) - 2);
-            return -1;
-        }
-        strcpy(o->channel_prefix, a);
-        break;
-    case OPT_FILTERED: o->publish_filtered = 1; break;
-    case OPT_NO_LCM: o->no_lcm = 1; break;
-    case OPT_SWEEPS: if (whole("--sweeps", a, 1, 1000000000L, "sweeps", &o->sweeps, err, errlen)) return -1; break;
-    case OPT_MODE:
-        if (strcmp(a, "auto") == 0) d->use_auto = 1;
-        else if (strcmp(a, "step") == 0) d->use_auto = 0;
-        else {
-            snprintf(err, errlen, "--mode: '%s' is not step or auto", a);
-            return -1;
-        }
-        break;
-    case OPT_SECTOR: {
-        unsigned s0, s1;
-        char tail;
-        if (strcmp(a, "full") == 0) {
-            d->full_circle = 1;
-            d->start_angle = 0;
-            break;
-        }
-        if (sscanf(a, "%u:%u%c", &s0, &s1, &tail) != 2 || s0 > 399 || s1 > 399 || s0 == s1) {
-            snprintf(err, errlen, "--sector: '%s' is not START:STOP in gradians 0..399 (START != STOP), or full", a);
-            return -1;
-        }
-        d->full_circle = 0;
-        d->start_angle = (uint16_t)s0;
-        d->stop_angle = (uint16_t)s1;
-        break;
-    }
-    case OPT_STEP: if (whole("--step", a, 1, 50, "gradians", &l, err, errlen)) return -1; d->step = (uint8_t)l; break;
-    case OPT_GAIN: if (whole("--gain", a, 0, 2, "(0 low, 1 normal, 2 high)", &l, err, errlen)) return -1; d->gain = (uint8_t)l; break;
-    case OPT_FREQUENCY: if (whole("--frequency", a, 500, 1000, "kHz", &l, err, errlen)) return -1; d->frequency = (uint16_t)l; break;
-    case OPT_SAMPLES: if (whole("--samples", a, 200, 1200, "samples", &l, err, errlen)) return -1; d->samples = (uint16_t)l; break;
-    case OPT_TX: if (whole("--transmit-duration", a, 5, 500, "us", &l, err, errlen)) return -1; d->transmit_duration = (uint16_t)l; break;
-    case OPT_CONFIG: break; /* read before the command line */
-    case OPT_RANGE: if (num("--range", a, 1, 60, "metres", &o->range_m, err, errlen)) return -1; break;
-    case OPT_SOS: if (num("--speed-of-sound", a, 1300, 1700, "m/s", &o->speed_of_sound, err, errlen)) return -1; break;
-    case OPT_OFFSET:
-        if (num("--angle-offset", a, -400, 400, "gradians", &v, err, errlen)) return -1;
-        p->detector.angle_offset = (float)v;
-        break;
-    case OPT_MEDIAN:
-        if (strcmp(a, "3x3") == 0 || strcmp(a, "5x5") == 0) {
-            p->median2d = (uint8_t)(a[0] - '0');
-        } else {
-            if (whole("--median", a, 1, SONAR_MAX_MEDIAN, "samples (odd), or 3x3 / 5x5", &l, err, errlen)) return -1;
-            if (l % 2 == 0) {
-                snprintf(err, errlen, "--median: '%s' is even; use 1 (off), 3, 5, 7, 9, 3x3 or 5x5", a);
-                return -1;
-            }
-            p->median = (uint8_t)l;
-            p->median2d = 0;
-        }
-        break;
-    case OPT_BACKGROUND:
-        if (strcmp(a, "per-angle") == 0) p->background.mode = SONAR_BACKGROUND_PER_ANGLE;
-        else if (strcmp(a, "range") == 0) p->background.mode = SONAR_BACKGROUND_RANGE;
-        else if (strcmp(a, "off") == 0) p->background.mode = SONAR_BACKGROUND_OFF;
-        else {
-            snprintf(err, errlen, "--background: '%s' is not per-angle, range or off", a);
-            return -1;
-        }
-        break;
-    case OPT_BG_WARMUP:
-        if (whole("--bg-warmup", a, 1, 64, "observations", &l, err, errlen)) return -1;
-        p->background.warmup = (uint8_t)l;
-        ps->warmup_set = 1;
-        break;
-    case OPT_BG_STEP: if (whole("--bg-step", a, 1, 64, "grey levels", &l, err, errlen)) return -1; p->background.step = (uint8_t)l; break;
-    case OPT_BG_MARGIN: if (whole("--bg-margin", a, 0, 64, "sixteenths of the background", &l, err, errlen)) return -1; p->background.margin = (uint8_t)l; break;
-    case OPT_THRESHOLD: if (num("--threshold", a, 0, 20, "standard deviations", &v, err, errlen)) return -1; p->detector.threshold_k = (float)v; break;
-    case OPT_MIN_THRESHOLD: if (whole("--min-threshold", a, 0, 254, "grey levels", &l, err, errlen)) return -1; p->detector.min_threshold = (uint8_t)l; break;
-    case OPT_CLUSTERS: if (whole("--clusters", a, 1, SONAR_MAX_CLUSTERS, "clusters", &l, err, errlen)) return -1; p->detector.max_clusters = (uint8_t)l; break;
-    case OPT_MIN_POINTS: if (whole("--min-points", a, 1, 65535, "cells", &l, err, errlen)) return -1; p->detector.min_points = (uint16_t)l; break;
-    case OPT_MIN_BEAMS: if (whole("--min-beams", a, 0, 255, "beams", &l, err, errlen)) return -1; p->detector.min_beams = (uint8_t)l; break;
-    case OPT_MAX_EXTENT: if (num("--max-extent", a, 0, 1000, "metres (0 = no limit)", &v, err, errlen)) return -1; p->detector.max_extent_m = (float)v; break;
-    case OPT_SPLIT_POINTS: if (whole("--split-points", a, 0, 65535, "cells (0 = never cut)", &l, err, errlen)) return -1; p->detector.split_points = (uint16_t)l; break;
-    case OPT_MIN_RANGE: if (num("--min-range", a, 0, 1000, "metres", &v, err, errlen)) return -1; p->detector.min_range_m = (float)v; break;
-    case OPT_MAX_ASPECT:
-        if (num("--max-aspect", a, 0, 100, "ratio (0 = no limit)", &v, err, errlen)) return -1;
-        if (v > 0.0 && v < 0.1) {
-            snprintf(err, errlen, "--max-aspect: '%s' is below 0.1 (0 = no limit)", a);
-            return -1;
-        }
-        p->detector.max_aspect = (float)v;
-        break;
-    case OPT_TRACK_M: if (num("--track-m", a, 0, 100, "metres (0 = off)", &v, err, errlen)) return -1; p->detector.track_m = (float)v; break;
-    case OPT_TRACK_POINTS: if (whole("--track-points", a, 1, 65535, "cells", &l, err, errlen)) return -1; p->detector.track_points = (uint16_t)l; break;
-    case OPT_ITERATIONS: if (whole("--iterations", a, 1, 100, "rounds", &l, err, errlen)) return -1; p->detector.iterations = (uint8_t)l; break;
-    case OPT_LINK_M: if (num("--link-m", a, 0, 10, "metres", &v, err, errlen)) return -1; p->detector.link_m = (float)v; break;
-    case OPT_LINK_BEAMS: if (whole("--link-beams", a, 1, 8, "beams", &l, err, errlen)) return -1; p->detector.link_beams = (uint8_t)l; break;
-    case OPT_MAX_STEP: if (whole("--max-step", a, 1, 200, "gradians", &l, err, errlen)) return -1; p->max_step = (uint16_t)l; break;
-    case OPT_JSON: o->json = 1; break;
-    case OPT_CSV_OUT: o->csv_out = a; break;
-    case OPT_STAGE:
-        if (strcmp(a, "raw") == 0) o->stage = SONAR_STAGE_RAW;
-        else if (strcmp(a, "median") == 0) o->stage = SONAR_STAGE_MEDIAN;
-        else if (strcmp(a, "foreground") == 0) o->stage = SONAR_STAGE_FOREGROUND;
-        else {
-            snprintf(err, errlen, "--stage: '%s' is not raw, median or foreground", a);
-            return -1;
-        }
-        break;
-    case OPT_QUIET: o->quiet = 1; break;
-    case OPT_HELP: options_usage(prog); return 1;
-    case OPT_VERSION: printf("sonard 0.2.0\n"); return 1;
-    default:
-        snprintf(err, errlen, "unknown option");
-        return -1;
-    }
-    return 0;
-}
-
-/* Values from a config file outlive parsing: they are kept in the options' own string pool. */
-static char *keep(char *pool, size_t cap, size_t *used, const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *r;
-    if (*used + n > cap)
-        return NULL;
-    r = pool + *used;
-    memcpy(r, s, n);
-    *used += n;
-    return r;
-}
-
-/* One --config file; *used carries the string pool's fill across several files. */
-static int read_config(struct sonard_options *o, const char *path, const char *prog, struct parse_state *ps,
-                       char *pool, size_t cap, size_t *used, char *err, size_t errlen)
-{
-    char line[512], msg[256];
-    unsigned long ln = 0;
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        snprintf(err, errlen, "--config %s: %s", path, strerror(errno));
-        return -1;
-    }
-    while (fgets(line, sizeof(line), f) != NULL) {
-        char *k = line, *eq, *v, *e;
-        const struct option *opt;
-        ln++;
-        while (*k == ' ' || *k == '\t')
-            k++;
-        if (*k == '#' || *k == '\n' || *k == '\r' || *k == '\0')
-            continue;
-        eq = strchr(k, '=');
-        if (eq == NULL) {
-            snprintf(err, errlen, "%s:%lu: expected key = value", path, ln);
-            fclose(f);
-            return -1;
-        }
-        for (e = eq; e > k && (e[-1] == ' ' || e[-1] == '\t'); e--)
-            ;
-        *e = '\0';
-        for (v = eq + 1; *v == ' ' || *v == '\t'; v++)
-            ;
-        for (e = v + strlen(v); e > v && (e[-1] == '\n' || e[-1] == '\r' || e[-1] == ' ' || e[-1] == '\t'); e--)
-            ;
-        *e = '\0';
-        for (opt = longs; opt->name != NULL && strcmp(opt->name, k) != 0; opt++)
-            ;
-        if (opt->name == NULL || opt->val == OPT_CONFIG || opt->val == OPT_HELP || opt->val == OPT_VERSION) {
-            snprintf(err, errlen, "%s:%lu: unknown key '%s'", path, ln, k);
-            fclose(f);
-            return -1;
-        }
-        if (opt->has_arg == no_argument) {
-            if (strcmp(v, "true") != 0 && strcmp(v, "yes") != 0 && strcmp(v, "1") != 0 && strcmp(v, "false") != 0 &&
-                strcmp(v, "no") != 0 && strcmp(v, "0") != 0) {
-                snprintf(err, errlen, "%s:%lu: %s: '%s' is not true or false", path, ln, k, v);
-                fclose(f);
-                return -1;
-            }
-            if (v[0] == 'f' || v[0] == 'n' || v[0] == '0')
-                continue;
-        }
-        if ((v = keep(pool, cap, used, v)) == NULL) {
-            snprintf(err, errlen, "%s:%lu: the file's values exceed %zu bytes", path, ln, cap);
-            fclose(f);
-            return -1;
-        }
-        if (apply(o, opt->val, v, prog, ps, msg, sizeof(msg)) != 0) {
-            snprintf(err, errlen, "%s:%lu: %s", path, ln, msg);
-            fclose(f);
-            return -1;
-        }
-    }
-    fclose(f);
-    return 0;
-}
-
-int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)
-{
-    struct parse_state ps = {0};
-    size_t used = 0;
-    int c, i, r;
     memset(o, 0, sizeof(*o));
     sonar_pipeline_defaults(&o->pipeline);
+    o->channel_prefix = "";
     o->range_m = -1.0;
     o->speed_of_sound = 1500.0;
     o->stage = SONAR_STAGE_FOREGROUND;
@@ -393,46 +188,68 @@ int options_parse(int argc, char **argv, struct sonard_options *o, char *err, si
     o->device.frequency = 750;
     o->device.step = 1;
     o->device.full_circle = 1;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *path = strncmp(a, "--config=", 9) == 0 ? a + 9 : strcmp(a, "--config") == 0 && i + 1 < argc ? argv[i + 1] : NULL;
-        if (path != NULL) {
-            snprintf(o->config_path, sizeof(o->config_path), "%s", path);
-            /* Several files apply in order, each overriding the ones before. */
-            if (read_config(o, path, argv[0], &ps, o->pool, sizeof(o->pool), &used, err, errlen) != 0)
-                return -1;
-        }
-    }
-    opterr = 0;
-    optind = 1;
-    while ((c = getopt_long(argc, argv, ":", longs, NULL)) != -1) {
-        if (c == ':') {
-            snprintf(err, errlen, "%s: needs a value", argv[optind - 1]);
-            return -1;
-        }
-        if (c == '?') {
-            snprintf(err, errlen, "%s: unknown option (see --help)", argv[optind - 1]);
-            return -1;
-        }
-        if ((r = apply(o, c, optarg, argv[0], &ps, err, errlen)) != 0)
-            return r;
-    }
-    if (optind < argc) {
-        snprintf(err, errlen, "%s: unexpected argument (see --help)", argv[optind]);
-        return -1;
-    }
+}
+
+static void usage(void)
+{
+    printf("usage: sonard --sonar URL [options]      live: drive a Ping360, publish over LCM\n"
+           "       sonard --replay FILE.csv [options] offline: a recording in the study's CSV form\n\n");
+    opt_usage(&schema, stdout);
+}
+
+/* Checks what no single option can: combinations, and each core config as a whole. */
+static int check_whole(struct sonard_options *o, char *err, size_t errlen)
+{
+    const char *why;
+    int bgw = opt_find(&schema, "bg-warmup");
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
-    if (!ps.warmup_set)
+    if (!(o->given & ((uint64_t)1 << bgw)))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
     if ((o->replay == NULL) == (o->sonar == NULL)) {
         snprintf(err, errlen, "give either --sonar URL (live) or --replay FILE.csv (see --help)");
-        return -1;
+        return HOST_ERR_CONFIG;
     }
     if (o->device.use_auto && o->device.step > 10) {
         snprintf(err, errlen, "--step: %u gradians is more than auto_transmit's 10", o->device.step);
-        return -1;
+        return HOST_ERR_CONFIG;
     }
     o->device.range_m = (float)(o->range_m > 0 ? o->range_m : 2.0);
     o->device.speed_of_sound = (float)o->speed_of_sound;
-    return 0;
+    if ((why = sonar_pipeline_config_check(&o->pipeline)) != NULL ||
+        (o->sonar != NULL && (why = sonar_ping360_config_check(&o->device)) != NULL)) {
+        snprintf(err, errlen, "configuration: %s", why);
+        return HOST_ERR_CONFIG;
+    }
+    return HOST_OK;
+}
+
+int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)
+{
+    size_t used = 0;
+    int i, action, r;
+    defaults(o);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *path = strncmp(a, "--config=", 9) == 0 ? a + 9 : strcmp(a, "--config") == 0 && i + 1 < argc ? argv[i + 1] : NULL;
+        if (path == NULL)
+            continue;
+        if (o->nconfigs >= OPTIONS_MAX_CONFIGS) {
+            snprintf(err, errlen, "--config: more than %d files", OPTIONS_MAX_CONFIGS);
+            return HOST_ERR_CONFIG;
+        }
+        o->configs[o->nconfigs++] = path;
+        /* Several files apply in order, each overriding the ones before. */
+        if ((r = opt_read_file(&schema, path, o, &o->given, o->pool, sizeof(o->pool), &used, err, errlen)) != HOST_OK)
+            return r;
+    }
+    if (opt_parse_argv(&schema, argc, argv, o, &o->given, &action, err, errlen) != HOST_OK)
+        return HOST_ERR_CONFIG;
+    if (action >= 0) {
+        if (strcmp(spec[action].name, "help") == 0)
+            usage();
+        else
+            printf("sonard 0.3.0\n");
+        return 1;
+    }
+    return check_whole(o, err, errlen);
 }

@@ -1,19 +1,24 @@
-/* options.h -- sonard's command line and config file: parsing, validation with named errors, and the mapping onto the core's configs; no heap. */
+/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; ~9 KB per struct (the string pool). */
 #ifndef SONARD_OPTIONS_H
 #define SONARD_OPTIONS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
+#include "herr.h"
+#include "optschema.h"
 #include "sonar/ping360.h"
 #include "sonar/pipeline.h"
+
+#define OPTIONS_MAX_CONFIGS 8
 
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
     const char *sonar;          /* live: serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT */
     const char *csv_out;        /* export / recording file */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
-    char channel_prefix[32];
-    int stage;                  /* enum sonar_stage exported to csv_out (replay) */
+    const char *channel_prefix; /* prepended to every channel; "" by default */
+    uint8_t stage;              /* enum sonar_stage exported to csv_out (replay) */
     double range_m;             /* < 0: replay takes it from the CSV metadata, else 2 m */
     double speed_of_sound;      /* m/s */
     long baud;                  /* serial: bits/s; 0 = from the URL or 115200; -1 = auto */
@@ -24,18 +29,24 @@ struct sonard_options {
     int no_lcm;
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
-    char config_path[256]; /* the last --config file */
-    char pool[8192]; /* strings read from the config file, which the fields above may point into */
+    uint64_t given;             /* one bit per schema row applied (file or command line) */
+    const char *configs[OPTIONS_MAX_CONFIGS]; /* --config files in order, re-read on SIGHUP */
+    int nconfigs;
+    char pool[8192];            /* values read from config files; string fields may point into it */
 };
 
-/*
- * Fills defaults, reads --config FILE if given (key = value lines, keys being long option names),
- * then parses argv, which overrides the file. Returns 0 to run, 1 when --help/--version was
- * handled, -1 on a bad option or file (message in err, naming the option or file:line).
- */
-int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen);
+/* The schema: sonard's option table. */
+const struct opt_schema *options_schema(void);
 
-/* Writes the --help text. */
-void options_usage(const char *prog);
+/*
+ * Fills defaults, reads every --config FILE in order (key = value lines, keys being long option
+ * names), then argv, which overrides the files, then checks the result as a whole (each core
+ * config's check names the failing field). Returns 0 to run, 1 when --help/--version was handled
+ * (printed to stdout), or HOST_ERR_CONFIG / HOST_ERR_IO with err naming the option or file:line.
+ */
+HOST_CHECK int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen);
+
+/* The Markdown option reference (docs/configuration.md is generated from it). */
+void options_markdown(FILE *f);
 
 #endif

@@ -1,132 +1,200 @@
-/* sonard.c -- the sonard front end: --sonar (live, live.c) or --replay of a CSV recording through the core pipeline. */
+/* sonard.c -- the sonard front end: options, the app core with its sinks, then a source: --sonar (live.c's loop) or --replay; SIGHUP re-reads --config. */
 #include <errno.h>
 #include <inttypes.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
 
-#include "csv.h"
+#include "app.h"
 #include "live.h"
 #include "options.h"
-#include "report.h"
-#include "sonar/geometry.h"
-#include "sonar/pipeline.h"
+#include "sinks.h"
+#include "source_link.h"
+#include "source_replay.h"
 
-struct replay {
-    struct sonard_options opt;
-    struct sonar_pipeline pipe;
-    struct csv_reader csv;
-    struct csv_row row;
+/* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
+struct sonard {
+    struct sonard_options opt, reload; /* running options, and the scratch a SIGHUP parses into */
+    int argc;
+    char **argv;
+    struct app app;
+    struct sink_lcm lcm;
+    struct sink_csv csv;
+    struct sink_report report;
+    struct source_link link;
+    struct source_replay replay;
     FILE *csv_out;
-    unsigned long sweeps, detections, write_errors;
+    int have_lcm;
 };
 
-static double now_s(void)
+static int64_t mono_ns(void *user)
 {
     struct timespec t;
+    (void)user;
     clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+    return (int64_t)t.tv_sec * 1000000000 + t.tv_nsec;
 }
 
-static void on_beam(void *user, int stage, const struct sonar_beam *b)
+static int64_t wall_us(void *user)
 {
-    struct replay *r = user;
-    struct csv_meta m = csv_meta_none();
-    if (r->csv_out == NULL || stage != r->opt.stage)
+    struct timespec t;
+    (void)user;
+    clock_gettime(CLOCK_REALTIME, &t);
+    return (int64_t)t.tv_sec * 1000000 + t.tv_nsec / 1000;
+}
+
+static void log_stderr(void *user, const char *fmt, va_list ap)
+{
+    const struct sonard *s = user;
+    if (s->opt.quiet)
         return;
-    m.range_m = (double)b->range_m;
-    if (csv_write(r->csv_out, b->utime / 1000000, (uint32_t)(b->utime % 1000000) * 1000u, b->angle, b->samples, b->n,
-                  &m) != 0)
-        r->write_errors++;
+    fputs("sonard: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
 }
 
-static void on_sweep(void *user, const struct sonar_detections *d)
+/* SIGHUP: the --config files and argv again; filter and detector settings apply from the next sweep. */
+static int reload(void *user)
 {
-    struct replay *r = user;
-    r->sweeps++;
-    r->detections += d->count;
-    if (r->opt.json)
-        report_json(stdout, d);
-    else if (!r->opt.quiet)
-        report_text(stdout, d);
-}
-
-/* Range of a row: --range, else the row's range_m or sample_period metadata, else 2 m. */
-static float row_range(const struct replay *r)
-{
-    const struct csv_row *w = &r->row;
-    if (r->opt.range_m > 0.0)
-        return (float)r->opt.range_m;
-    if (w->range_m > 0.0)
-        return (float)w->range_m;
-    if (w->sample_period > 0.0) {
-        double c = w->speed_of_sound > 0.0 ? w->speed_of_sound : r->opt.speed_of_sound;
-        return (float)sonar_geometry_range_m((uint16_t)w->sample_period, w->n, c);
+    struct sonard *s = user;
+    char err[256];
+    int r = options_parse(s->argc, s->argv, &s->reload, err, sizeof(err));
+    if (r != 0) {
+        fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", r < 0 ? err : "no reload from --help");
+        return HOST_ERR_CONFIG;
     }
-    return 2.0f;
+    if (app_reconfigure(&s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
+        return HOST_ERR_CONFIG;
+    }
+    if (memcmp(&s->reload.device, &s->opt.device, sizeof(s->opt.device)) != 0)
+        fprintf(stderr, "sonard: SIGHUP: device settings (range, sector, gain, ...) apply after a restart\n");
+    if (!s->opt.quiet)
+        fprintf(stderr, "sonard: SIGHUP: %d config file%s re-read; filter and detector settings apply from the next sweep\n",
+                s->reload.nconfigs, s->reload.nconfigs == 1 ? "" : "s");
+    /* The pipeline copied what it needs: the scratch can be parsed into again. */
+    return HOST_OK;
+}
+
+static int open_sinks(struct sonard *s, char *err, size_t errlen)
+{
+    const struct sonard_options *o = &s->opt;
+    int live = o->sonar != NULL, r;
+    if (live && !o->no_lcm) {
+        if ((r = sink_lcm_open(&s->lcm, o->lcm_url, o->channel_prefix, o->publish_filtered, err, errlen)) != HOST_OK)
+            return r;
+        s->have_lcm = 1;
+        if (app_add_sink(&s->app, &s->lcm.sink) != HOST_OK)
+            return HOST_ERR_CONFIG;
+    }
+    if (o->csv_out != NULL) {
+        if ((s->csv_out = fopen(o->csv_out, "w")) == NULL) {
+            snprintf(err, errlen, "--csv-out %s: %s", o->csv_out, strerror(errno));
+            return HOST_ERR_IO;
+        }
+        sink_csv_init(&s->csv, s->csv_out, live ? SONAR_STAGE_RAW : o->stage);
+        if (app_add_sink(&s->app, &s->csv.sink) != HOST_OK)
+            return HOST_ERR_CONFIG;
+    }
+    if (o->json || !o->quiet) {
+        sink_report_init(&s->report, stdout, o->json);
+        if (app_add_sink(&s->app, &s->report.sink) != HOST_OK)
+            return HOST_ERR_CONFIG;
+    }
+    return HOST_OK;
+}
+
+/* Exit summary of the live run: every counter SONAR_STATUS carries. */
+static void summary(const struct app_status *st)
+{
+    fprintf(stderr,
+            "sonard: status frames %" PRIu32 " checksum_errors %" PRIu32 " resyncs %" PRIu32 " oversize %" PRIu32
+            " bytes_dropped %" PRIu32 " timeouts %" PRIu32 " retries %" PRIu32 " nacks %" PRIu32 " reconnects %" PRIu32
+            " stale %" PRIu32 " beams %" PRIu32 " sweeps %" PRIu32 " beams_rejected %" PRIu32 " sink_errors %" PRIu32 "\n",
+            st->parser.frames, st->parser.checksum_errors, st->parser.resyncs, st->parser.oversize,
+            st->parser.bytes_dropped, st->driver.timeouts, st->driver.retries, st->driver.nacks, st->driver.reconnects,
+            st->driver.stale, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
+}
+
+static int run_live(struct sonard *s)
+{
+    struct app_status st;
+    if (live_run(&s->app, &s->link, reload, s) != HOST_OK)
+        return 2;
+    if (!s->opt.quiet) {
+        app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
+        summary(&st);
+    }
+    return 0;
+}
+
+static int run_replay(struct sonard *s)
+{
+    struct timespec t0, t1;
+    double ms;
+    unsigned long good, used;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    good = source_replay_run(&s->replay, &s->app, stderr);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+    used = good - s->app.beams_rejected;
+    fflush(stdout);
+    if (!s->opt.quiet)
+        fprintf(stderr, "sonard: %s: %lu rows used, %lu skipped, %" PRIu32 " sweeps, %.1f ms (%.2f us/beam)\n",
+                s->opt.replay, used, (unsigned long)s->app.rows_bad, s->app.sweeps, ms, used ? ms * 1e3 / (double)used : 0.0);
+    else if (s->app.rows_bad)
+        fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)s->app.rows_bad);
+    source_replay_close(&s->replay);
+    return used == 0 ? 1 : 0;
 }
 
 int main(int argc, char **argv)
 {
-    static struct replay r; /* ~600 KB: too big for the stack, and main's own, so not a shared global */
-    char err[256];
-    double t0, t1;
-    int rc, got;
-
-    rc = options_parse(argc, argv, &r.opt, err, sizeof(err));
-    if (rc != 0) {
+    static struct sonard s;
+    struct app_clock clock = {mono_ns, wall_us, NULL};
+    struct sonar_ping360_io io;
+    char err[320];
+    int rc;
+    s.argc = argc;
+    s.argv = argv;
+    if ((rc = options_parse(argc, argv, &s.opt, err, sizeof(err))) != 0) {
         if (rc < 0)
             fprintf(stderr, "sonard: %s\n", err);
         return rc < 0 ? 2 : 0;
     }
-    if (r.opt.sonar != NULL)
-        return live_run(&r.opt);
-    r.opt.pipeline.on_beam = on_beam;
-    r.opt.pipeline.on_sweep = on_sweep;
-    r.opt.pipeline.user = &r;
-    if (sonar_pipeline_init(&r.pipe, &r.opt.pipeline) != SONAR_OK) {
-        fprintf(stderr, "sonard: the pipeline configuration is invalid\n");
-        return 2;
-    }
-    if (csv_open(&r.csv, r.opt.replay) != 0) {
-        fprintf(stderr, "sonard: %s: %s\n", r.opt.replay, strerror(errno));
-        return 2;
-    }
-    if (r.opt.csv_out != NULL && (r.csv_out = fopen(r.opt.csv_out, "w")) == NULL) {
-        fprintf(stderr, "sonard: --csv-out %s: %s\n", r.opt.csv_out, strerror(errno));
-        csv_close(&r.csv);
-        return 2;
-    }
-    t0 = now_s();
-    while ((got = csv_next(&r.csv, &r.row, err, sizeof(err))) != 0) {
-        struct sonar_beam b;
-        int pr;
-        if (got < 0) {
-            fprintf(stderr, "%s:%lu: %s; row skipped\n", r.opt.replay, r.csv.line, err);
-            continue;
+    if (s.opt.sonar != NULL) {
+        if (source_link_parse(&s.link, s.opt.sonar, s.opt.baud, err, sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
         }
-        b.utime = r.row.sec * 1000000 + (int64_t)(r.row.nsec / 1000u);
-        b.angle = r.row.angle;
-        b.n = r.row.n;
-        b.range_m = row_range(&r);
-        b.samples = r.row.samples;
-        if ((pr = sonar_pipeline_push(&r.pipe, &b)) != SONAR_OK)
-            fprintf(stderr, "%s:%lu: %s; row skipped\n", r.opt.replay, r.csv.line, sonar_err_str(pr));
+        s.opt.device.baud = source_link_baud(&s.link);
+        io.send = source_link_send;
+        io.line_break = source_link_break;
+        io.user = &s.link;
+    } else if (source_replay_open(&s.replay, s.opt.replay, s.opt.range_m, s.opt.speed_of_sound, err, sizeof(err)) !=
+               HOST_OK) {
+        fprintf(stderr, "sonard: %s\n", err);
+        return 2;
     }
-    if (sonar_pipeline_finish(&r.pipe) != SONAR_OK)
-        fprintf(stderr, "sonard: finishing the last sweep failed\n");
-    t1 = now_s();
-    fflush(stdout);
-    if (r.csv_out != NULL && fclose(r.csv_out) != 0)
-        r.write_errors++;
-    if (r.write_errors)
-        fprintf(stderr, "sonard: --csv-out %s: %lu rows could not be written\n", r.opt.csv_out, r.write_errors);
-    if (!r.opt.quiet)
-        fprintf(stderr, "sonard: %s: %lu rows used, %lu skipped, %lu sweeps, %lu detections, %.1f ms (%.2f us/beam)\n",
-                r.opt.replay, r.csv.good, r.csv.bad, r.sweeps, r.detections, (t1 - t0) * 1e3,
-                r.csv.good ? (t1 - t0) * 1e6 / (double)r.csv.good : 0.0);
-    else if (r.csv.bad)
-        fprintf(stderr, "sonard: %s: %lu rows skipped\n", r.opt.replay, r.csv.bad);
-    csv_close(&r.csv);
-    return r.csv.good == 0 ? 1 : (r.write_errors ? 1 : 0);
+    if (app_init(&s.app, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock, (float)s.opt.speed_of_sound,
+                 s.opt.sweeps, err, sizeof(err)) != HOST_OK ||
+        open_sinks(&s, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonard: %s\n", err);
+        return 2;
+    }
+    app_set_log(&s.app, log_stderr, &s);
+    if (s.opt.replay != NULL)
+        s.app.link = s.opt.replay;
+    rc = s.opt.sonar != NULL ? run_live(&s) : run_replay(&s);
+    if (s.csv_out != NULL && fclose(s.csv_out) != 0)
+        s.csv.sink.errors++;
+    if (s.csv.sink.errors)
+        fprintf(stderr, "sonard: --csv-out %s: %lu rows could not be written\n", s.opt.csv_out, s.csv.sink.errors);
+    if (s.have_lcm) {
+        if (s.lcm.sink.errors)
+            fprintf(stderr, "sonard: %lu LCM messages could not be published\n", s.lcm.sink.errors);
+        sink_lcm_close(&s.lcm);
+    }
+    return rc != 0 ? rc : (s.csv.sink.errors ? 1 : 0);
 }

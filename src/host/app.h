@@ -1,0 +1,153 @@
+/* app.h -- sonard's app core: owns the Ping parser, the Ping360 driver and the pipeline; sources push beam records in, each sink maps a record once; ~0.6 MB per struct app (the pipeline). */
+#ifndef SONARD_APP_H
+#define SONARD_APP_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "herr.h"
+#include "sonar/detector.h"
+#include "sonar/ping.h"
+#include "sonar/ping360.h"
+#include "sonar/pipeline.h"
+
+#define APP_MAX_SINKS 8
+#define APP_PROC_RING 1024 /* per-beam processing times kept for the percentiles */
+
+/* One beam and its acquisition, from any source to every sink. Unknown integer metadata is -1. */
+struct app_beam {
+    int64_t utime;              /* us since the epoch: receipt (live) or the recording's */
+    uint16_t angle;             /* gradians 0..399 */
+    uint16_t n;                 /* samples */
+    int32_t gain;               /* 0 low, 1 normal, 2 high */
+    int32_t sample_period;      /* 25 ns ticks */
+    int32_t transmit_duration;  /* us */
+    int32_t transmit_frequency; /* kHz */
+    float speed_of_sound;       /* m/s */
+    float range_m;              /* metres covered by the n samples */
+    uint8_t stage;              /* enum sonar_stage */
+    const uint8_t *samples;     /* n samples, valid during the call only */
+};
+
+/* Health, once a second and at exit. */
+struct app_status {
+    int64_t utime;
+    int link_state;                        /* enum sonar_ping360_state (SONAR_P360_CONNECTING included) */
+    const char *link;                      /* "tcp:127.0.0.1:5000", "replay:FILE" */
+    uint8_t fw[3];
+    struct sonar_ping_counters parser;     /* every parser counter */
+    struct sonar_ping360_counters driver;  /* every driver counter */
+    uint32_t sweeps;
+    uint32_t beams_rejected;               /* beams the pipeline refused (bad geometry) */
+    uint32_t rows_bad;                     /* replay: malformed rows skipped */
+    uint32_t sink_errors;                  /* sink calls that failed, all sinks */
+    float last_sweep_s;                    /* seconds the last sweep took */
+    float beam_us_p50, beam_us_p99;        /* per-beam processing time */
+};
+
+/* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */
+struct app_sink {
+    const char *name;
+    void *self;
+    uint8_t stages; /* bit (1 << stage) for each stage of beams it takes */
+    int (*beam)(void *self, const struct app_beam *b);
+    int (*detections)(void *self, const struct sonar_detections *d);
+    int (*status)(void *self, const struct app_status *s);
+    unsigned long errors; /* failed calls, kept by the app */
+};
+
+/* Clocks, injected so tests can drive time. mono_ns: monotonic; wall_us: us since the epoch. */
+struct app_clock {
+    int64_t (*mono_ns)(void *user);
+    int64_t (*wall_us)(void *user);
+    void *user;
+};
+
+/* Messages for people (stderr in sonard); NULL to drop them. */
+typedef void (*app_log_fn)(void *user, const char *fmt, va_list ap);
+
+enum app_link_event { APP_LINK_NONE = 0, APP_LINK_LOST = 1, APP_LINK_STOPPED = 2 };
+
+struct app {
+    struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
+    int pcur;                             /* index of the running one */
+    struct sonar_pipeline pipe;
+    struct sonar_ping_parser parser;
+    struct sonar_ping360 drv;
+    int have_drv;
+    struct app_clock clock;
+    app_log_fn log;
+    void *log_user;
+    struct app_sink *sinks[APP_MAX_SINKS];
+    unsigned nsinks;
+    struct app_beam cur;        /* the beam in the pipeline: stage callbacks get only its samples */
+    float speed_of_sound;
+    long max_sweeps;            /* stop after this many; 0 = never */
+    int sweeps_done;            /* max_sweeps reached: later beams are ignored */
+    uint32_t sweeps, beams_rejected, rows_bad;
+    uint32_t backoff_us;        /* with APP_LINK_LOST: reconnect after this */
+    int64_t sweep_t0;
+    float last_sweep_s;
+    const char *link;
+    float proc_us[APP_PROC_RING];
+    float sorted[APP_PROC_RING];
+    unsigned long nproc;
+};
+
+/*
+ * Sets up the core. pcfg: pipeline config (copied; its callbacks are the app's). dcfg/io: the
+ * Ping360 driver for a live link, or NULL for a source that pushes beams itself (replay).
+ * max_sweeps: 0 = no limit. Returns HOST_OK, or HOST_ERR_CONFIG with the failing field in err.
+ */
+HOST_CHECK int app_init(struct app *a, const struct sonar_pipeline_config *pcfg, const struct sonar_ping360_config *dcfg,
+                        const struct sonar_ping360_io *io, const struct app_clock *clock, float speed_of_sound,
+                        long max_sweeps, char *err, size_t errlen);
+
+/* Messages go to log(user, ...). */
+void app_set_log(struct app *a, app_log_fn log, void *user);
+
+/* Adds a sink (kept by pointer). Returns HOST_OK or SONAR_ERR_FULL. */
+HOST_CHECK int app_add_sink(struct app *a, struct app_sink *s);
+
+/*
+ * One raw beam from any source: every sink taking raw beams gets it, then it goes through the
+ * pipeline (its foreground to sinks taking that stage, its sweep's detections to every sink).
+ * Returns HOST_OK, or SONAR_ERR_ARG when the pipeline refused it (counted; the sinks had it).
+ */
+HOST_CHECK int app_push(struct app *a, const struct app_beam *b);
+
+/* Ends the open sweep (end of a recording, shutdown). Returns HOST_OK or a core error. */
+HOST_CHECK int app_finish(struct app *a);
+
+/*
+ * Live link: bytes as they arrived. Frames go to the driver; its beams to app_push. Returns
+ * APP_LINK_NONE, APP_LINK_LOST (give the link up; reconnect after a->backoff_us) or
+ * APP_LINK_STOPPED (motor_off acknowledged). Stops early, with bytes left, on LOST or STOPPED.
+ */
+int app_link_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us);
+
+/* Live link: the transport opened (probe the device), or was lost. Fresh framing either way. */
+HOST_CHECK int app_link_up(struct app *a, int64_t now_us);
+void app_link_down(struct app *a, int64_t now_us);
+
+/* Live link: driver timers. Returns as app_link_bytes. app_deadline: when to call it next (us). */
+int app_link_poll(struct app *a, int64_t now_us);
+int64_t app_deadline(const struct app *a);
+
+/* Live link: motor_off. Returns 1 when already stopped (nothing to wait for), 0 when waiting, < 0 on error. */
+int app_link_stop(struct app *a, int64_t now_us);
+
+/* Fills *s and sends it to every sink. link_state: the driver's, or SONAR_P360_CONNECTING. */
+void app_status(struct app *a, int link_state, struct app_status *s);
+
+/*
+ * SIGHUP: pcfg (copied) takes over at the next sweep (sonar_pipeline_reconfigure). Returns
+ * HOST_OK, or HOST_ERR_CONFIG with the failing field in err (the running settings stay).
+ */
+HOST_CHECK int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen);
+
+/* Sum of every sink's failed calls. */
+unsigned long app_sink_errors(const struct app *a);
+
+#endif

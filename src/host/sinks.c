@@ -1,0 +1,181 @@
+/* sinks.c -- LCM, CSV and JSON/text sinks: each maps an app record onto its format once; LCM types from lcm-gen --c-no-pubsub, encoded into the sink's buffer. */
+#include "sinks.h"
+
+#include <lcm/lcm.h>
+#include <string.h>
+
+#include "csv.h"
+#include "report.h"
+#include "sonar_beam_t.h"
+#include "sonar_detections_t.h"
+#include "sonar_status_t.h"
+
+static int lcm_send(struct sink_lcm *s, const char *channel, int len)
+{
+    if (len < 0)
+        return HOST_ERR_PUBLISH; /* the message did not fit the buffer */
+    return s->tx(s->tx_user, channel, s->buf, (size_t)len) == 0 ? HOST_OK : HOST_ERR_PUBLISH;
+}
+
+static int lcm_beam(void *self, const struct app_beam *b)
+{
+    struct sink_lcm *s = self;
+    sonar_beam_t m;
+    m.utime = b->utime;
+    m.angle = (int16_t)b->angle;
+    m.gain = (int8_t)b->gain;
+    m.sample_period = (int16_t)b->sample_period;
+    m.transmit_duration = (int16_t)b->transmit_duration;
+    m.transmit_frequency = (int16_t)b->transmit_frequency;
+    m.speed_of_sound = b->speed_of_sound;
+    m.range_m = b->range_m;
+    m.stage = (int8_t)b->stage;
+    m.number_of_samples = (int16_t)b->n;
+    m.samples = (uint8_t *)(uintptr_t)b->samples; /* encode only reads it */
+    return lcm_send(s, b->stage == SONAR_STAGE_RAW ? s->beam : s->filtered,
+                    sonar_beam_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+}
+
+static int lcm_detections(void *self, const struct sonar_detections *d)
+{
+    struct sink_lcm *s = self;
+    sonar_detection_t det[SONAR_MAX_CLUSTERS];
+    sonar_detections_t m;
+    unsigned i;
+    for (i = 0; i < d->count; i++) {
+        const struct sonar_detection *o = &d->det[i];
+        det[i].x_m = o->x_m;
+        det[i].y_m = o->y_m;
+        det[i].range_m = o->range_m;
+        det[i].bearing_deg = o->bearing_deg;
+        det[i].area_m2 = o->area_m2;
+        det[i].points = (int32_t)o->points;
+        det[i].mean_intensity = o->mean_intensity;
+        det[i].hull_count = o->hull_count;
+        det[i].hull_x = (float *)(uintptr_t)o->hull_x;
+        det[i].hull_y = (float *)(uintptr_t)o->hull_y;
+    }
+    m.utime = d->utime;
+    m.sweep = (int32_t)d->sweep;
+    m.beams = (int16_t)d->beams;
+    m.count = d->count;
+    m.detections = det;
+    return lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+}
+
+static int lcm_status(void *self, const struct app_status *st)
+{
+    struct sink_lcm *s = self;
+    sonar_status_t m;
+    m.utime = st->utime;
+    m.link_state = (int8_t)st->link_state;
+    m.link = (char *)(uintptr_t)st->link;
+    m.fw_major = (int8_t)st->fw[0];
+    m.fw_minor = (int8_t)st->fw[1];
+    m.fw_patch = (int8_t)st->fw[2];
+    m.frames = st->parser.frames;
+    m.checksum_errors = st->parser.checksum_errors;
+    m.resyncs = st->parser.resyncs;
+    m.oversize = st->parser.oversize;
+    m.bytes_dropped = st->parser.bytes_dropped;
+    m.timeouts = st->driver.timeouts;
+    m.retries = st->driver.retries;
+    m.nacks = st->driver.nacks;
+    m.reconnects = st->driver.reconnects;
+    m.stale = st->driver.stale;
+    m.beams = st->driver.beams;
+    m.sweeps = st->sweeps;
+    m.beams_rejected = st->beams_rejected;
+    m.rows_bad = st->rows_bad;
+    m.sink_errors = st->sink_errors;
+    m.last_sweep_s = st->last_sweep_s;
+    m.beam_us_p50 = st->beam_us_p50;
+    m.beam_us_p99 = st->beam_us_p99;
+    return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+}
+
+void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered)
+{
+    memset(s, 0, sizeof(*s));
+    s->tx = tx;
+    s->tx_user = user;
+    snprintf(s->beam, sizeof(s->beam), "%.30sSONAR_BEAM", prefix);
+    snprintf(s->filtered, sizeof(s->filtered), "%.30sSONAR_BEAM_FILTERED", prefix);
+    snprintf(s->detections, sizeof(s->detections), "%.30sSONAR_DETECTIONS", prefix);
+    snprintf(s->status, sizeof(s->status), "%.30sSONAR_STATUS", prefix);
+    s->sink.name = "lcm";
+    s->sink.self = s;
+    s->sink.stages = (uint8_t)(1u << SONAR_STAGE_RAW | (filtered ? 1u << SONAR_STAGE_FOREGROUND : 0u));
+    s->sink.beam = lcm_beam;
+    s->sink.detections = lcm_detections;
+    s->sink.status = lcm_status;
+}
+
+static int lcm_tx(void *user, const char *channel, const uint8_t *buf, size_t len)
+{
+    return lcm_publish((lcm_t *)user, channel, buf, (unsigned)len);
+}
+
+int sink_lcm_open(struct sink_lcm *s, const char *url, const char *prefix, int filtered, char *err, size_t errlen)
+{
+    lcm_t *l = lcm_create(url);
+    if (l == NULL) {
+        snprintf(err, errlen, "--lcm %s: LCM could not start this provider (for udpm: is there a multicast route?)",
+                 url ? url : "(default)");
+        return HOST_ERR_IO;
+    }
+    sink_lcm_init(s, lcm_tx, l, prefix, filtered);
+    s->lcm = l;
+    return HOST_OK;
+}
+
+void sink_lcm_close(struct sink_lcm *s)
+{
+    if (s->lcm != NULL)
+        lcm_destroy((lcm_t *)s->lcm);
+    s->lcm = NULL;
+}
+
+static int csv_beam(void *self, const struct app_beam *b)
+{
+    struct sink_csv *s = self;
+    struct csv_meta m = csv_meta_none();
+    m.range_m = (double)b->range_m;
+    m.gain = b->gain;
+    m.sample_period = b->sample_period;
+    m.transmit_duration = b->transmit_duration;
+    m.transmit_frequency = b->transmit_frequency;
+    m.speed_of_sound = (double)b->speed_of_sound;
+    /* floor division: a timestamp before the epoch still gives nsec in 0..999999999 */
+    return csv_write(s->f, b->utime / 1000000 - (b->utime % 1000000 < 0),
+                     (uint32_t)((b->utime % 1000000 + 1000000) % 1000000) * 1000u, b->angle, b->samples, b->n, &m) == 0
+               ? HOST_OK
+               : HOST_ERR_IO;
+}
+
+void sink_csv_init(struct sink_csv *s, FILE *f, int stage)
+{
+    memset(s, 0, sizeof(*s));
+    s->f = f;
+    s->sink.name = "csv";
+    s->sink.self = s;
+    s->sink.stages = (uint8_t)(1u << stage);
+    s->sink.beam = csv_beam;
+}
+
+static int report_detections(void *self, const struct sonar_detections *d)
+{
+    struct sink_report *s = self;
+    int r = s->json ? report_json(s->f, d) : report_text(s->f, d);
+    return r == 0 && fflush(s->f) == 0 ? HOST_OK : HOST_ERR_IO;
+}
+
+void sink_report_init(struct sink_report *s, FILE *f, int json)
+{
+    memset(s, 0, sizeof(*s));
+    s->f = f;
+    s->json = json;
+    s->sink.name = json ? "json" : "text";
+    s->sink.self = s;
+    s->sink.detections = report_detections;
+}

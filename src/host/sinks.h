@@ -1,0 +1,49 @@
+/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (~17 KB for LCM), no heap per message. */
+#ifndef SONARD_SINKS_H
+#define SONARD_SINKS_H
+
+#include <stdio.h>
+
+#include "app.h"
+
+/* Sends one encoded message; returns 0 or < 0. lcm_publish in sonard, a capture in tests. */
+typedef int (*sink_lcm_tx)(void *user, const char *channel, const uint8_t *buf, size_t len);
+
+struct sink_lcm {
+    struct app_sink sink;
+    void *lcm;                 /* lcm_t when opened by sink_lcm_open */
+    sink_lcm_tx tx;
+    void *tx_user;
+    char beam[64], filtered[64], detections[64], status[64];
+    uint8_t buf[16384];
+};
+
+/*
+ * Beams (SONAR_BEAM, and SONAR_BEAM_FILTERED when filtered), detections and status on
+ * prefix + channel, through tx(user, ...). prefix: at most 30 characters.
+ */
+void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered);
+
+/* The same over liblcm: url NULL for LCM's default. Returns HOST_OK or HOST_ERR_IO with err set. */
+HOST_CHECK int sink_lcm_open(struct sink_lcm *s, const char *url, const char *prefix, int filtered, char *err, size_t errlen);
+void sink_lcm_close(struct sink_lcm *s);
+
+/* CSV recording of the beams of one stage, in the study's form plus metadata columns (csv.h). */
+struct sink_csv {
+    struct app_sink sink;
+    FILE *f;
+};
+
+/* f: open for writing (owned by the caller). stage: enum sonar_stage. */
+void sink_csv_init(struct sink_csv *s, FILE *f, int stage);
+
+/* One JSON line (json) or readable text per sweep on f. */
+struct sink_report {
+    struct app_sink sink;
+    FILE *f;
+    int json;
+};
+
+void sink_report_init(struct sink_report *s, FILE *f, int json);
+
+#endif

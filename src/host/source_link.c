@@ -1,0 +1,202 @@
+/* source_link.c -- link lifecycle around the app core: open, connect, read, lose, back off, reconnect, auto-baud; bounded reads per wake. */
+#include "source_link.h"
+
+#include <poll.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+static void say(const struct source_link *s, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+static void say(const struct source_link *s, const char *fmt, ...)
+{
+    va_list ap;
+    if (s->app == NULL || s->app->log == NULL)
+        return;
+    va_start(ap, fmt);
+    s->app->log(s->app->log_user, fmt, ap);
+    va_end(ap);
+}
+
+int source_link_parse(struct source_link *s, const char *url, long baud, char *err, size_t errlen)
+{
+    memset(s, 0, sizeof(*s));
+    s->reconnect_at = INT64_MAX;
+    if (link_parse(&s->link, url, baud, err, errlen) != 0)
+        return HOST_ERR_CONFIG;
+    link_describe(&s->link, s->desc, sizeof(s->desc));
+    return HOST_OK;
+}
+
+uint32_t source_link_baud(const struct source_link *s)
+{
+    return s->link.kind == LINK_SERIAL ? (uint32_t)s->link.baud : 0u;
+}
+
+int source_link_send(void *user, const uint8_t *buf, size_t len)
+{
+    struct source_link *s = user;
+    return link_write(&s->link, buf, len) == 0 ? HOST_OK : HOST_ERR_IO;
+}
+
+void source_link_break(void *user)
+{
+    struct source_link *s = user;
+    link_line_break(&s->link, s->app->clock.mono_ns(s->app->clock.user) / 1000);
+}
+
+/* Gives the link up: closed now, reopened after backoff_us (serial auto-baud: the next rate at once). */
+static void drop(struct source_link *s, int64_t now, const char *why)
+{
+    int was_probing = s->app->drv.state == SONAR_P360_PROBING || s->app->drv.state == SONAR_P360_DOWN;
+    uint32_t backoff;
+    link_close(&s->link);
+    app_link_down(s->app, now);
+    if (s->stopping) {
+        s->stopped = 1;
+        return;
+    }
+    if (was_probing && s->link.autobaud && link_next_baud(&s->link) == 0) {
+        s->reconnect_at = now;
+        say(s, "no answer; trying %ld baud", s->link.baud);
+        return;
+    }
+    backoff = s->app->backoff_us ? s->app->backoff_us : SOURCE_LINK_RETRY_US;
+    s->reconnect_at = now + backoff;
+    say(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
+}
+
+static void handle(struct source_link *s, int ev, int64_t now)
+{
+    if (ev == APP_LINK_LOST)
+        drop(s, now, "no reply");
+    else if (ev == APP_LINK_STOPPED)
+        s->stopped = 1;
+}
+
+static void try_open(struct source_link *s, int64_t now)
+{
+    char err[256];
+    s->reconnect_at = INT64_MAX;
+    if (link_open(&s->link, now, err, sizeof(err)) != 0) {
+        s->reconnect_at = now + SOURCE_LINK_RETRY_US;
+        say(s, "%s; retrying in 1 s", err);
+        return;
+    }
+    link_describe(&s->link, s->desc, sizeof(s->desc));
+    if (!s->link.connecting && app_link_up(s->app, now) != SONAR_OK)
+        drop(s, now, "write failed");
+}
+
+void source_link_start(struct source_link *s, struct app *a, int64_t now_us)
+{
+    s->app = a;
+    a->link = s->desc;
+    try_open(s, now_us);
+}
+
+int source_link_fd(const struct source_link *s, short *events)
+{
+    *events = (short)(s->link.connecting ? POLLOUT : POLLIN);
+    return s->link.fd;
+}
+
+static void read_link(struct source_link *s, int64_t now)
+{
+    uint8_t buf[4096];
+    int reads;
+    /* Bounded, and it leaves once the app has its sweeps, so signals, timers and --sweeps are served
+     * (while stopping it goes on reading: motor_off's ack comes this way). */
+    const int was_done = s->app->sweeps_done;
+    for (reads = 0; reads < SOURCE_LINK_READS && !(!was_done && s->app->sweeps_done); reads++) {
+        ssize_t n = link_read(&s->link, buf, sizeof(buf));
+        int ev;
+        if (n < 0) {
+            drop(s, now, "closed");
+            return;
+        }
+        if (n == 0)
+            return;
+        if ((ev = app_link_bytes(s->app, buf, (size_t)n, now)) != APP_LINK_NONE) {
+            handle(s, ev, now);
+            return;
+        }
+    }
+}
+
+void source_link_ready(struct source_link *s, short revents, int64_t now)
+{
+    char err[256];
+    if (s->link.fd < 0)
+        return;
+    if (s->link.connecting && (revents & (POLLOUT | POLLERR | POLLHUP))) {
+        if (link_finish_connect(&s->link, err, sizeof(err)) != 0) {
+            link_close(&s->link);
+            s->reconnect_at = now + SOURCE_LINK_RETRY_US;
+            say(s, "%s; retrying in 1 s", err);
+        } else if (app_link_up(s->app, now) != SONAR_OK) {
+            drop(s, now, "write failed");
+        }
+    } else if (revents & POLLIN) {
+        read_link(s, now);
+    } else if (revents & (POLLERR | POLLHUP | POLLNVAL)) {
+        /* the serial adapter was unplugged, or the peer hung up, with nothing left to read */
+        drop(s, now, "hung up");
+    }
+}
+
+int64_t source_link_timers(struct source_link *s, int64_t now)
+{
+    int64_t wake = INT64_MAX, t;
+    if (s->link.fd < 0) {
+        if (s->stopping) {
+            s->stopped = 1;
+            return INT64_MAX;
+        }
+        if (now >= s->reconnect_at)
+            try_open(s, now);
+    } else if (!s->link.connecting) {
+        handle(s, app_link_poll(s->app, now), now);
+    }
+    if (s->reconnect_at < wake)
+        wake = s->reconnect_at;
+    if (s->link.fd >= 0 && (t = app_deadline(s->app)) < wake)
+        wake = t;
+    if ((t = link_timers(&s->link, now)) < wake)
+        wake = t;
+    return wake;
+}
+
+void source_link_stop(struct source_link *s, int64_t now)
+{
+    int r;
+    s->stopping = 1;
+    if (s->link.fd < 0 || s->link.connecting) {
+        s->stopped = 1;
+        return;
+    }
+    say(s, "stopping: motor_off");
+    r = app_link_stop(s->app, now);
+    if (r != 0) /* already stopped, or the request could not be sent */
+        s->stopped = 1;
+}
+
+int source_link_stopped(const struct source_link *s)
+{
+    return s->stopped;
+}
+
+int source_link_state(const struct source_link *s)
+{
+    return s->link.fd >= 0 && s->link.connecting ? SONAR_P360_CONNECTING : s->app->drv.state;
+}
+
+void source_link_close(struct source_link *s)
+{
+    link_close(&s->link);
+}

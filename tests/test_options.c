@@ -1,0 +1,258 @@
+/* test_options.c -- sonard's option table: every numeric row accepts its ends and names itself past them; files, order, bad files, whole-config checks, --help and the docs from the same rows. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "options.h"
+
+static struct sonard_options o;
+static char err[512];
+
+static int parse(int argc, const char **argv)
+{
+    return options_parse(argc, (char **)(uintptr_t)argv, &o, err, sizeof(err));
+}
+
+static void test_defaults(void **state)
+{
+    const char *argv[] = {"sonard", "--replay", "x.csv"};
+    (void)state;
+    assert_int_equal(parse(3, argv), 0);
+    assert_string_equal(o.replay, "x.csv");
+    assert_int_equal(o.pipeline.median, 5);
+    assert_int_equal(o.pipeline.background.warmup, 2);
+    assert_int_equal(o.pipeline.detector.link_beams, 2);
+    assert_true(o.range_m < 0.0);
+    assert_string_equal(o.channel_prefix, "");
+    assert_int_equal(o.stage, SONAR_STAGE_FOREGROUND);
+}
+
+static void fmt(char *buf, size_t n, double v, int whole)
+{
+    if (whole)
+        snprintf(buf, n, "%.0f", v);
+    else
+        snprintf(buf, n, "%.17g", v);
+}
+
+/* Every numeric row of the table: lo and hi parse and land in the field; lo - 1 and hi + 1 are named. */
+static void test_every_numeric_row_bounds(void **state)
+{
+    const struct opt_schema *s = options_schema();
+    size_t i;
+    int rows = 0;
+    (void)state;
+    for (i = 0; i < s->count; i++) {
+        const struct opt_spec *r = &s->spec[i];
+        char opt[80], v[64];
+        const char *argv[5] = {"sonard", "--replay", "x.csv", opt, v};
+        int whole = r->type == OPT_LONG || r->type == OPT_U8 || r->type == OPT_U16, k;
+        double ends[2];
+        if (r->type < OPT_LONG || r->type > OPT_F64)
+            continue;
+        rows++;
+        ends[0] = r->lo;
+        ends[1] = r->hi;
+        snprintf(opt, sizeof(opt), "--%s", r->name);
+        for (k = 0; k < 2; k++) {
+            char *field;
+            double got;
+            fmt(v, sizeof(v), ends[k], whole);
+            /* --step 50 is valid only when stepping; --max-aspect's low end 0 means off */
+            assert_int_equal(parse(5, argv), 0);
+            field = (char *)&o + r->offset;
+            got = r->type == OPT_LONG ? (double)*(long *)(void *)field
+                : r->type == OPT_U8 ? (double)*(uint8_t *)field
+                : r->type == OPT_U16 ? (double)*(uint16_t *)(void *)field
+                : r->type == OPT_F32 ? (double)*(float *)(void *)field : *(double *)(void *)field;
+            if (got != ends[k])
+                fail_msg("%s %s stored %g", opt, v, got);
+            fmt(v, sizeof(v), k == 0 ? ends[0] - 1.0 : ends[1] + 1.0, whole);
+            if (parse(5, argv) >= 0)
+                fail_msg("%s %s accepted", opt, v);
+            if (strstr(err, opt) == NULL || strstr(err, r->unit) == NULL)
+                fail_msg("%s %s: message '%s' names neither option nor unit", opt, v, err);
+        }
+        snprintf(v, sizeof(v), "12abc");
+        assert_true(parse(5, argv) < 0);
+    }
+    assert_true(rows >= 25);
+}
+
+static void test_names_unique_and_help_lists_all(void **state)
+{
+    const struct opt_schema *s = options_schema();
+    char buf[16384];
+    FILE *f = fmemopen(buf, sizeof(buf), "w");
+    size_t i, j;
+    (void)state;
+    opt_usage(s, f);
+    fclose(f);
+    for (i = 0; i < s->count; i++) {
+        char want[80];
+        if (s->spec[i].type == OPT_SECTION)
+            continue;
+        for (j = i + 1; j < s->count; j++)
+            if (s->spec[j].type != OPT_SECTION)
+                assert_string_not_equal(s->spec[i].name, s->spec[j].name);
+        snprintf(want, sizeof(want), "--%s", s->spec[i].name);
+        if (strstr(buf, want) == NULL)
+            fail_msg("--help lacks %s", want);
+    }
+    assert_non_null(strstr(buf, "--link-beams N"));
+    assert_non_null(strstr(buf, "1..8 beams (default 2) [SIGHUP]"));
+}
+
+static char tmpdir[64];
+
+static const char *write_file(const char *name, const char *text)
+{
+    static char path[8][128];
+    static int k;
+    char *p = path[k++ % 8];
+    FILE *f;
+    snprintf(p, 128, "%s/%s", tmpdir, name);
+    f = fopen(p, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    return p;
+}
+
+static void test_config_files(void **state)
+{
+    const char *a, *b, *bad, *flag;
+    (void)state;
+    snprintf(tmpdir, sizeof(tmpdir), "/tmp/sonard-opt.XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+    a = write_file("a.conf", "# device\nlcm = memq://\nmin-points = 7\njson = true\n");
+    b = write_file("b.conf", "min-points = 60000\n  median = 3x3  \n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", a, "--config", b};
+        assert_int_equal(parse(7, argv), 0);
+        assert_int_equal(o.pipeline.detector.min_points, 60000);
+        assert_string_equal(o.lcm_url, "memq://"); /* the first file's string survives the second */
+        assert_int_equal(o.json, 1);
+        assert_int_equal(o.pipeline.median2d, 3);
+        assert_int_equal(o.nconfigs, 2);
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", a, "--min-points=9"};
+        assert_int_equal(parse(6, argv), 0);
+        assert_int_equal(o.pipeline.detector.min_points, 9);
+    }
+    bad = write_file("bad.conf", "range = 20\n\nlink-beams = 9\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "bad.conf:3: --link-beams: '9' is not a whole number in 1..8 beams"));
+    }
+    bad = write_file("unknown.conf", "rnage = 20\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "unknown.conf:1: unknown key 'rnage'"));
+    }
+    flag = write_file("flag.conf", "json = maybe\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", flag};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "flag.conf:1: json: 'maybe' is not true or false"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", tmpdir};
+        assert_int_equal(parse(5, argv), HOST_ERR_IO);
+        assert_non_null(strstr(err, "not a regular file"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", "/nonexistent/s.conf"};
+        assert_int_equal(parse(5, argv), HOST_ERR_IO);
+        assert_non_null(strstr(err, "--config /nonexistent/s.conf: No such file"));
+    }
+    (void)system("rm -rf /tmp/sonard-opt.*");
+}
+
+static void test_whole_config_checks_name_the_field(void **state)
+{
+    (void)state;
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--max-aspect", "0.05"};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "max_aspect: 0 (no limit) or 0.1..100"));
+    }
+    {
+        const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--mode", "auto", "--step", "20"};
+        assert_int_equal(parse(7, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--step: 20 gradians is more than auto_transmit's 10"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--sonar", "tcp:127.0.0.1:1"};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "give either --sonar URL"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--background", "range"};
+        assert_int_equal(parse(5, argv), 0);
+        assert_int_equal(o.pipeline.background.warmup, 8); /* a beam per bin in range mode */
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--json=1"};
+        assert_int_equal(parse(4, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--json: takes no value"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay"};
+        assert_int_equal(parse(2, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--replay: needs a value"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "stray"};
+        assert_int_equal(parse(4, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "stray: unexpected argument"));
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--channel-prefix", "0123456789012345678901234567890"};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "longer than 30 characters"));
+    }
+}
+
+static void test_markdown_has_every_row(void **state)
+{
+    const struct opt_schema *s = options_schema();
+    char buf[32768];
+    FILE *f = fmemopen(buf, sizeof(buf), "w");
+    size_t i;
+    (void)state;
+    options_markdown(f);
+    fclose(f);
+    for (i = 0; i < s->count; i++) {
+        char want[80];
+        if (s->spec[i].type == OPT_SECTION)
+            continue;
+        snprintf(want, sizeof(want), "| `%s` |", s->spec[i].name);
+        if (strstr(buf, want) == NULL)
+            fail_msg("docs lack %s", want);
+    }
+    assert_non_null(strstr(buf, "| `link-beams` | 1..8 beams | 2 | yes |"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_every_numeric_row_bounds),
+        cmocka_unit_test(test_names_unique_and_help_lists_all),
+        cmocka_unit_test(test_config_files),
+        cmocka_unit_test(test_whole_config_checks_name_the_field),
+        cmocka_unit_test(test_markdown_has_every_row),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,209 @@
+/* test_sinks.c -- each sink maps a record once: LCM through a capturing transmit function (decoded back with the generated types), CSV rows, JSON lines; failures reported. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+/* The generated types include stdlib.h: before cmocka.h, which redefines malloc under UNIT_TESTING. */
+#include "csv.h"
+#include "sinks.h"
+#include "sonar_beam_t.h"
+#include "sonar_detections_t.h"
+#include "sonar_status_t.h"
+
+#include <cmocka.h>
+
+struct sent {
+    char channel[64][64];
+    uint8_t buf[4][16384];
+    size_t len[64];
+    int n, fail;
+};
+
+static int capture_tx(void *user, const char *channel, const uint8_t *buf, size_t len)
+{
+    struct sent *s = user;
+    if (s->fail)
+        return -1;
+    snprintf(s->channel[s->n % 64], 64, "%s", channel);
+    memcpy(s->buf[s->n % 4], buf, len);
+    s->len[s->n % 64] = len;
+    s->n++;
+    return 0;
+}
+
+static uint8_t samples[1200];
+
+static struct app_beam beam(uint8_t stage)
+{
+    struct app_beam b;
+    int i;
+    for (i = 0; i < 1200; i++)
+        samples[i] = (uint8_t)(i * 7);
+    b.utime = 1700000000123456;
+    b.angle = 399;
+    b.n = 1200;
+    b.gain = 2;
+    b.sample_period = 533;
+    b.transmit_duration = 64;
+    b.transmit_frequency = 750;
+    b.speed_of_sound = 1480.0f;
+    b.range_m = 11.9925f;
+    b.stage = stage;
+    b.samples = samples;
+    return b;
+}
+
+static void test_lcm_beam_round_trip(void **state)
+{
+    static struct sink_lcm s;
+    static struct sent out;
+    struct app_beam b = beam(SONAR_STAGE_RAW);
+    sonar_beam_t m;
+    (void)state;
+    memset(&out, 0, sizeof(out));
+    sink_lcm_init(&s, capture_tx, &out, "PORT_", 1);
+    assert_int_equal(s.sink.stages, (1u << SONAR_STAGE_RAW) | (1u << SONAR_STAGE_FOREGROUND));
+    assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_OK);
+    b.stage = SONAR_STAGE_FOREGROUND;
+    assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_OK);
+    assert_int_equal(out.n, 2);
+    assert_string_equal(out.channel[0], "PORT_SONAR_BEAM");
+    assert_string_equal(out.channel[1], "PORT_SONAR_BEAM_FILTERED");
+    assert_true(sonar_beam_t_decode(out.buf[0], 0, (int)out.len[0], &m) > 0);
+    assert_true(m.utime == 1700000000123456);
+    assert_int_equal(m.angle, 399);
+    assert_int_equal(m.gain, 2);
+    assert_int_equal(m.sample_period, 533);
+    assert_int_equal(m.transmit_duration, 64);
+    assert_int_equal(m.transmit_frequency, 750);
+    assert_true(m.speed_of_sound == 1480.0f);
+    assert_true(m.range_m == 11.9925f);
+    assert_int_equal(m.stage, 0);
+    assert_int_equal(m.number_of_samples, 1200);
+    assert_memory_equal(m.samples, samples, 1200);
+    sonar_beam_t_decode_cleanup(&m);
+    out.fail = 1;
+    assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_ERR_PUBLISH);
+}
+
+static void test_lcm_detections_and_status(void **state)
+{
+    static struct sink_lcm s;
+    static struct sent out;
+    static struct sonar_detections d;
+    struct app_status st;
+    sonar_detections_t m;
+    sonar_status_t ms;
+    (void)state;
+    memset(&out, 0, sizeof(out));
+    memset(&d, 0, sizeof(d));
+    memset(&st, 0, sizeof(st));
+    sink_lcm_init(&s, capture_tx, &out, "", 0);
+    assert_int_equal(s.sink.stages, 1u << SONAR_STAGE_RAW);
+    d.sweep = 7;
+    d.utime = 42;
+    d.beams = 400;
+    d.count = 2;
+    d.det[1].x_m = 1.5f;
+    d.det[1].points = 99;
+    d.det[1].hull_count = 3;
+    d.det[1].hull_y[2] = -2.25f;
+    assert_int_equal(s.sink.detections(s.sink.self, &d), HOST_OK);
+    assert_string_equal(out.channel[0], "SONAR_DETECTIONS");
+    assert_true(sonar_detections_t_decode(out.buf[0], 0, (int)out.len[0], &m) > 0);
+    assert_int_equal(m.sweep, 7);
+    assert_int_equal(m.count, 2);
+    assert_true(m.detections[1].x_m == 1.5f);
+    assert_int_equal(m.detections[1].points, 99);
+    assert_int_equal(m.detections[1].hull_count, 3);
+    assert_true(m.detections[1].hull_y[2] == -2.25f);
+    sonar_detections_t_decode_cleanup(&m);
+    st.link_state = SONAR_P360_CONNECTING;
+    st.link = "tcp:127.0.0.1:9";
+    st.parser.oversize = 3;
+    st.parser.bytes_dropped = 1234;
+    st.driver.stale = 5;
+    st.rows_bad = 6;
+    st.sink_errors = 8;
+    st.beams_rejected = 9;
+    assert_int_equal(s.sink.status(s.sink.self, &st), HOST_OK);
+    assert_string_equal(out.channel[1], "SONAR_STATUS");
+    assert_true(sonar_status_t_decode(out.buf[1], 0, (int)out.len[1], &ms) > 0);
+    assert_int_equal(ms.link_state, 1);
+    assert_string_equal(ms.link, "tcp:127.0.0.1:9");
+    assert_int_equal(ms.oversize, 3);
+    assert_int_equal(ms.bytes_dropped, 1234);
+    assert_int_equal(ms.stale, 5);
+    assert_int_equal(ms.rows_bad, 6);
+    assert_int_equal(ms.sink_errors, 8);
+    assert_int_equal(ms.beams_rejected, 9);
+    sonar_status_t_decode_cleanup(&ms);
+}
+
+static void test_csv_sink_writes_a_row_that_reads_back(void **state)
+{
+    static struct sink_csv s;
+    static struct csv_reader r;
+    static struct csv_row row;
+    struct app_beam b = beam(SONAR_STAGE_FOREGROUND);
+    char text[8192], err[128];
+    FILE *f = fmemopen(text, sizeof(text), "w");
+    (void)state;
+    assert_non_null(f);
+    sink_csv_init(&s, f, SONAR_STAGE_FOREGROUND);
+    assert_int_equal(s.sink.stages, 1u << SONAR_STAGE_FOREGROUND);
+    b.n = 8;
+    b.gain = -1; /* unknown: left out */
+    assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_OK);
+    b.utime = -1500000; /* before the epoch: floor division keeps nsec in range */
+    assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_OK);
+    fclose(f);
+    assert_non_null(strstr(text, "1700000000,123456000,399,\"0 7 14 21 28 35 42 49\",range_m=11.9925,sample_period=533,"
+                                 "transmit_duration=64,transmit_frequency=750,speed_of_sound=1480.0\n"));
+    assert_null(strstr(text, "gain="));
+    assert_non_null(strstr(text, "\n-2,500000000,399,"));
+    f = fmemopen(text, strlen(text), "r");
+    csv_open_stream(&r, f, "mem");
+    assert_int_equal(csv_next(&r, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.n, 8);
+    assert_true(row.sample_period == 533.0);
+    assert_int_equal(csv_next(&r, &row, err, sizeof(err)), 1);
+    assert_true(row.sec == -2 && row.nsec == 500000000u);
+    fclose(f);
+}
+
+static void test_report_sink_json_line(void **state)
+{
+    static struct sink_report s;
+    static struct sonar_detections d;
+    char text[4096];
+    FILE *f = fmemopen(text, sizeof(text), "w");
+    (void)state;
+    memset(&d, 0, sizeof(d));
+    d.sweep = 3;
+    d.count = 1;
+    d.det[0].x_m = 1.0f;
+    d.det[0].points = 40;
+    sink_report_init(&s, f, 1);
+    assert_null(s.sink.beam);
+    assert_int_equal(s.sink.detections(s.sink.self, &d), HOST_OK);
+    fclose(f);
+    assert_non_null(strstr(text, "{\"sweep\":3,"));
+    assert_non_null(strstr(text, "\"x_m\":1.000"));
+    assert_non_null(strstr(text, "\"points\":40"));
+    assert_true(text[strlen(text) - 1] == '\n');
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_lcm_beam_round_trip),
+        cmocka_unit_test(test_lcm_detections_and_status),
+        cmocka_unit_test(test_csv_sink_writes_a_row_that_reads_back),
+        cmocka_unit_test(test_report_sink_json_line),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
