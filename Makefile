@@ -20,7 +20,8 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c
+HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
+            src/host/pvbin.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
@@ -79,7 +80,7 @@ $(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUIL
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/pvbin2csv: tools/pvbin2csv.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
+$(BUILD)/pvbin2csv: tools/pvbin2csv.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $(INPUTS) -o $@ $(LDLIBS)
 
@@ -107,9 +108,23 @@ $(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
-## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40)
+## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40), then each libFuzzer harness (Ping parser + Ping360 driver, CSV, config, .bin) for FUZZ_SECONDS (default 5) under ASan+UBSan
+FUZZ_SECONDS ?= 5
+FUZZ_HARNESS = ping360 csv config pvbin
+FUZZ_SAN = -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 fuzz: $(BUILD)/tests/fuzz_parser
 	@$< $(or $(FUZZ_ROUNDS),40)
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang OPT=-O1 SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
+	  $(FUZZ_HARNESS:%=build-fuzz/fuzz/fuzz_%)
+	@for h in $(FUZZ_HARNESS); do w=$$(mktemp -d /tmp/sonard-fuzz-$$h.XXXXXX); \
+	  echo "== libFuzzer $$h, $(FUZZ_SECONDS) s (seeds tests/fuzz/corpus/$$h)"; \
+	  build-fuzz/fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 -artifact_prefix=$$w/ $$w tests/fuzz/corpus/$$h \
+	    > $$w.log 2>&1 || { tail -40 $$w.log; echo "fuzz: $$h FAILED; the input is in $$w/"; exit 1; }; \
+	  grep -E "^#[0-9]+.*DONE|stat::number_of_executed_units|cov:" $$w.log | tail -2; rm -rf $$w $$w.log; done
+
+$(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) -fsanitize=fuzzer $(INPUTS) -o $@ $(LDLIBS)
 
 opencv-ref: $(BUILD)/tests/test_opencv_ref
 	@echo "== $<"; $<

@@ -16,7 +16,7 @@
 #include <unistd.h>
 #include <arpa/inet.h>
 
-#include "../src/host/csv.h"
+#include "csv.h"
 #include "scene.h"
 #include "sonar/geometry.h"
 #include "sonar/ping.h"

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../src/host/csv.h"
+#include "csv.h"
 #include "scene.h"
 
 int main(int argc, char **argv)

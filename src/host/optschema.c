@@ -107,10 +107,8 @@ static int is_false(const char *v) { return !strcmp(v, "false") || !strcmp(v, "n
 int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint64_t *given, char *pool, size_t cap,
                   size_t *used, char *err, size_t errlen)
 {
-    char line[512], msg[256];
-    unsigned long ln = 0;
     struct stat st;
-    int r = HOST_OK;
+    int r;
     FILE *f = fopen(path, "r");
     if (f == NULL) {
         snprintf(err, errlen, "--config %s: %s", path, strerror(errno));
@@ -122,6 +120,17 @@ int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint
         fclose(f);
         return HOST_ERR_IO;
     }
+    r = opt_read_stream(s, f, path, base, given, pool, cap, used, err, errlen);
+    fclose(f);
+    return r;
+}
+
+int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, uint64_t *given, char *pool,
+                    size_t cap, size_t *used, char *err, size_t errlen)
+{
+    char line[512], msg[256];
+    unsigned long ln = 0;
+    int r = HOST_OK;
     while (r == HOST_OK && fgets(line, sizeof(line), f) != NULL) {
         char *k, *eq, *v;
         int i;
@@ -181,7 +190,6 @@ int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint
         snprintf(err, errlen, "--config %s: read error", path);
         r = HOST_ERR_IO;
     }
-    fclose(f);
     return r;
 }
 

@@ -63,6 +63,10 @@ int opt_find(const struct opt_schema *s, const char *name);
 HOST_CHECK int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint64_t *given, char *pool,
                              size_t cap, size_t *used, char *err, size_t errlen);
 
+/* The same over an open stream (not closed); path names it in messages. */
+HOST_CHECK int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, uint64_t *given,
+                               char *pool, size_t cap, size_t *used, char *err, size_t errlen);
+
 /*
  * Parses argv[1..] (--name value, --name=value, flags) into base. Rows of type OPT_ACTION are
  * reported through *action (the row index; -1 when none) and parsing stops there, except "config"
