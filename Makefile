@@ -28,12 +28,12 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 geometry median background sweep kmeans hull detector pipeline csv options
+UNIT      = ping ping360 geometry median background sweep kmeans hull detector detector_stages pipeline csv options
 UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -76,7 +76,7 @@ $(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
@@ -169,6 +169,11 @@ check-noheap: $(CORE_OBJ)
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live realdata
+
+## soak: sonard live against a faulty sonar-feed flat out for SOAK_BEAMS beams (default 20000; a day of a Ping360 is 3000000): counters, replay equality, RSS and descriptors flat
+SOAK_BEAMS ?= 20000
+soak: all
+	@python3 tools/soak.py $(BUILD) --beams $(SOAK_BEAMS) $(if $(filter-out 20000,$(SOAK_BEAMS)),--interval 5,--interval 0.5)
 
 ## demo: a simulated Ping360 (sonar-feed) driven live by sonard, LCM to a log, detections against the truth
 demo: deps all

@@ -54,7 +54,7 @@ static int run_sweep(const struct sonar_detector_config *c)
 static void expect_at(const struct sonar_detection *d, double angle, double sample)
 {
     double x, y;
-    sonar_geometry_to_xy(angle, 0, sonar_geometry_sample_range((uint16_t)sample, N, RANGE) + 0.5 * RANGE / N * (sample - floor(sample)) * 2, &x, &y);
+    sonar_frame_to_xy(angle, 0, sonar_geometry_sample_range((uint16_t)sample, N, RANGE) + 0.5 * RANGE / N * (sample - floor(sample)) * 2, &x, &y);
     assert_true(fabs(d->x_m - x) < 0.03);
     assert_true(fabs(d->y_m - y) < 0.03);
 }
@@ -135,7 +135,7 @@ static void test_angle_offset_rotates(void **state)
     assert_int_equal(run_sweep(&c), 1);
     assert_true(fabs(out.det[0].x_m + y0) < 1e-3);
     assert_true(fabs(out.det[0].y_m - x0) < 1e-3);
-    assert_true(fabs(out.det[0].bearing_deg - sonar_geometry_bearing_deg(-y0, x0)) < 0.01);
+    assert_true(fabs(out.det[0].bearing_deg - sonar_frame_bearing_deg(-y0, x0)) < 0.01);
 }
 
 static void test_threshold_uses_previous_sweep(void **state)

@@ -73,14 +73,14 @@ static void test_frame(void **state)
 {
     double x, y;
     (void)state;
-    sonar_geometry_to_xy(0, 0, 10, &x, &y);
+    sonar_frame_to_xy(0, 0, 10, &x, &y);
     assert_true(fabs(x - 10) < 1e-9 && fabs(y) < 1e-9);
-    sonar_geometry_to_xy(100, 0, 10, &x, &y); /* 100 gradians = 90 degrees */
+    sonar_frame_to_xy(100, 0, 10, &x, &y); /* 100 gradians = 90 degrees */
     assert_true(fabs(x) < 1e-9 && fabs(y - 10) < 1e-9);
-    sonar_geometry_to_xy(100, 100, 2, &x, &y); /* an offset rotates the frame */
+    sonar_frame_to_xy(100, 100, 2, &x, &y); /* an offset rotates the frame */
     assert_true(fabs(x + 2) < 1e-9 && fabs(y) < 1e-9);
-    assert_true(fabs(sonar_geometry_bearing_deg(0, -1) - 270.0) < 1e-9);
-    assert_true(fabs(sonar_geometry_bearing_deg(1, 1) - 45.0) < 1e-9);
+    assert_true(fabs(sonar_frame_bearing_deg(0, -1) - 270.0) < 1e-9);
+    assert_true(fabs(sonar_frame_bearing_deg(1, 1) - 45.0) < 1e-9);
     assert_true(fabs(sonar_geometry_sample_range(0, 1200, 12) - 0.005) < 1e-12);
     assert_true(fabs(sonar_geometry_sample_range(1199, 1200, 12) - 11.995) < 1e-9);
     assert_int_equal(sonar_geometry_sample_index(0.005, 1200, 12), 0);

@@ -11,8 +11,8 @@
 
 static void test_square_with_collinear_and_duplicates(void **state)
 {
-    struct sonar_hull_point p[9] = {{0, 0}, {2, 0}, {4, 0}, {4, 2}, {4, 4}, {2, 4}, {0, 4}, {0, 2}, {4, 4}};
-    struct sonar_hull_point h[18];
+    struct sonar_xy p[9] = {{0, 0}, {2, 0}, {4, 0}, {4, 2}, {4, 4}, {2, 4}, {0, 4}, {0, 2}, {4, 4}};
+    struct sonar_xy h[18];
     (void)state;
     assert_int_equal(sonar_hull_build(p, 9, h, 18), 4);
     assert_int_equal(h[0].x, 0);
@@ -28,8 +28,8 @@ static void test_square_with_collinear_and_duplicates(void **state)
 
 static void test_degenerate(void **state)
 {
-    struct sonar_hull_point one[1] = {{5, -7}}, same[3] = {{1, 1}, {1, 1}, {1, 1}};
-    struct sonar_hull_point line[4] = {{0, 0}, {3, 3}, {1, 1}, {2, 2}}, h[8];
+    struct sonar_xy one[1] = {{5, -7}}, same[3] = {{1, 1}, {1, 1}, {1, 1}};
+    struct sonar_xy line[4] = {{0, 0}, {3, 3}, {1, 1}, {2, 2}}, h[8];
     (void)state;
     assert_int_equal(sonar_hull_build(one, 1, h, 2), 1);
     assert_int_equal(h[0].y, -7);
@@ -41,7 +41,7 @@ static void test_degenerate(void **state)
     assert_int_equal(sonar_hull_build(line, 0, h, 8), SONAR_ERR_ARG);
 }
 
-static int64_t cross(struct sonar_hull_point o, struct sonar_hull_point a, struct sonar_hull_point b)
+static int64_t cross(struct sonar_xy o, struct sonar_xy a, struct sonar_xy b)
 {
     return ((int64_t)a.x - o.x) * ((int64_t)b.y - o.y) - ((int64_t)a.y - o.y) * ((int64_t)b.x - o.x);
 }
@@ -49,7 +49,7 @@ static int64_t cross(struct sonar_hull_point o, struct sonar_hull_point a, struc
 /* Random sets, including huge coordinates: every point inside or on the hull, every turn strictly left. */
 static void test_random_against_brute_force(void **state)
 {
-    static struct sonar_hull_point p[500], copy[500], h[1000];
+    static struct sonar_xy p[500], copy[500], h[1000];
     int trial;
     (void)state;
     srand(9);

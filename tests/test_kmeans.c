@@ -14,7 +14,7 @@ static void test_two_blobs(void **state)
 {
     struct sonar_point p[8] = {{0, 0, 1}, {10, 0, 1}, {0, 10, 1}, {10, 10, 1},
                                {1000, 1000, 1}, {1010, 1000, 1}, {1000, 1010, 1}, {1010, 1010, 1}};
-    struct sonar_centroid c[2];
+    struct sonar_xy c[2];
     uint8_t l[8];
     int i;
     (void)state;
@@ -35,7 +35,7 @@ static void test_two_blobs(void **state)
 static void test_weights_and_skips(void **state)
 {
     struct sonar_point p[3] = {{0, 0, 3}, {100, 0, 1}, {5000, 5000, 0}};
-    struct sonar_centroid c[1] = {{7, 7}};
+    struct sonar_xy c[1] = {{7, 7}};
     uint8_t l[3];
     (void)state;
     assert_true(sonar_kmeans_lloyd(p, 3, l, c, 1, 5) >= 1);
@@ -46,7 +46,7 @@ static void test_weights_and_skips(void **state)
     assert_int_equal(sonar_kmeans_seed(p, 3, c, 1), 1);
     {
         struct sonar_point same[3] = {{4, 4, 1}, {4, 4, 2}, {4, 4, 1}};
-        struct sonar_centroid c3[3];
+        struct sonar_xy c3[3];
         assert_int_equal(sonar_kmeans_seed(same, 3, c3, 3), 1);
     }
     assert_int_equal(sonar_kmeans_lloyd(p, 3, l, c, 0, 5), SONAR_ERR_ARG);
@@ -56,7 +56,7 @@ static void test_weights_and_skips(void **state)
 static void test_empty_cluster_keeps_centre(void **state)
 {
     struct sonar_point p[2] = {{0, 0, 1}, {2, 0, 1}};
-    struct sonar_centroid c[2] = {{1, 0}, {100000, 100000}};
+    struct sonar_xy c[2] = {{1, 0}, {100000, 100000}};
     uint8_t l[2];
     (void)state;
     assert_true(sonar_kmeans_lloyd(p, 2, l, c, 2, 3) >= 1);
@@ -68,7 +68,7 @@ static void test_empty_cluster_keeps_centre(void **state)
 static void test_deterministic_and_bounded(void **state)
 {
     static struct sonar_point p[3000];
-    struct sonar_centroid a[6], b[6];
+    struct sonar_xy a[6], b[6];
     static uint8_t la[3000], lb[3000];
     int i, ra, rb;
     (void)state;
@@ -99,7 +99,7 @@ static void test_within_parts(void **state)
      * cannot, and the bar's two centres cut it in two.
      */
     struct sonar_point p[11];
-    struct sonar_centroid c[3] = {{450, 0}, {900, 0}, {1000, 0}}, f[3];
+    struct sonar_xy c[3] = {{450, 0}, {900, 0}, {1000, 0}}, f[3];
     const uint8_t part[3] = {0, 0, 1};
     uint8_t l[11], lf[11];
     int i;
@@ -126,7 +126,7 @@ static void test_within_parts(void **state)
     assert_int_equal(c[1].x, 750);
     /* one centre per part: only the parts' means */
     {
-        struct sonar_centroid one[2] = {{0, 0}, {5000, 5000}};
+        struct sonar_xy one[2] = {{0, 0}, {5000, 5000}};
         const uint8_t pp[2] = {7, 9};
         for (i = 0; i < 11; i++)
             l[i] = i < 10 ? 0 : 1;

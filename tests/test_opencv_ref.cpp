@@ -96,7 +96,7 @@ static void test_hull_matches_convexhull(void **)
         int n = 3 + rand() % 800;
         int span = trial % 3 == 0 ? 20 : trial % 3 == 1 ? 5000 : 60000; /* 20 forces many collinear/duplicate points */
         std::vector<cv::Point> cvp(n);
-        std::vector<sonar_hull_point> ours(n), h(2 * n);
+        std::vector<sonar_xy> ours(n), h(2 * n);
         for (int i = 0; i < n; i++) {
             cvp[i] = cv::Point(rand() % (2 * span + 1) - span, rand() % (2 * span + 1) - span);
             ours[i].x = cvp[i].x;
@@ -138,7 +138,7 @@ static void test_kmeans_matches_opencv(void **)
             data.at<float>(i, 0) = (float)p[i].x;
             data.at<float>(i, 1) = (float)p[i].y;
         }
-        std::vector<sonar_centroid> c(k);
+        std::vector<sonar_xy> c(k);
         std::vector<uint8_t> lab(n);
         assert_int_equal(sonar_kmeans_seed(p.data(), (uint16_t)n, c.data(), (uint8_t)k), k);
         /* OpenCV from the labels our seeds give: a deterministic reference (attempts = 1) */

@@ -6,6 +6,7 @@
 
 #include <cmocka.h>
 
+#include "sonar/frame.h"
 #include "sonar/sweep.h"
 
 static void test_full_circle_wraps(void **state)
@@ -57,9 +58,9 @@ static void test_sector_restart_is_a_jump(void **state)
     assert_int_equal(sonar_sweep_step(&s, 150), SONAR_SWEEP_JUMP);
     assert_int_equal(sonar_sweep_step(&s, 151), SONAR_SWEEP_SAME);
     assert_int_equal(sonar_sweep_step(&s, 300), SONAR_SWEEP_JUMP);
-    assert_int_equal(sonar_sweep_delta(399, 0), 1);
-    assert_int_equal(sonar_sweep_delta(0, 399), -1);
-    assert_int_equal(sonar_sweep_delta(0, 200), -200);
+    assert_int_equal(sonar_frame_delta(399, 0), 1);
+    assert_int_equal(sonar_frame_delta(0, 399), -1);
+    assert_int_equal(sonar_frame_delta(0, 200), -200);
 }
 
 static void test_repeats_and_cap(void **state)

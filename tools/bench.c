@@ -79,8 +79,8 @@ int main(int argc, char **argv)
     struct sonar_detector_config dc;
     static struct sonar_point pts[5000];
     static uint8_t labels[5000];
-    static struct sonar_hull_point hp[5000], hull[10000];
-    struct sonar_centroid c[6];
+    static struct sonar_xy hp[5000], hull[10000];
+    struct sonar_xy c[6];
     char path[512];
     FILE *f;
     int r, i, j, sink = 0;

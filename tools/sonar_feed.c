@@ -17,6 +17,7 @@
 #include <arpa/inet.h>
 
 #include "csv.h"
+#include "optschema.h"
 #include "scene.h"
 #include "sonar/geometry.h"
 #include "sonar/ping.h"
@@ -43,7 +44,10 @@ struct feed {
     int device_pace;
     double drop, corrupt, garbage;
     long disconnect_after, stall_at, drop_at;
+    long disconnect_every, stall_every, max_beams; /* soak: faults every N replies; exit after N intact beams */
     double stall_s, max_s;
+    const char *scene_name, *csv_path;
+    double csv_range;
     int exit_after_motor_off;
     uint8_t fw[3];
     struct scene scene;
@@ -72,6 +76,9 @@ struct feed {
     long replies, dropped, corrupted, garbage_runs, disconnects, stalls, motor_offs, requests, nacks_sent, beams;
     int stop_after;
     double stop_at;
+    int out_is_beam;   /* the pending reply is device_data / auto_device_data */
+    long beams_intact; /* beam replies sent whole and uncorrupted */
+    long last_fault;   /* reply number of the last periodic stall (it is not counted twice) */
     FILE *log;
 };
 
@@ -159,7 +166,7 @@ static void render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16
         uint32_t s = f->sweep.index % r->sweeps, i, best = r->sweep_start[s];
         int bd = 999;
         for (i = r->sweep_start[s]; i < r->sweep_start[s + 1]; i++) {
-            int d = abs(sonar_sweep_delta(r->angle[i], a));
+            int d = abs(sonar_frame_delta(r->angle[i], a));
             if (d < bd) {
                 bd = d;
                 best = i;
@@ -184,7 +191,7 @@ static void queue(struct feed *f, uint16_t id, const uint8_t *payload, uint16_t 
 static double beam_time(const struct feed *f, uint16_t from, uint16_t to)
 {
     double range = sonar_geometry_range_m(f->sp, f->n, f->c);
-    return 0.0194 + 0.006 * abs(sonar_sweep_delta(from, to)) + 2.0 * range / f->c;
+    return 0.0194 + 0.006 * abs(sonar_frame_delta(from, to)) + 2.0 * range / f->c;
 }
 
 static void queue_beam(struct feed *f, uint16_t a, int is_auto, double delay)
@@ -217,6 +224,7 @@ static void queue_beam(struct feed *f, uint16_t a, int is_auto, double delay)
     q[fixed - 2] = (uint8_t)(n & 0xff);
     q[fixed - 1] = (uint8_t)(n >> 8);
     f->beams++;
+    f->out_is_beam = 1;
     queue(f, is_auto ? SONAR_PING360_AUTO_DEVICE_DATA : SONAR_PING360_DEVICE_DATA, q, (uint16_t)(fixed + n), delay);
 }
 
@@ -255,16 +263,22 @@ static void flush_reply(struct feed *f)
 {
     uint8_t buf[2 * 1300 + 64];
     size_t n = 0;
+    int beam = f->out_is_beam, corrupt = 0;
+    f->out_is_beam = 0;
     f->replies++;
-    if (f->stall_at > 0 && f->replies == f->stall_at) {
+    if ((f->stall_at > 0 && f->replies == f->stall_at) ||
+        (f->stall_every > 0 && f->replies % f->stall_every == 0 && f->replies != f->last_fault)) {
         f->stalls++;
         logf_(f, "%s %ld\n", "stall_ms", (long)(f->stall_s * 1000));
         f->due = now_s() + f->stall_s;
         f->stall_at = 0;
+        f->last_fault = f->replies;
+        f->out_is_beam = beam; /* the same reply goes out after the stall */
         f->replies--;
         return;
     }
-    if (f->disconnect_after > 0 && f->replies == f->disconnect_after) {
+    if ((f->disconnect_after > 0 && f->replies == f->disconnect_after) ||
+        (f->disconnect_every > 0 && f->replies % f->disconnect_every == 0)) {
         f->disconnects++;
         logf_(f, "%s %ld\n", "disconnect_at_reply", f->replies);
         f->out_len = 0;
@@ -289,10 +303,12 @@ static void flush_reply(struct feed *f)
         size_t at = n + 8 + (size_t)(scene_uniform(&f->fault_rng) * (double)(f->out_len - 10));
         buf[at] ^= (uint8_t)(1 + scene_uniform(&f->fault_rng) * 254);
         f->corrupted++;
+        corrupt = 1;
     }
     n += f->out_len;
     f->out_len = 0;
-    (void)send_bytes(f, buf, n);
+    if (send_bytes(f, buf, n) == 0 && beam && !corrupt)
+        f->beams_intact++;
 }
 
 static void auto_next(struct feed *f, double delay)
@@ -359,7 +375,7 @@ static void handle_frame(struct feed *f, const struct sonar_ping_frame *fr)
             queue_beam(f, a, 0, beam_time(f, prev, a));
         else {
             uint8_t d[14] = {1, f->gain, (uint8_t)a, (uint8_t)(a >> 8), p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], 0, 0};
-            queue(f, SONAR_PING360_DEVICE_DATA, d, 14, 0.006 * abs(sonar_sweep_delta(prev, a)));
+            queue(f, SONAR_PING360_DEVICE_DATA, d, 14, 0.006 * abs(sonar_frame_delta(prev, a)));
         }
         break;
     }
@@ -466,89 +482,132 @@ static int setup(struct feed *f)
     return 0;
 }
 
-static void usage(void)
+static int parse_listen(void *base, const char *v, char *err, size_t n)
 {
-    fprintf(stderr,
-            "usage: sonar_feed --listen tcp:HOST:PORT|udp:HOST:PORT|pty:PATH (--scene pool|open | --csv FILE [--range M])\n"
-            "  [--pace device|fast] [--firmware X.Y.Z] [--seed S] [--log FILE] [--max-seconds T] [--exit-after-motor-off]\n"
-            "  faults: [--drop P] [--drop-at N] [--corrupt P] [--garbage P] [--disconnect-after N] [--stall-at N --stall S]\n"
-            "Acts as a Ping360: device_information, protocol_version, transducer (with and without transmit),\n"
-            "auto_transmit streaming, motor_off with an ack, NACK for anything else. --pace device follows the\n"
-            "device's timing (19.4 ms + 6 ms a gradian moved + 2R/c). Listens on loopback addresses only.\n");
+    struct feed *f = base;
+    if (strncmp(v, "pty:", 4) == 0) {
+        f->transport = T_PTY;
+        f->pty_link = v + 4;
+        return HOST_OK;
+    }
+    if ((strncmp(v, "tcp:", 4) == 0 || strncmp(v, "udp:", 4) == 0) && sscanf(v + 4, "%63[^:]:%d", f->host, &f->port) == 2 &&
+        f->port > 0 && f->port < 65536) {
+        f->transport = v[0] == 't' ? T_TCP : T_UDP;
+        if (strncmp(f->host, "127.", 4) != 0) {
+            snprintf(err, n, "--listen: '%s': only loopback addresses (127.x.x.x)", v);
+            return HOST_ERR_CONFIG;
+        }
+        return HOST_OK;
+    }
+    snprintf(err, n, "--listen: '%s' is not tcp:HOST:PORT, udp:HOST:PORT or pty:PATH", v);
+    return HOST_ERR_CONFIG;
+}
+
+static int parse_firmware(void *base, const char *v, char *err, size_t n)
+{
+    struct feed *f = base;
+    unsigned x, y, z;
+    char tail;
+    if (sscanf(v, "%u.%u.%u%c", &x, &y, &z, &tail) != 3 || x > 255 || y > 255 || z > 255) {
+        snprintf(err, n, "--firmware: '%s' is not X.Y.Z (each 0..255)", v);
+        return HOST_ERR_CONFIG;
+    }
+    f->fw[0] = (uint8_t)x;
+    f->fw[1] = (uint8_t)y;
+    f->fw[2] = (uint8_t)z;
+    return HOST_OK;
+}
+
+static int parse_seed(void *base, const char *v, char *err, size_t n)
+{
+    struct feed *f = base;
+    char *end;
+    unsigned long long x = strtoull(v, &end, 0);
+    if (*v == '\0' || *end != '\0') {
+        snprintf(err, n, "--seed: '%s' is not a whole number", v);
+        return HOST_ERR_CONFIG;
+    }
+    f->rng.s ^= x * 0xBF58476D1CE4E5B9ull;
+    f->fault_rng.s ^= x * 0x94D049BB133111EBull;
+    return HOST_OK;
+}
+
+static int parse_pace(void *base, const char *v, char *err, size_t n)
+{
+    struct feed *f = base;
+    if (strcmp(v, "fast") != 0 && strcmp(v, "device") != 0) {
+        snprintf(err, n, "--pace: '%s' is not device or fast", v);
+        return HOST_ERR_CONFIG;
+    }
+    f->device_pace = strcmp(v, "device") == 0;
+    return HOST_OK;
+}
+
+#define FO(field) offsetof(struct feed, field)
+static const struct opt_spec feed_spec[] = {
+    {"device", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
+    {"listen", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "tcp:HOST:PORT | udp:HOST:PORT | pty:PATH", NULL, "where to act as a Ping360 (loopback only)", NULL, parse_listen},
+    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool or open", NULL, "a simulated scene", NULL, NULL},
+    {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
+    {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
+    {"pace", "device|fast", OPT_CUSTOM, 0, 0, 0, 0, 0, "device or fast", "device", "device: 19.4 ms + 6 ms a gradian + 2R/c a beam", NULL, parse_pace},
+    {"firmware", "X.Y.Z", OPT_CUSTOM, 0, 0, 0, 0, 0, "X.Y.Z", "3.3.8", "firmware version reported", NULL, parse_firmware},
+    {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "scene and fault random seed", NULL, parse_seed},
+    {"log", "FILE", OPT_STR, 0, 0, FO(log_path), 0, 0, "file", NULL, "requests, faults and a summary line", NULL, NULL},
+    {"max-seconds", "T", OPT_F64, 0, 0, FO(max_s), 0.1, 1e7, "seconds", "600", "exit after T", NULL, NULL},
+    {"exit-after-motor-off", NULL, OPT_FLAG, 0, 0, FO(exit_after_motor_off), 0, 0, NULL, "off", "exit 0.3 s after motor_off", NULL, NULL},
+    {"max-beams", "N", OPT_LONG, 0, 0, FO(max_beams), 1, 1e12, "beams", "no limit", "exit after N beams sent intact (soak)", NULL, NULL},
+    {"faults", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
+    {"drop", "P", OPT_F64, 0, 0, FO(drop), 0, 1, "probability", "0", "drop a reply", NULL, NULL},
+    {"drop-at", "N", OPT_LONG, 0, 0, FO(drop_at), 1, 1e12, "replies", NULL, "drop reply N", NULL, NULL},
+    {"corrupt", "P", OPT_F64, 0, 0, FO(corrupt), 0, 1, "probability", "0", "flip a byte of a reply", NULL, NULL},
+    {"garbage", "P", OPT_F64, 0, 0, FO(garbage), 0, 1, "probability", "0", "send 1..40 junk bytes before a reply", NULL, NULL},
+    {"disconnect-after", "N", OPT_LONG, 0, 0, FO(disconnect_after), 1, 1e12, "replies", NULL, "close the link at reply N", NULL, NULL},
+    {"disconnect-every", "N", OPT_LONG, 0, 0, FO(disconnect_every), 1, 1e12, "replies", NULL, "close the link every N replies", NULL, NULL},
+    {"stall-at", "N", OPT_LONG, 0, 0, FO(stall_at), 1, 1e12, "replies", NULL, "go quiet for --stall seconds at reply N", NULL, NULL},
+    {"stall-every", "N", OPT_LONG, 0, 0, FO(stall_every), 1, 1e12, "replies", NULL, "go quiet every N replies", NULL, NULL},
+    {"stall", "S", OPT_F64, 0, 0, FO(stall_s), 0, 3600, "seconds", "0", "length of a stall", NULL, NULL},
+    {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
+};
+
+static void usage(const struct opt_schema *s)
+{
+    fprintf(stderr, "usage: sonar_feed --listen URL (--scene pool|open | --csv FILE [--range M]) [options]\n"
+                    "Acts as a Ping360: device_information, protocol_version, transducer (with and without transmit),\n"
+                    "auto_transmit streaming, motor_off with an ack, NACK for anything else.\n");
+    opt_usage(s, stderr);
 }
 
 int main(int argc, char **argv)
 {
     static struct feed f;
-    const char *csv = NULL, *scene = NULL;
-    double range = -1, t0;
-    int i;
+    const struct opt_schema schema = {feed_spec, sizeof(feed_spec) / sizeof(feed_spec[0]), "sonar_feed"};
+    const char *csv, *scene;
+    double range, t0;
+    char err[256];
+    int action;
     f.device_pace = 1;
     f.fw[0] = 3;
     f.fw[1] = 3;
     f.fw[2] = 8;
     f.c = 1500.0;
     f.max_s = 600;
+    f.csv_range = -1;
     f.rng.s = 0x9E3779B97F4A7C15ull;
     f.fault_rng.s = 0x2545F4914F6CDD1Dull;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(a, "--exit-after-motor-off") == 0) {
-            f.exit_after_motor_off = 1;
-            continue;
-        }
-        if (v == NULL) {
-            usage();
-            return 2;
-        }
-        i++;
-        if (strcmp(a, "--listen") == 0) {
-            if (strncmp(v, "pty:", 4) == 0) {
-                f.transport = T_PTY;
-                f.pty_link = v + 4;
-            } else if ((strncmp(v, "tcp:", 4) == 0 || strncmp(v, "udp:", 4) == 0) &&
-                       sscanf(v + 4, "%63[^:]:%d", f.host, &f.port) == 2) {
-                f.transport = v[0] == 't' ? T_TCP : T_UDP;
-                if (strncmp(f.host, "127.", 4) != 0) {
-                    fprintf(stderr, "sonar_feed: --listen: only loopback addresses (127.x.x.x)\n");
-                    return 2;
-                }
-            } else {
-                usage();
-                return 2;
-            }
-        } else if (strcmp(a, "--scene") == 0) scene = v;
-        else if (strcmp(a, "--csv") == 0) csv = v;
-        else if (strcmp(a, "--range") == 0) range = atof(v);
-        else if (strcmp(a, "--pace") == 0) f.device_pace = strcmp(v, "fast") != 0;
-        else if (strcmp(a, "--firmware") == 0) {
-            unsigned x, y, z;
-            if (sscanf(v, "%u.%u.%u", &x, &y, &z) != 3) {
-                usage();
-                return 2;
-            }
-            f.fw[0] = (uint8_t)x;
-            f.fw[1] = (uint8_t)y;
-            f.fw[2] = (uint8_t)z;
-        } else if (strcmp(a, "--seed") == 0) {
-            f.rng.s ^= strtoull(v, NULL, 0) * 0xBF58476D1CE4E5B9ull;
-            f.fault_rng.s ^= strtoull(v, NULL, 0) * 0x94D049BB133111EBull;
-        } else if (strcmp(a, "--log") == 0) f.log_path = v;
-        else if (strcmp(a, "--max-seconds") == 0) f.max_s = atof(v);
-        else if (strcmp(a, "--drop") == 0) f.drop = atof(v);
-        else if (strcmp(a, "--corrupt") == 0) f.corrupt = atof(v);
-        else if (strcmp(a, "--garbage") == 0) f.garbage = atof(v);
-        else if (strcmp(a, "--disconnect-after") == 0) f.disconnect_after = atol(v);
-        else if (strcmp(a, "--drop-at") == 0) f.drop_at = atol(v);
-        else if (strcmp(a, "--stall-at") == 0) f.stall_at = atol(v);
-        else if (strcmp(a, "--stall") == 0) f.stall_s = atof(v);
-        else {
-            usage();
-            return 2;
-        }
+    if (opt_parse_argv(&schema, argc, argv, &f, NULL, &action, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonar_feed: %s\n", err);
+        return 2;
     }
+    if (action >= 0) {
+        usage(&schema);
+        return 0;
+    }
+    csv = f.csv_path;
+    scene = f.scene_name;
+    range = f.csv_range;
     if ((scene == NULL) == (csv == NULL) || (f.transport != T_PTY && f.port == 0)) {
-        usage();
+        usage(&schema);
         return 2;
     }
     if (scene != NULL) {
@@ -579,7 +638,7 @@ int main(int argc, char **argv)
         struct timespec ts = {0, 200000000};
         int np = 0, r;
         double now = now_s();
-        if (now - t0 > f.max_s || (f.stop_after && now > f.stop_at))
+        if (now - t0 > f.max_s || (f.stop_after && now > f.stop_at) || (f.max_beams > 0 && f.beams_intact >= f.max_beams))
             break;
         if (f.out_len > 0) {
             /* nanosecond timeouts: the device pacing must not gain a millisecond a beam */
@@ -638,14 +697,14 @@ int main(int argc, char **argv)
         }
     }
     fprintf(stderr,
-            "sonar_feed: requests %ld, beams %ld, replies %ld, dropped %ld, corrupted %ld, garbage %ld, disconnects %ld, "
-            "stalls %ld, nacks %ld, motor_off %ld\n",
-            f.requests, f.beams, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
+            "sonar_feed: requests %ld, beams %ld (intact %ld), replies %ld, dropped %ld, corrupted %ld, garbage %ld, "
+            "disconnects %ld, stalls %ld, nacks %ld, motor_off %ld\n",
+            f.requests, f.beams, f.beams_intact, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
             f.motor_offs);
     if (f.log != NULL) {
-        fprintf(f.log, "summary requests %ld beams %ld replies %ld dropped %ld corrupted %ld garbage %ld disconnects %ld stalls %ld nacks %ld motor_off %ld\n",
+        fprintf(f.log, "summary requests %ld beams %ld replies %ld dropped %ld corrupted %ld garbage %ld disconnects %ld stalls %ld nacks %ld motor_off %ld intact %ld\n",
                 f.requests, f.beams, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
-                f.motor_offs);
+                f.motor_offs, f.beams_intact);
         fclose(f.log);
     }
     if (f.transport == T_PTY)

@@ -98,8 +98,8 @@ struct sonar_detector {
     struct sonar_detector_run runs[SONAR_MAX_RUNS];
     uint8_t labels[SONAR_MAX_RUNS];
     uint16_t angles[SONAR_MAX_SWEEP_BEAMS];
-    struct sonar_hull_point work[SONAR_HULL_WORK];
-    struct sonar_hull_point hull[2 * SONAR_HULL_WORK];
+    struct sonar_xy work[SONAR_HULL_WORK];
+    struct sonar_xy hull[2 * SONAR_HULL_WORK];
     uint64_t sum, sumsq, cells;
     float prev_mean, prev_std;
     float range_m;
@@ -109,7 +109,7 @@ struct sonar_detector {
     uint16_t nruns, beams, n;
     uint8_t have_prev, threshold;
     uint8_t ntracks;                                /* detections of the previous sweep */
-    struct sonar_centroid tracks[SONAR_MAX_CLUSTERS]; /* their centroids, mm, device frame */
+    struct sonar_xy tracks[SONAR_MAX_CLUSTERS]; /* their centroids, mm, device frame */
 };
 
 /*

@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "sonar/err.h"
+#include "sonar/frame.h" /* the frame, its angles and its xy */
 
 #define SONAR_TICK_S 25e-9             /* one sample_period tick */
 #define SONAR_MIN_SAMPLE_PERIOD 80u    /* firmware minimum, ticks (2 us) */
@@ -15,9 +16,7 @@
 #define SONAR_DEVICE_MIN_SAMPLES 200u
 
 /*
- * The sonar frame used everywhere in sonard: a beam at device angle a gradians (0..399) plus an
- * offset o gradians points at theta = (a + o) * 0.9 degrees; a point at range r metres on it is
- * x = r cos(theta), y = r sin(theta). Sample i of N over range R covers [i, i+1) * R / N and sits
+ * The sonar frame is in frame.h. Sample i of N over range R covers [i, i+1) * R / N and sits
  * at its centre, r_i = (i + 0.5) * R / N. (Ping Viewer uses i * R / N and ping360_sonar
  * (i + 1) * R / N: we differ from each by half a sample.)
  */
@@ -47,10 +46,5 @@ double sonar_geometry_sample_range(uint16_t i, uint16_t n, double range_m);
 /* Sample index holding range r (floor(r * n / range_m)), or -1 outside [0, range_m). */
 int32_t sonar_geometry_sample_index(double r, uint16_t n, double range_m);
 
-/* Polar (angle gradians + offset gradians, range m) to sonar-frame x, y in metres. */
-void sonar_geometry_to_xy(double angle_grad, double offset_grad, double r, double *x, double *y);
-
-/* Bearing in degrees [0, 360) of sonar-frame x, y (atan2(y, x)); 0 when both are 0. */
-double sonar_geometry_bearing_deg(double x, double y);
 
 #endif

@@ -5,11 +5,8 @@
 #include <stdint.h>
 
 #include "sonar/err.h"
+#include "sonar/frame.h" /* struct sonar_xy */
 
-struct sonar_hull_point {
-    int32_t x;
-    int32_t y;
-};
 
 /*
  * Sorts pts[0..n) in place (heapsort: no recursion, no heap) by x then y, and writes the hull to
@@ -18,9 +15,9 @@ struct sonar_hull_point {
  * out, at least 2n (the chains may hold that many before they pop). Returns the vertex count (1 for a single distinct point, 2 for a
  * segment), or SONAR_ERR_ARG / SONAR_ERR_SPACE.
  */
-SONAR_CHECK int sonar_hull_build(struct sonar_hull_point *pts, uint16_t n, struct sonar_hull_point *out, uint16_t cap);
+SONAR_CHECK int sonar_hull_build(struct sonar_xy *pts, uint16_t n, struct sonar_xy *out, uint16_t cap);
 
 /* Twice the signed area (shoelace) of the polygon; positive when counter-clockwise. */
-int64_t sonar_hull_area2(const struct sonar_hull_point *poly, uint16_t n);
+int64_t sonar_hull_area2(const struct sonar_xy *poly, uint16_t n);
 
 #endif

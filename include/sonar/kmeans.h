@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "sonar/err.h"
+#include "sonar/frame.h" /* struct sonar_xy: the centres */
 
 #define SONAR_KMEANS_MAX_K 64
 #define SONAR_KMEANS_SKIP 0xFFu /* label of a point with weight 0 */
@@ -16,17 +17,13 @@ struct sonar_point {
     uint32_t w; /* 0 = ignore the point */
 };
 
-struct sonar_centroid {
-    int32_t x;
-    int32_t y;
-};
 
 /*
  * Farthest-point (maximin) seeding: the first weighted point, then repeatedly the point farthest
  * from its nearest centre (lowest index on ties). k: 1..SONAR_KMEANS_MAX_K. Returns the number of
  * centres written (fewer than k when there are fewer distinct points), or SONAR_ERR_ARG.
  */
-SONAR_CHECK int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_centroid *c, uint8_t k);
+SONAR_CHECK int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_xy *c, uint8_t k);
 
 /*
  * Lloyd's algorithm from the k centres in c: assign each point to its nearest centre (lowest
@@ -36,7 +33,7 @@ SONAR_CHECK int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, str
  * int64. Returns the rounds run, or SONAR_ERR_ARG.
  */
 SONAR_CHECK int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels,
-                                   struct sonar_centroid *c, uint8_t k, uint8_t iterations);
+                                   struct sonar_xy *c, uint8_t k, uint8_t iterations);
 
 /*
  * Lloyd's algorithm kept inside parts: centre j belongs to part[j] (any tag), and a point may only
@@ -47,11 +44,11 @@ SONAR_CHECK int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, ui
  * Returns the rounds run, or SONAR_ERR_ARG (also for an entry label >= k on a weighted point).
  */
 SONAR_CHECK int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels,
-                                          struct sonar_centroid *c, const uint8_t *part, uint8_t k,
+                                          struct sonar_xy *c, const uint8_t *part, uint8_t k,
                                           uint8_t iterations);
 
 /* Sum over points of w * squared distance to the centre of its label (OpenCV's "compactness"). */
 double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
-                            const struct sonar_centroid *c);
+                            const struct sonar_xy *c);
 
 #endif

@@ -36,7 +36,4 @@ SONAR_CHECK int sonar_sweep_init(struct sonar_sweep *s, uint16_t max_step, uint1
  */
 int sonar_sweep_step(struct sonar_sweep *s, uint16_t angle);
 
-/* Shortest signed difference b - a in gradians, in [-200, 199]. */
-int sonar_sweep_delta(uint16_t a, uint16_t b);
-
 #endif

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "sonar/frame.h"
+
 #define STR2(x) #x
 #define STR(x) STR2(x)
 
@@ -106,7 +108,7 @@ static void track(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *rest
 int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)
 {
     unsigned row, v;
-    if (bg == NULL || in == NULL || fg == NULL || angle > 399u || n == 0 || n > SONAR_MAX_SAMPLES)
+    if (bg == NULL || in == NULL || fg == NULL || angle > SONAR_GRAD_MAX || n == 0 || n > SONAR_MAX_SAMPLES)
         return SONAR_ERR_ARG;
     if (bg->mode == SONAR_BACKGROUND_OFF) {
         memcpy(fg, in, n);
@@ -116,7 +118,7 @@ int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const ui
         sonar_background_reset(bg);
         bg->n = n;
     }
-    row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / 400u;
+    row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
     v = bg->visits[row] < 255u ? (unsigned)bg->visits[row] + 1u : 255u;
     bg->visits[row] = (uint8_t)v;
     if (v <= bg->warmup)

@@ -4,8 +4,6 @@
 #include <math.h>
 #include <stddef.h>
 
-#define SONAR_PI 3.14159265358979323846
-
 double sonar_geometry_range_m(uint16_t sample_period, uint16_t n, double c)
 {
     return (double)sample_period * SONAR_TICK_S * (double)n * c / 2.0;
@@ -70,20 +68,4 @@ int32_t sonar_geometry_sample_index(double r, uint16_t n, double range_m)
         return -1;
     i = floor(r * (double)n / range_m);
     return i >= (double)n ? (int32_t)n - 1 : (int32_t)i;
-}
-
-void sonar_geometry_to_xy(double angle_grad, double offset_grad, double r, double *x, double *y)
-{
-    double th = (angle_grad + offset_grad) * SONAR_PI / 200.0;
-    *x = r * cos(th);
-    *y = r * sin(th);
-}
-
-double sonar_geometry_bearing_deg(double x, double y)
-{
-    double b;
-    if (x == 0.0 && y == 0.0)
-        return 0.0;
-    b = atan2(y, x) * 180.0 / SONAR_PI;
-    return b < 0.0 ? b + 360.0 : b;
 }

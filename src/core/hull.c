@@ -3,16 +3,16 @@
 
 #include <stddef.h>
 
-static int less(const struct sonar_hull_point *a, const struct sonar_hull_point *b)
+static int less(const struct sonar_xy *a, const struct sonar_xy *b)
 {
     return a->x < b->x || (a->x == b->x && a->y < b->y);
 }
 
-static void sift(struct sonar_hull_point *p, uint16_t root, uint16_t n)
+static void sift(struct sonar_xy *p, uint16_t root, uint16_t n)
 {
     for (;;) {
         uint32_t child = 2u * root + 1u;
-        struct sonar_hull_point t;
+        struct sonar_xy t;
         if (child >= n)
             return;
         if (child + 1u < n && less(&p[child], &p[child + 1u]))
@@ -26,7 +26,7 @@ static void sift(struct sonar_hull_point *p, uint16_t root, uint16_t n)
     }
 }
 
-static void heapsort(struct sonar_hull_point *p, uint16_t n)
+static void heapsort(struct sonar_xy *p, uint16_t n)
 {
     uint16_t i;
     if (n < 2)
@@ -34,7 +34,7 @@ static void heapsort(struct sonar_hull_point *p, uint16_t n)
     for (i = (uint16_t)(n / 2u); i-- > 0;)
         sift(p, i, n);
     for (i = (uint16_t)(n - 1u); i > 0; i--) {
-        struct sonar_hull_point t = p[0];
+        struct sonar_xy t = p[0];
         p[0] = p[i];
         p[i] = t;
         sift(p, 0, i);
@@ -42,12 +42,12 @@ static void heapsort(struct sonar_hull_point *p, uint16_t n)
 }
 
 /* (a - o) x (b - o): > 0 for a left (counter-clockwise) turn; exact since |coords| < 2^30. */
-static int64_t cross(const struct sonar_hull_point *o, const struct sonar_hull_point *a, const struct sonar_hull_point *b)
+static int64_t cross(const struct sonar_xy *o, const struct sonar_xy *a, const struct sonar_xy *b)
 {
     return ((int64_t)a->x - o->x) * ((int64_t)b->y - o->y) - ((int64_t)a->y - o->y) * ((int64_t)b->x - o->x);
 }
 
-int sonar_hull_build(struct sonar_hull_point *pts, uint16_t n, struct sonar_hull_point *out, uint16_t cap)
+int sonar_hull_build(struct sonar_xy *pts, uint16_t n, struct sonar_xy *out, uint16_t cap)
 {
     uint32_t k = 0, lower;
     uint16_t i;
@@ -80,12 +80,12 @@ int sonar_hull_build(struct sonar_hull_point *pts, uint16_t n, struct sonar_hull
     return (int)k;
 }
 
-int64_t sonar_hull_area2(const struct sonar_hull_point *poly, uint16_t n)
+int64_t sonar_hull_area2(const struct sonar_xy *poly, uint16_t n)
 {
     int64_t s = 0;
     uint16_t i;
     for (i = 0; i < n; i++) {
-        const struct sonar_hull_point *a = &poly[i], *b = &poly[(i + 1u) % n];
+        const struct sonar_xy *a = &poly[i], *b = &poly[(i + 1u) % n];
         s += (int64_t)a->x * b->y - (int64_t)b->x * a->y;
     }
     return s;

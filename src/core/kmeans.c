@@ -3,13 +3,13 @@
 
 #include <string.h>
 
-static int64_t dist2(const struct sonar_point *p, const struct sonar_centroid *c)
+static int64_t dist2(const struct sonar_point *p, const struct sonar_xy *c)
 {
     int64_t dx = (int64_t)p->x - c->x, dy = (int64_t)p->y - c->y;
     return dx * dx + dy * dy;
 }
 
-static uint8_t nearest(const struct sonar_point *p, const struct sonar_centroid *c, uint8_t k, int64_t *best_d)
+static uint8_t nearest(const struct sonar_point *p, const struct sonar_xy *c, uint8_t k, int64_t *best_d)
 {
     uint8_t j, best = 0;
     int64_t bd = dist2(p, &c[0]);
@@ -25,7 +25,7 @@ static uint8_t nearest(const struct sonar_point *p, const struct sonar_centroid 
     return best;
 }
 
-int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_centroid *c, uint8_t k)
+int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_xy *c, uint8_t k)
 {
     uint16_t i;
     uint8_t m = 0;
@@ -67,7 +67,7 @@ static int32_t rounded_mean(int64_t sum, uint64_t w)
 }
 
 /* Nearest centre sharing part tag `tag`; `from` is one such centre, so there is always an answer. */
-static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_centroid *c, const uint8_t *part, uint8_t k,
+static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c, const uint8_t *part, uint8_t k,
                           uint8_t from)
 {
     uint8_t j, best = from, tag = part[from];
@@ -86,7 +86,7 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_centro
 }
 
 /* Lloyd's rounds, free (part == NULL) or kept inside parts; arguments already checked. */
-static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                  const uint8_t *part, uint8_t k, uint8_t iterations)
 {
     int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
@@ -125,7 +125,7 @@ static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, str
     return (int)iterations;
 }
 
-int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                        uint8_t k, uint8_t iterations)
 {
     if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1)
@@ -134,7 +134,7 @@ int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *label
     return lloyd(pts, n, labels, c, NULL, k, iterations);
 }
 
-int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_centroid *c,
+int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                               const uint8_t *part, uint8_t k, uint8_t iterations)
 {
     uint16_t i;
@@ -151,7 +151,7 @@ int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t
 }
 
 double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uint8_t *labels,
-                            const struct sonar_centroid *c)
+                            const struct sonar_xy *c)
 {
     double s = 0.0;
     uint16_t i;

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "sonar/frame.h"
+
 #include "le_internal.h"
 
 int sonar_ping_parser_init(struct sonar_ping_parser *p, uint16_t max_payload)
@@ -147,7 +149,7 @@ int sonar_ping_decode_data(const struct sonar_ping_frame *f, struct sonar_ping36
     /* The vector's own length prefix must account for every remaining byte. */
     if ((uint32_t)fixed + d.data_length != f->payload_len)
         return SONAR_ERR_LENGTH;
-    if (d.angle > 399u)
+    if (d.angle > SONAR_GRAD_MAX)
         return SONAR_ERR_RANGE;
     d.data = q + fixed;
     *out = d;
@@ -273,7 +275,7 @@ int sonar_ping_encode_reset(uint8_t *buf, size_t cap, uint8_t bootloader)
 int sonar_ping_encode_transducer(uint8_t *buf, size_t cap, const struct sonar_ping360_transducer *t)
 {
     uint8_t q[14];
-    if (t == NULL || t->angle > 399u || t->transmit > 1u)
+    if (t == NULL || t->angle > SONAR_GRAD_MAX || t->transmit > 1u)
         return SONAR_ERR_ARG;
     q[0] = t->mode;
     q[1] = t->gain;
@@ -290,7 +292,7 @@ int sonar_ping_encode_transducer(uint8_t *buf, size_t cap, const struct sonar_pi
 int sonar_ping_encode_auto_transmit(uint8_t *buf, size_t cap, const struct sonar_ping360_auto_transmit *a)
 {
     uint8_t q[16];
-    if (a == NULL || a->start_angle > 399u || a->stop_angle > 399u || a->num_steps < 1u || a->num_steps > 10u ||
+    if (a == NULL || a->start_angle > SONAR_GRAD_MAX || a->stop_angle > SONAR_GRAD_MAX || a->num_steps < 1u || a->num_steps > 10u ||
         a->delay > 100u)
         return SONAR_ERR_ARG;
     q[0] = a->mode;

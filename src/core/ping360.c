@@ -31,7 +31,7 @@ const char *sonar_ping360_config_check(const struct sonar_ping360_config *c)
         return "gain: 0 low, 1 normal, 2 high";
     if (c->frequency < 500 || c->frequency > 1000)
         return "frequency: 500..1000 kHz";
-    if (c->start_angle > 399 || c->stop_angle > 399)
+    if (c->start_angle > SONAR_GRAD_MAX || c->stop_angle > SONAR_GRAD_MAX)
         return "start_angle, stop_angle: 0..399 gradians";
     if (c->step < 1 || c->step > 50)
         return "step: 1..50 gradians";
@@ -69,7 +69,7 @@ int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_confi
     d->samples = n;
     d->tx_us = c->transmit_duration ? c->transmit_duration
                                     : sonar_geometry_transmit_duration(c->range_m, c->speed_of_sound, d->sample_period);
-    d->span = c->full_circle ? 400u : (uint16_t)((c->stop_angle + 400u - c->start_angle) % 400u);
+    d->span = c->full_circle ? SONAR_GRAD_TURN : (uint16_t)((c->stop_angle + SONAR_GRAD_TURN - c->start_angle) % SONAR_GRAD_TURN);
     d->angle = c->start_angle;
     d->dir = 1;
     d->state = SONAR_P360_DOWN;
@@ -189,7 +189,7 @@ static void advance(struct sonar_ping360 *d)
 {
     uint16_t step = d->cfg.step;
     if (d->cfg.full_circle) {
-        d->pos = (uint16_t)((d->pos + step) % 400u);
+        d->pos = (uint16_t)((d->pos + step) % SONAR_GRAD_TURN);
     } else if (d->dir > 0) {
         if (d->pos >= d->span) {
             d->dir = -1;
@@ -205,7 +205,7 @@ static void advance(struct sonar_ping360 *d)
             d->pos = (uint16_t)(d->pos > step ? d->pos - step : 0);
         }
     }
-    d->angle = (uint16_t)((d->cfg.start_angle + d->pos) % 400u);
+    d->angle = (uint16_t)((d->cfg.start_angle + d->pos) % SONAR_GRAD_TURN);
 }
 
 static void measured(struct sonar_ping360 *d, int64_t latency)

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "sonar/frame.h"
+
 void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
@@ -134,7 +136,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     int r, cut;
     int changed;
     if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
-        b->angle > 399u || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
+        b->angle > SONAR_GRAD_MAX || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
     changed = p->n != 0 && (b->n != p->n || b->range_m != p->range_m);
     if (changed) {

@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "sonar/frame.h"
+
 int sonar_sweep_init(struct sonar_sweep *s, uint16_t max_step, uint16_t max_beams)
 {
     if (s == NULL || max_step < 1 || max_step > 200 || max_beams < 2)
@@ -13,10 +15,6 @@ int sonar_sweep_init(struct sonar_sweep *s, uint16_t max_step, uint16_t max_beam
     return SONAR_OK;
 }
 
-int sonar_sweep_delta(uint16_t a, uint16_t b)
-{
-    return (((int)(b % 400u) - (int)(a % 400u) + 600) % 400) - 200;
-}
 
 static int open_sweep(struct sonar_sweep *s, uint16_t angle, int cut)
 {
@@ -34,12 +32,12 @@ int sonar_sweep_step(struct sonar_sweep *s, uint16_t angle)
 {
     int d, mag;
     int8_t dir;
-    angle = (uint16_t)(angle % 400u);
+    angle = (uint16_t)(angle % SONAR_GRAD_TURN);
     if (!s->started)
         return open_sweep(s, angle, SONAR_SWEEP_SAME);
     if (s->beams >= s->max_beams)
         return open_sweep(s, angle, SONAR_SWEEP_FULL);
-    d = sonar_sweep_delta(s->last, angle);
+    d = sonar_frame_delta(s->last, angle);
     if (d == 0) {
         s->beams++;
         return SONAR_SWEEP_SAME;
@@ -50,7 +48,7 @@ int sonar_sweep_step(struct sonar_sweep *s, uint16_t angle)
     dir = (int8_t)(d < 0 ? -1 : 1);
     if (s->dir != 0 && dir != s->dir)
         return open_sweep(s, angle, SONAR_SWEEP_REVERSE);
-    if ((int)s->traversed + mag >= 400)
+    if ((int)s->traversed + mag >= (int)SONAR_GRAD_TURN)
         return open_sweep(s, angle, SONAR_SWEEP_WRAP);
     s->dir = dir;
     s->traversed = (uint16_t)(s->traversed + mag);

@@ -28,8 +28,12 @@ static void sinks_beam(struct app *a, const struct app_beam *b)
     unsigned i;
     for (i = 0; i < a->nsinks; i++) {
         struct app_sink *s = a->sinks[i];
-        if (s->beam != NULL && (s->stages & (1u << b->stage)) && s->beam(s->self, b) < 0)
+        if (s->beam == NULL || !(s->stages & (1u << b->stage)))
+            continue;
+        if (s->beam(s->self, b) < 0)
             s->errors++;
+        else
+            s->n_beams++;
     }
 }
 
@@ -61,8 +65,12 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     a->sweep_t0 = now;
     for (i = 0; i < a->nsinks; i++) {
         struct app_sink *s = a->sinks[i];
-        if (s->detections != NULL && s->detections(s->self, d) < 0)
+        if (s->detections == NULL)
+            continue;
+        if (s->detections(s->self, d) < 0)
             s->errors++;
+        else
+            s->n_detections++;
     }
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
@@ -116,7 +124,7 @@ int app_add_sink(struct app *a, struct app_sink *s)
 {
     if (a->nsinks >= APP_MAX_SINKS)
         return SONAR_ERR_FULL;
-    s->errors = 0;
+    s->errors = s->n_beams = s->n_detections = s->n_statuses = 0;
     a->sinks[a->nsinks++] = s;
     return HOST_OK;
 }
@@ -288,8 +296,12 @@ void app_status(struct app *a, int link_state, struct app_status *s)
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
     for (i = 0; i < a->nsinks; i++) {
         struct app_sink *k = a->sinks[i];
-        if (k->status != NULL && k->status(k->self, s) < 0)
+        if (k->status == NULL)
+            continue;
+        if (k->status(k->self, s) < 0)
             k->errors++;
+        else
+            k->n_statuses++;
     }
 }
 

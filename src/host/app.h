@@ -55,6 +55,7 @@ struct app_sink {
     int (*detections)(void *self, const struct sonar_detections *d);
     int (*status)(void *self, const struct app_status *s);
     unsigned long errors; /* failed calls, kept by the app */
+    unsigned long n_beams, n_detections, n_statuses; /* calls that succeeded, kept by the app */
 };
 
 /* Clocks, injected so tests can drive time. mono_ns: monotonic; wall_us: us since the epoch. */

@@ -117,6 +117,15 @@ static void summary(const struct app_status *st)
             st->driver.stale, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
 }
 
+/* What each sink delivered: "sonard: sink lcm: beams B detections D status S errors E". */
+static void sink_summary(const struct app *a)
+{
+    unsigned i;
+    for (i = 0; i < a->nsinks; i++)
+        fprintf(stderr, "sonard: sink %s: beams %lu detections %lu status %lu errors %lu\n", a->sinks[i]->name,
+                a->sinks[i]->n_beams, a->sinks[i]->n_detections, a->sinks[i]->n_statuses, a->sinks[i]->errors);
+}
+
 static int run_live(struct sonard *s)
 {
     struct app_status st;
@@ -125,6 +134,7 @@ static int run_live(struct sonard *s)
     if (!s->opt.quiet) {
         app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
+        sink_summary(&s->app);
     }
     return 0;
 }

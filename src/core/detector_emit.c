@@ -1,0 +1,146 @@
+/* detector_emit.c -- stage 4: each cluster against the rules (cells, beams, range, aspect, extent, tracking gate), its incremental hull and the detection in metres; O(runs) per cluster. */
+#include <math.h>
+#include <string.h>
+
+#include "detector_internal.h"
+
+/* Folds the work points into their hull when full; thins a hull that alone nearly fills it. */
+static void hull_push(struct sonar_detector *d, uint16_t *nw, struct sonar_xy p)
+{
+    if (*nw == SONAR_HULL_WORK) {
+        int h = sonar_hull_build(d->work, *nw, d->hull, 2 * SONAR_HULL_WORK);
+        uint16_t i, keep = (uint16_t)(h > 0 ? h : 0);
+        if (keep > SONAR_HULL_WORK - 8u) {
+            for (i = 0; i < SONAR_HULL_WORK / 2u; i++)
+                d->work[i] = d->hull[(uint32_t)i * keep / (SONAR_HULL_WORK / 2u)];
+            keep = SONAR_HULL_WORK / 2u;
+        } else {
+            memcpy(d->work, d->hull, (size_t)keep * sizeof(d->hull[0]));
+        }
+        *nw = keep;
+    }
+    d->work[(*nw)++] = p;
+}
+
+static void rotate(float *x, float *y, double c, double s)
+{
+    double nx = (double)*x * c - (double)*y * s, ny = (double)*x * s + (double)*y * c;
+    *x = (float)nx;
+    *y = (float)ny;
+}
+
+/* Within track_m of a detection of the previous sweep? (device frame, mm) */
+static int tracked(const struct sonar_detector *d, int32_t x, int32_t y)
+{
+    int64_t gate = (int64_t)((double)d->cfg.track_m * 1000.0);
+    uint8_t t;
+    for (t = 0; t < d->ntracks; t++)
+        if (sonar_det_dist2_mm(x, y, d->tracks[t].x, d->tracks[t].y) <= gate * gate)
+            return 1;
+    return 0;
+}
+
+/*
+ * Is a cluster of w cells over nbeams beams and samples [rlo, rhi], centroid (x, y) mm, an object?
+ * Every rule but the hull's diameter; `cut` = the cluster is a piece of a wider group.
+ */
+static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, uint32_t rlo, uint32_t rhi, int32_t x,
+                  int32_t y, int cut)
+{
+    uint64_t need = d->cfg.min_points;
+    double rc = sqrt((double)x * x + (double)y * y) / 1000.0;
+    if (d->cfg.track_m > 0.0f && d->cfg.track_points < need && tracked(d, x, y))
+        need = d->cfg.track_points;
+    if (w < need || nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
+        return 0;
+    if (d->cfg.max_aspect > 0.0f) {
+        /* Along: the cells' range span. Across: its beams times the sweep's step, at the centroid's range. */
+        uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
+        double along = (double)(rhi - rlo + 1u) * (double)d->range_m / (double)d->n;
+        double across = sonar_frame_rad((double)nbeams * (double)(step ? step : 1u)) * rc;
+        if (along > (double)d->cfg.max_aspect * across)
+            return 0;
+    }
+    return 1;
+}
+
+int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
+{
+    uint64_t w = 0, s = 0;
+    int64_t sx = 0, sy = 0;
+    uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
+    uint32_t lo = 0, hi = 0, rlo = UINT32_MAX, rhi = 0;
+    int h, v;
+    double th = sonar_frame_rad((double)d->cfg.angle_offset), c = cos(th), sn = sin(th);
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        uint32_t end;
+        if (d->labels[i] != j)
+            continue;
+        w += d->pts[i].w;
+        s += r->sum;
+        sx += (int64_t)d->pts[i].x * d->pts[i].w;
+        sy += (int64_t)d->pts[i].y * d->pts[i].w;
+        end = (uint32_t)r->start + d->pts[i].w - 1u;
+        rlo = r->start < rlo ? r->start : rlo;
+        rhi = end > rhi ? end : rhi;
+        /* Runs of one beam lie on one ray: only its nearest and farthest cells can be hull vertices. */
+        if (r->beam != beam) {
+            if (beam != 0xFFFFu) {
+                hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
+                hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
+            }
+            beam = r->beam;
+            nbeams++;
+            lo = r->start;
+            hi = end;
+        } else {
+            lo = r->start < lo ? r->start : lo;
+            hi = end > hi ? end : hi;
+        }
+    }
+    if (w == 0 || beam == 0xFFFFu)
+        return 0;
+    at->x = (int32_t)(sx / (int64_t)w);
+    at->y = (int32_t)(sy / (int64_t)w);
+    if (!passes(d, w, nbeams, rlo, rhi, at->x, at->y, cut))
+        return 0;
+    hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
+    hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
+    h = sonar_hull_build(d->work, nw, d->hull, 2 * SONAR_HULL_WORK);
+    if (h < 1)
+        return 0;
+    if (d->cfg.max_extent_m > 0.0f) {
+        /* hull diameter: the widest pair of vertices (h <= 2 * SONAR_HULL_WORK, once per cluster) */
+        int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), lim2 = lim * lim;
+        int a, b;
+        for (a = 0; a < h; a++)
+            for (b = a + 1; b < h; b++) {
+                int64_t dx = (int64_t)d->hull[a].x - d->hull[b].x, dy = (int64_t)d->hull[a].y - d->hull[b].y;
+                if (dx * dx + dy * dy > lim2)
+                    return 0;
+            }
+    }
+    memset(o, 0, sizeof(*o));
+    o->points = (uint32_t)w;
+    o->mean_intensity = (float)((double)s / (double)w);
+    o->x_m = (float)((double)sx / (double)w / 1000.0);
+    o->y_m = (float)((double)sy / (double)w / 1000.0);
+    o->area_m2 = (float)((double)sonar_hull_area2(d->hull, (uint16_t)h) / 2.0e6);
+    o->hull_count = (uint8_t)(h > SONAR_MAX_HULL ? SONAR_MAX_HULL : h);
+    for (v = 0; v < o->hull_count; v++) {
+        const struct sonar_xy *p = &d->hull[(long)v * h / o->hull_count];
+        o->hull_x[v] = (float)p->x / 1000.0f;
+        o->hull_y[v] = (float)p->y / 1000.0f;
+        if (d->cfg.angle_offset != 0.0f)
+            rotate(&o->hull_x[v], &o->hull_y[v], c, sn);
+    }
+    if (d->cfg.angle_offset != 0.0f)
+        rotate(&o->x_m, &o->y_m, c, sn);
+    o->range_m = (float)sqrt((double)o->x_m * o->x_m + (double)o->y_m * o->y_m);
+    o->bearing_deg = (float)(o->x_m == 0.0f && o->y_m == 0.0f ? 0.0 : sonar_frame_deg(atan2((double)o->y_m, (double)o->x_m)));
+    if (o->bearing_deg < 0.0f)
+        o->bearing_deg += 360.0f;
+    return 1;
+}
+

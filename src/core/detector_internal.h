@@ -1,0 +1,36 @@
+/* detector_internal.h -- the detector's stages, shared by its files (runs, linking, grouping and cutting, rules and emission); not a public header. */
+#ifndef SONAR_DETECTOR_INTERNAL_H
+#define SONAR_DETECTOR_INTERNAL_H
+
+#include "sonar/detector.h"
+#include "sonar/frame.h"
+
+/* Sample position twice_pos halves (2i+1: the centre of sample i) at angle a (gradians) in mm, device frame. */
+struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, uint32_t twice_pos);
+
+/* Union-find root of run i (path halving). */
+uint16_t sonar_det_find(struct sonar_detector_run *r, uint16_t i);
+
+/* Stage 2, detector_link.c: unites touching runs (link_beams, link_m), across the start angle on a full turn. */
+void sonar_det_link(struct sonar_detector *d);
+
+/*
+ * Stage 3, detector_group.c: groups -> k centres c, part[j] = the group of centre j, labels = each
+ * run's centre; groups wider than max_extent_m get extra farthest-point centres. Returns k.
+ */
+uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint16_t *groups);
+
+/*
+ * Stage 4, detector_emit.c: cluster j -> detection *o and its device-frame centroid *at (mm), when
+ * it passes every rule (cut: it is a piece of a wider group). Returns 1, or 0 when not an object.
+ */
+int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at);
+
+/* Squared distance in mm^2. */
+static inline int64_t sonar_det_dist2_mm(int32_t ax, int32_t ay, int32_t bx, int32_t by)
+{
+    int64_t dx = (int64_t)ax - bx, dy = (int64_t)ay - by;
+    return dx * dx + dy * dy;
+}
+
+#endif

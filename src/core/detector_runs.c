@@ -1,0 +1,139 @@
+/* detector_runs.c -- stage 1: each foreground beam's statistics, the threshold and its above-threshold runs; O(n) per beam, blocks of 64 samples skipped when their maximum is below the threshold. */
+#include <math.h>
+#include <string.h>
+
+#include "detector_internal.h"
+#include "tables_internal.h"
+
+static uint8_t threshold_now(const struct sonar_detector *d)
+{
+    double mean, sd, t;
+    if (d->have_prev) {
+        mean = d->prev_mean;
+        sd = d->prev_std;
+    } else {
+        double var;
+        mean = d->cells ? (double)d->sum / (double)d->cells : 0.0;
+        var = d->cells ? (double)d->sumsq / (double)d->cells - mean * mean : 0.0;
+        sd = var > 0.0 ? sqrt(var) : 0.0;
+    }
+    t = floor(mean + (double)d->cfg.threshold_k * sd);
+    if (t < (double)d->cfg.min_threshold)
+        t = d->cfg.min_threshold;
+    return (uint8_t)(t > 254.0 ? 254.0 : t);
+}
+
+struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, uint32_t twice_pos)
+{
+    struct sonar_xy p;
+    int64_t range_mm = (int64_t)((double)d->range_m * 1000.0 + 0.5);
+    int64_t r = ((int64_t)twice_pos * range_mm) / (2 * (int64_t)d->n);
+    int64_t c = sonar_cos_q16[a % SONAR_GRAD_TURN], s = sonar_cos_q16[(a + 300u) % SONAR_GRAD_TURN]; /* sin a = cos(a - 100) */
+    p.x = (int32_t)((r * c + 32768) >> 16);
+    p.y = (int32_t)((r * s + 32768) >> 16);
+    return p;
+}
+
+static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uint16_t len, uint32_t sum)
+{
+    struct sonar_xy c;
+    struct sonar_detector_run *r;
+    if (d->nruns >= SONAR_MAX_RUNS) {
+        d->runs_dropped++;
+        return;
+    }
+    /* Centre of the run: halfway between its first and last sample centres. */
+    c = sonar_det_polar_mm(d, d->angles[beam], 2u * start + len);
+    d->pts[d->nruns].x = c.x;
+    d->pts[d->nruns].y = c.y;
+    d->pts[d->nruns].w = len;
+    r = &d->runs[d->nruns];
+    r->beam = beam;
+    r->start = start;
+    r->parent = d->nruns;
+    r->size = 0;
+    r->sum = sum;
+    d->nruns++;
+}
+
+#define BLOCK 64
+#define NBLOCKS ((SONAR_MAX_SAMPLES + BLOCK - 1) / BLOCK)
+
+/* Sum, sum of squares and the maximum of each 64-sample block; constant-length blocks, so -O2 vectorises them. */
+#define STATS_SPAN(p, len)                                                                                         \
+    for (j = 0; j < (len); j++) {                                                                                  \
+        uint8_t v = (p)[j];                                                                                        \
+        bs += v;                                                                                                   \
+        bq += (uint32_t)v * v;                                                                                     \
+        bm = v > bm ? v : bm;                                                                                      \
+    }
+
+static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, uint8_t *blockmax)
+{
+    uint32_t bs = 0, bq = 0;
+    uint8_t bm;
+    int j, j0, b = 0;
+    for (j0 = 0; j0 + BLOCK <= (int)n; j0 += BLOCK) {
+        bm = 0;
+        STATS_SPAN(fg + j0, BLOCK)
+        blockmax[b++] = bm;
+    }
+    bm = 0;
+    STATS_SPAN(fg + j0, (int)n - j0)
+    blockmax[b] = bm;
+    *s = bs;
+    *q = bq;
+}
+
+int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
+                       int64_t utime)
+{
+    uint8_t blockmax[NBLOCKS + 1];
+    uint32_t s = 0, q = 0;
+    uint16_t i, beam, b, nb;
+    uint8_t t;
+    if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > SONAR_GRAD_MAX || !(range_m > 0.0f))
+        return SONAR_ERR_ARG;
+    if (d->beams == 0) {
+        d->n = n;
+        d->range_m = range_m;
+    } else if (n != d->n || range_m != d->range_m) {
+        return SONAR_ERR_STATE;
+    }
+    if (d->beams >= SONAR_MAX_SWEEP_BEAMS)
+        return SONAR_ERR_FULL;
+    beam = d->beams++;
+    d->angles[beam] = angle;
+    d->utime = utime;
+    beam_stats(fg, n, &s, &q, blockmax);
+    d->sum += s;
+    d->sumsq += q;
+    d->cells += n;
+    t = threshold_now(d);
+    d->threshold = t;
+    /* Runs: scan only the blocks whose maximum passes; a run may continue into the next block. */
+    nb = (uint16_t)((n + BLOCK - 1) / BLOCK);
+    for (b = 0, i = 0; b < nb; b++) {
+        uint16_t end = (uint16_t)((b + 1u) * BLOCK < n ? (b + 1u) * BLOCK : n);
+        if (blockmax[b] <= t) {
+            i = i > end ? i : end;
+            continue;
+        }
+        if (i < b * BLOCK)
+            i = (uint16_t)(b * BLOCK);
+        while (i < end) {
+            uint16_t start;
+            uint32_t sum = 0;
+            if (fg[i] <= t) {
+                i++;
+                continue;
+            }
+            start = i;
+            while (i < n && fg[i] > t)
+                sum += fg[i++];
+            add_run(d, beam, start, (uint16_t)(i - start), sum);
+        }
+    }
+    return SONAR_OK;
+}
+

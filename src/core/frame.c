@@ -1,0 +1,41 @@
+/* frame.c -- angle arithmetic and polar conversions of the sonar frame; a few flops each, no RAM. */
+#include "sonar/frame.h"
+
+#include <math.h>
+
+int sonar_frame_delta(uint16_t a, uint16_t b)
+{
+    return (((int)(b % SONAR_GRAD_TURN) - (int)(a % SONAR_GRAD_TURN) + 600) % (int)SONAR_GRAD_TURN) - (int)SONAR_GRAD_HALF;
+}
+
+uint16_t sonar_frame_gap(uint16_t a, uint16_t b)
+{
+    uint16_t g = (uint16_t)(a > b ? a - b : b - a);
+    return g > SONAR_GRAD_HALF ? (uint16_t)(SONAR_GRAD_TURN - g) : g;
+}
+
+double sonar_frame_rad(double g)
+{
+    return g * SONAR_PI / 200.0;
+}
+
+double sonar_frame_deg(double rad)
+{
+    return rad * 180.0 / SONAR_PI;
+}
+
+void sonar_frame_to_xy(double angle_grad, double offset_grad, double r, double *x, double *y)
+{
+    double th = sonar_frame_rad(angle_grad + offset_grad);
+    *x = r * cos(th);
+    *y = r * sin(th);
+}
+
+double sonar_frame_bearing_deg(double x, double y)
+{
+    double b;
+    if (x == 0.0 && y == 0.0)
+        return 0.0;
+    b = sonar_frame_deg(atan2(y, x));
+    return b < 0.0 ? b + 360.0 : b;
+}

@@ -1,0 +1,217 @@
+/* test_detector_stages.c -- the detector's stages one at a time through detector_internal.h: runs and threshold, linking, grouping and cutting, rules and emission; and the frame vocabulary they share. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <math.h>
+
+#include "detector_internal.h"
+#include "sonar/frame.h"
+
+#define N 100
+#define RANGE 10.0f
+
+static struct sonar_detector det;
+static uint8_t beam[N];
+
+static struct sonar_detector_config cfg(void)
+{
+    struct sonar_detector_config c;
+    memset(&c, 0, sizeof(c));
+    c.threshold_k = 0.0f;
+    c.min_threshold = 16; /* T = 16 with k = 0 over a dark sweep */
+    c.max_clusters = 8;
+    c.iterations = 10;
+    c.link_beams = 1;
+    c.min_points = 4;
+    c.link_m = 0.0f;
+    return c;
+}
+
+/* Adds beam at angle a with cells [s0, s1] at level v (0 elsewhere). */
+static void add(uint16_t a, int s0, int s1, uint8_t v)
+{
+    int i;
+    memset(beam, 0, sizeof(beam));
+    for (i = s0; i <= s1; i++)
+        beam[i] = v;
+    assert_int_equal(sonar_detector_add(&det, a, beam, N, RANGE, 1000 + a), SONAR_OK);
+}
+
+static void test_frame_vocabulary(void **state)
+{
+    double x, y;
+    (void)state;
+    assert_int_equal(sonar_frame_delta(399, 0), 1);
+    assert_int_equal(sonar_frame_delta(0, 399), -1);
+    assert_int_equal(sonar_frame_delta(0, 200), -200);
+    assert_int_equal(sonar_frame_delta(10, 30), 20);
+    assert_int_equal(sonar_frame_delta(410, 5), -5); /* inputs taken mod 400 */
+    assert_int_equal(sonar_frame_gap(399, 1), 2);
+    assert_int_equal(sonar_frame_gap(0, 200), 200);
+    assert_int_equal(sonar_frame_gap(0, 201), 199);
+    assert_true(fabs(sonar_frame_rad(100) - SONAR_PI / 2) < 1e-15);
+    assert_true(fabs(sonar_frame_deg(SONAR_PI) - 180.0) < 1e-12);
+    sonar_frame_to_xy(100, 0, 2.0, &x, &y);
+    assert_true(fabs(x) < 1e-12 && fabs(y - 2.0) < 1e-12);
+    assert_true(fabs(sonar_frame_bearing_deg(0.0, -1.0) - 270.0) < 1e-12);
+    assert_true(sonar_frame_bearing_deg(0.0, 0.0) == 0.0);
+}
+
+static void test_runs_threshold_and_polar(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    struct sonar_xy p;
+    (void)state;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    add(100, 10, 19, 50);
+    add(101, 90, 99, 17); /* a run that ends at the last sample */
+    assert_int_equal(det.nruns, 2);
+    assert_int_equal(det.runs[0].beam, 0);
+    assert_int_equal(det.runs[0].start, 10);
+    assert_int_equal(det.pts[0].w, 10);
+    assert_int_equal(det.runs[0].sum, 500);
+    assert_int_equal(det.runs[1].start, 90);
+    assert_int_equal(det.pts[1].w, 10);
+    assert_int_equal(det.threshold, 16);
+    /* The run's centre: samples 10..19 of 100 over 10 m are 1.0..2.0 m, centre 1.5 m, at 90 degrees. */
+    assert_true(abs(det.pts[0].x) <= 1);
+    assert_true(abs(det.pts[0].y - 1500) <= 1);
+    p = sonar_det_polar_mm(&det, 0, 2u * 49u + 1u); /* sample 49's centre at angle 0: 4.95 m on +x */
+    assert_int_equal(p.x, 4950);
+    assert_int_equal(p.y, 0);
+    p = sonar_det_polar_mm(&det, 300, 2u * 49u + 1u);
+    assert_true(abs(p.x) <= 1 && p.y == -4950);
+    /* Geometry must not change within a sweep; angles stay 0..399. */
+    assert_int_equal(sonar_detector_add(&det, 102, beam, N / 2, RANGE, 0), SONAR_ERR_STATE);
+    assert_int_equal(sonar_detector_add(&det, 400, beam, N, RANGE, 0), SONAR_ERR_ARG);
+}
+
+static void test_link_by_beams_and_gap(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    c.link_beams = 1;
+    c.link_m = 0.3f; /* 3 samples at 10 m / 100 */
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    add(10, 10, 14, 40);               /* run 0 */
+    add(11, 17, 20, 40);               /* run 1: 2 samples' gap from run 0: linked */
+    add(12, 40, 44, 40);               /* run 2: far in range: not linked */
+    add(13, 0, -1, 0);                 /* an empty beam: linking counts beams of the sweep, not gradians */
+    add(14, 40, 44, 40);               /* run 3: two beams after run 2 with link_beams 1: not linked */
+    add(15, 36, 41, 40);               /* run 4: overlaps run 3 in range, next beam */
+    memset(beam, 0, sizeof(beam));
+    beam[30] = beam[31] = 40;          /* run 5: 4 samples short of run 4 (gap 3): only through run 6 */
+    beam[33] = beam[34] = 40;          /* run 6: 1 sample from run 4 and from run 5 */
+    assert_int_equal(det.nruns, 5);
+    assert_int_equal(sonar_detector_add(&det, 16, beam, N, RANGE, 0), SONAR_OK);
+    sonar_det_link(&det);
+    assert_int_equal(sonar_det_find(det.runs, 1), sonar_det_find(det.runs, 0));
+    assert_int_not_equal(sonar_det_find(det.runs, 2), sonar_det_find(det.runs, 1));
+    assert_int_not_equal(sonar_det_find(det.runs, 3), sonar_det_find(det.runs, 2));
+    assert_int_equal(sonar_det_find(det.runs, 3), sonar_det_find(det.runs, 4)); /* adjacent beams, touching */
+    assert_int_equal(sonar_det_find(det.runs, 6), sonar_det_find(det.runs, 4)); /* beam 16's run 6: to beam 15's */
+    assert_int_equal(sonar_det_find(det.runs, 5), sonar_det_find(det.runs, 6)); /* run 5: to its neighbour */
+    c.link_m = 0.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    add(10, 10, 14, 40);
+    add(11, 17, 20, 40); /* no gap allowed now */
+    sonar_det_link(&det);
+    assert_int_not_equal(sonar_det_find(det.runs, 1), sonar_det_find(det.runs, 0));
+}
+
+static void test_seed_keeps_largest_groups_and_cuts_wide_ones(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    struct sonar_xy centres[SONAR_MAX_CLUSTERS];
+    uint8_t part[SONAR_MAX_CLUSTERS];
+    uint16_t groups;
+    uint8_t k;
+    int a;
+    (void)state;
+    c.max_clusters = 2;
+    c.min_points = 10;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    add(50, 10, 29, 40);  /* 20 cells */
+    add(60, 50, 55, 40);  /* 6 cells: noise */
+    add(70, 60, 89, 40);  /* 30 cells */
+    add(80, 10, 21, 40);  /* 12 cells: beyond max_clusters */
+    sonar_det_link(&det);
+    k = sonar_det_seed(&det, centres, part, &groups);
+    assert_int_equal(groups, 3);       /* groups big enough to seed */
+    assert_int_equal(k, 2);            /* the two largest */
+    assert_int_equal(det.labels[2], 0); /* the 30-cell group gets centre 0 */
+    assert_int_equal(det.labels[0], 1);
+    assert_int_equal(det.labels[1], SONAR_KMEANS_SKIP);
+    assert_int_equal(det.labels[3], SONAR_KMEANS_SKIP);
+    assert_int_equal(det.pts[3].w, 0);
+    /* A wall 100 gradians wide at 5 m is ~7.8 m across: with max_extent 2 m it gets a centre per metre. */
+    c = cfg();
+    c.max_extent_m = 2.0f;
+    c.split_points = 5;
+    c.link_beams = 1;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    for (a = 50; a < 150; a++)
+        add((uint16_t)a, 48, 52, 40);
+    sonar_det_link(&det);
+    k = sonar_det_seed(&det, centres, part, &groups);
+    assert_int_equal(groups, 1);
+    assert_true(k >= 7 && k <= SONAR_MAX_CLUSTERS);
+    for (a = 0; a < k; a++)
+        assert_int_equal(part[a], 0); /* every centre belongs to the one group */
+}
+
+static void test_emit_rules_and_detection(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    struct sonar_xy centres[SONAR_MAX_CLUSTERS], at;
+    struct sonar_detection o;
+    uint8_t part[SONAR_MAX_CLUSTERS];
+    uint16_t groups;
+    int a;
+    (void)state;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+    for (a = 0; a < 5; a++)
+        add((uint16_t)a, 40, 49, 60); /* 5 beams x 10 cells at 4..5 m around angle 2 */
+    sonar_det_link(&det);
+    assert_int_equal(sonar_det_seed(&det, centres, part, &groups), 1);
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 1);
+    assert_int_equal(o.points, 50);
+    assert_true(fabs(o.mean_intensity - 60.0f) < 1e-6);
+    assert_true(fabs(o.range_m - 4.5f) < 0.02);
+    assert_true(fabs(o.bearing_deg - 1.8f) < 0.05);
+    assert_true(o.hull_count >= 4 && o.area_m2 > 0.0f);
+    assert_true(abs(at.x - 4498) < 5);
+    /* The same cluster against each rule. */
+    det.cfg.min_range_m = 5.0f;
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    det.cfg.min_range_m = 0.0f;
+    det.cfg.min_beams = 6;
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    det.cfg.min_beams = 0;
+    det.cfg.max_extent_m = 0.5f; /* ~1.1 m along the diagonal */
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    det.cfg.max_extent_m = 0.0f;
+    det.cfg.max_aspect = 0.5f;   /* 1 m along, ~0.28 m across */
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    det.cfg.max_aspect = 0.0f;
+    det.cfg.split_points = 60;
+    assert_int_equal(sonar_det_emit(&det, 0, 1, &o, &at), 0); /* a cut piece needs split_points cells */
+    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 1); /* a whole group does not */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_frame_vocabulary),
+        cmocka_unit_test(test_runs_threshold_and_polar),
+        cmocka_unit_test(test_link_by_beams_and_gap),
+        cmocka_unit_test(test_seed_keeps_largest_groups_and_cuts_wide_ones),
+        cmocka_unit_test(test_emit_rules_and_detection),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
