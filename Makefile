@@ -33,7 +33,7 @@ UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -72,7 +72,7 @@ $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 $(BUILD)/sonard: $(BUILD)/host/sonard.o $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
 	$(CC) $(SAN) $(INPUTS) -o $@ -llcm $(LDLIBS)
 
-$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o
+$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
@@ -99,7 +99,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live soak realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -112,8 +112,7 @@ $(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
 FUZZ_SECONDS ?= 5
 FUZZ_HARNESS = ping360 csv config pvbin
 FUZZ_SAN = -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
-fuzz: $(BUILD)/tests/fuzz_parser
-	@$< $(or $(FUZZ_ROUNDS),40)
+fuzz: fuzz-random
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang OPT=-O1 SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
 	  $(FUZZ_HARNESS:%=build-fuzz/fuzz/fuzz_%)
 	@for h in $(FUZZ_HARNESS); do w=$$(mktemp -d /tmp/sonard-fuzz-$$h.XXXXXX); \
@@ -121,6 +120,10 @@ fuzz: $(BUILD)/tests/fuzz_parser
 	  build-fuzz/fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 -artifact_prefix=$$w/ $$w tests/fuzz/corpus/$$h \
 	    > $$w.log 2>&1 || { tail -40 $$w.log; echo "fuzz: $$h FAILED; the input is in $$w/"; exit 1; }; \
 	  grep -E "^#[0-9]+.*DONE|stat::number_of_executed_units|cov:" $$w.log | tail -2; rm -rf $$w $$w.log; done
+
+## fuzz-random: the parser-contract harness alone (it also runs under make asan)
+fuzz-random: $(BUILD)/tests/fuzz_parser
+	@$< $(or $(FUZZ_ROUNDS),40)
 
 $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
@@ -168,7 +171,7 @@ check-noheap: $(CORE_OBJ)
 ## asan: the unit and end-to-end tests under AddressSanitizer and UndefinedBehaviorSanitizer
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT=-O1 \
-	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz e2e live realdata
+	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" unit opencv-ref fuzz-random e2e live realdata
 
 ## soak: sonard live against a faulty sonar-feed flat out for SOAK_BEAMS beams (default 20000; a day of a Ping360 is 3000000): counters, replay equality, RSS and descriptors flat
 SOAK_BEAMS ?= 20000

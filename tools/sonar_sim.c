@@ -6,40 +6,67 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <stddef.h>
+
 #include "csv.h"
+#include "optschema.h"
 #include "scene.h"
+
+struct sim_opts {
+    const char *scene, *out, *truth;
+    long sweeps;
+    unsigned long long seed;
+};
+
+static int parse_seed(void *base, const char *v, char *err, size_t n)
+{
+    struct sim_opts *o = base;
+    char *end;
+    o->seed = strtoull(v, &end, 0);
+    if (*v == '\0' || *end != '\0') {
+        snprintf(err, n, "--seed: '%s' is not a whole number", v);
+        return HOST_ERR_CONFIG;
+    }
+    return HOST_OK;
+}
+
+#define SO(field) offsetof(struct sim_opts, field)
+static const struct opt_spec sim_spec[] = {
+    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool or open", "pool",
+     "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
+     "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps)", NULL, NULL},
+    {"out", "FILE", OPT_STR, 0, 0, SO(out), 0, 0, "file", NULL, "the study's CSV (12 m, 1200 samples, 400 beams a sweep)", NULL, NULL},
+    {"truth", "FILE", OPT_STR, 0, 0, SO(truth), 0, 0, "file", NULL, "ground-truth JSON", NULL, NULL},
+    {"sweeps", "N", OPT_LONG, 0, 0, SO(sweeps), 1, 100000, "sweeps", "the scene's", "sweeps to write", NULL, NULL},
+    {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "speckle random seed", NULL, parse_seed},
+    {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
+};
 
 int main(int argc, char **argv)
 {
-    const char *scene_name = "pool", *csv_path = NULL, *truth_path = NULL;
+    const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim"};
+    struct sim_opts o = {"pool", NULL, NULL, -1, 0};
+    const char *scene_name, *csv_path, *truth_path;
     struct scene s;
     struct scene_rng g = {0x9E3779B97F4A7C15ull};
     FILE *csv, *truth;
     uint8_t samples[1200];
     double t = 1728153122.0;
-    int i, sweep, a, sweeps = -1;
+    int sweep, a, sweeps, action;
+    char err[256];
     struct csv_meta meta;
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--scene") == 0 && i + 1 < argc)
-            scene_name = argv[++i];
-        else if (strcmp(argv[i], "--out") == 0 && i + 1 < argc)
-            csv_path = argv[++i];
-        else if (strcmp(argv[i], "--truth") == 0 && i + 1 < argc)
-            truth_path = argv[++i];
-        else if (strcmp(argv[i], "--sweeps") == 0 && i + 1 < argc)
-            sweeps = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc)
-            g.s ^= strtoull(argv[++i], NULL, 0) * 0xBF58476D1CE4E5B9ull;
-        else {
-            fprintf(stderr,
-                    "usage: %s --scene pool|open --out FILE.csv --truth FILE.json [--sweeps N] [--seed S]\n"
-                    "  pool: 20 x 12 m pool walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps)\n"
-                    "  open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps)\n"
-                    "  12 m range, 1200 samples, 400 beams per sweep; timestamps follow the Ping360 timing model\n",
-                    argv[0]);
-            return 2;
-        }
+    if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
+        if (action < 0)
+            fprintf(stderr, "sonar_sim: %s\n", err);
+        fprintf(stderr, "usage: sonar_sim --scene pool|open --out FILE.csv --truth FILE.json [--sweeps N] [--seed S]\n");
+        opt_usage(&schema, stderr);
+        return action >= 0 ? 0 : 2;
     }
+    scene_name = o.scene;
+    csv_path = o.out;
+    truth_path = o.truth;
+    sweeps = (int)o.sweeps;
+    g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
         fprintf(stderr, "sonar_sim: --scene: '%s' is not pool or open\n", scene_name);
         return 2;
