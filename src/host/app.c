@@ -7,13 +7,7 @@
 
 #include "sonar/geometry.h"
 
-static void say(const struct app *a, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
-static void say(const struct app *a, const char *fmt, ...)
+void app_say(const struct app *a, const char *fmt, ...)
 {
     va_list ap;
     if (a->log == NULL)
@@ -181,9 +175,9 @@ static int on_event(struct app *a, const struct sonar_ping360_event *ev)
 {
     switch (ev->kind) {
     case SONAR_P360_EV_READY:
-        say(a, "Ping360 firmware %u.%u.%u on %s", a->drv.info.fw_major, a->drv.info.fw_minor, a->drv.info.fw_patch,
+        app_say(a, "Ping360 firmware %u.%u.%u on %s", a->drv.info.fw_major, a->drv.info.fw_minor, a->drv.info.fw_patch,
             a->link);
-        say(a, "scanning (%s)", a->drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping");
+        app_say(a, "scanning (%s)", a->drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping");
         return APP_LINK_NONE;
     case SONAR_P360_EV_BEAM:
         device_beam(a, &ev->data);

@@ -108,6 +108,13 @@ HOST_CHECK int app_init(struct app *a, const struct sonar_pipeline_config *pcfg,
 /* Messages go to log(user, ...). */
 void app_set_log(struct app *a, app_log_fn log, void *user);
 
+/* A message for people through the app's log (nothing when it has none). */
+void app_say(const struct app *a, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
 /* Adds a sink (kept by pointer). Returns HOST_OK or SONAR_ERR_FULL. */
 HOST_CHECK int app_add_sink(struct app *a, struct app_sink *s);
 

@@ -2,26 +2,12 @@
 #include "source_link.h"
 
 #include <poll.h>
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
-static void say(const struct source_link *s, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-
-static void say(const struct source_link *s, const char *fmt, ...)
-{
-    va_list ap;
-    if (s->app == NULL || s->app->log == NULL)
-        return;
-    va_start(ap, fmt);
-    s->app->log(s->app->log_user, fmt, ap);
-    va_end(ap);
-}
+/* Messages go through the app's log; the link has none before it is bound to an app. */
+#define say(s, ...) ((s)->app != NULL ? app_say((s)->app, __VA_ARGS__) : (void)0)
 
 int source_link_parse(struct source_link *s, const char *url, long baud, char *err, size_t errlen)
 {
