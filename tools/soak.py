@@ -107,9 +107,10 @@ def main():
     check("one reconnect per disconnect (+1: the feed exits at the end)",
           st.get("reconnects") == inj.get("disconnects", -9) + 1 and inj.get("disconnects", 0) >= 1,
           f"{st.get('reconnects')} vs {inj.get('disconnects')} + 1")
-    check("every drop, corruption and stall timed out and was retried",
-          st.get("timeouts", 0) >= inj.get("dropped", 0) + inj.get("corrupted", 0) and st.get("retries") == st.get("timeouts")
-          and inj.get("stalls", 0) >= 1, f"timeouts {st.get('timeouts')}, dropped+corrupted {inj.get('dropped', 0) + inj.get('corrupted', 0)}, stalls {inj.get('stalls')}")
+    lost = inj.get("dropped", 0) + inj.get("corrupted", 0) + inj.get("stalls", 0)
+    check("each drop, corruption and stall timed out once and was retried (timeouts = their sum)",
+          st.get("timeouts") == lost and st.get("retries") == st.get("timeouts") and inj.get("stalls", 0) >= 1,
+          f"timeouts {st.get('timeouts')}; dropped {inj.get('dropped')} + corrupted {inj.get('corrupted')} + stalls {inj.get('stalls')} = {lost}")
     check("garbage runs were resynced", inj.get("garbage", 0) <= st.get("resyncs", -1), f"{st.get('resyncs')} vs {inj.get('garbage')}")
     # The recording replays to the same detections.
     with open(f"{d}/replay.jsonl", "w") as out:

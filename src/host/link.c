@@ -210,6 +210,7 @@ void link_line_break(struct link *l, int64_t now_us)
     if (l->fd < 0)
         return;
     if (l->kind == LINK_UDP) {
+        /* Best effort, here and below: a lost break or "UUU" only costs a probe timeout, which retries. */
         (void)write(l->fd, "", 0);
     } else if (l->kind == LINK_SERIAL && l->break_clear_at == INT64_MAX) {
         if (ioctl(l->fd, TIOCSBRK) == 0)
