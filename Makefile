@@ -33,7 +33,7 @@ UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -120,6 +120,10 @@ fuzz: fuzz-random
 	  build-fuzz/fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 -artifact_prefix=$$w/ $$w tests/fuzz/corpus/$$h \
 	    > $$w.log 2>&1 || { tail -40 $$w.log; echo "fuzz: $$h FAILED; the input is in $$w/"; exit 1; }; \
 	  grep -E "^#[0-9]+.*DONE|stat::number_of_executed_units|cov:" $$w.log | tail -2; rm -rf $$w $$w.log; done
+
+## fuzz-coverage: line, branch and function coverage the corpora reach (FUZZ_CORPUS=DIR, default the seeds), via llvm-cov
+fuzz-coverage:
+	@sh tools/fuzz_coverage.sh $(or $(FUZZ_CORPUS),tests/fuzz/corpus)
 
 ## fuzz-random: the parser-contract harness alone (it also runs under make asan)
 fuzz-random: $(BUILD)/tests/fuzz_parser
@@ -237,7 +241,7 @@ $(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
 
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan build-clang .venv .venv-brping
+	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev .venv .venv-brping
 
 ## help: this list
 help:
