@@ -77,7 +77,7 @@ static void test_study_forms(void **state)
 static void expect_bad(const char *want)
 {
     char err[128];
-    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), -1);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), HOST_ERR_ROW);
     if (strstr(err, want) == NULL)
         fail_msg("line %lu: got '%s', want '%s'", rd.line, err, want);
 }

@@ -20,7 +20,7 @@ int csv_open(struct csv_reader *r, const char *path)
     }
     r->f = fopen(path, "r");
     if (r->f == NULL)
-        return -1;
+        return HOST_ERR_IO;
     /* Recordings are megabytes of text: read them in large blocks. */
     setvbuf(r->f, r->iobuf, _IOFBF, sizeof(r->iobuf));
     r->owned = 1;
@@ -369,7 +369,7 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
                 ;
             r->bad++;
             snprintf(err, errlen, "line longer than %d bytes", CSV_LINE_MAX - 2);
-            return -1;
+            return HOST_ERR_ROW;
         }
         s = trim(r->buf);
         if (*s == '\0' || *s == '#')
@@ -382,7 +382,7 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
         r->seen_data = 1;
         if (parse_row(r, s, row, err, errlen) != 0) {
             r->bad++;
-            return -1;
+            return HOST_ERR_ROW;
         }
         r->good++;
         return 1;
@@ -429,5 +429,5 @@ int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t
             k += (size_t)snprintf(line + k, sizeof(line) - k, ",speed_of_sound=%.1f", meta->speed_of_sound);
     }
     line[k++] = '\n';
-    return fwrite(line, 1, k, f) == k ? 0 : -1;
+    return fwrite(line, 1, k, f) == k ? HOST_OK : HOST_ERR_IO;
 }

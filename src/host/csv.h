@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "herr.h"
 #include "sonar/config.h"
 
 #define CSV_LINE_MAX 65536
@@ -49,7 +50,7 @@ struct csv_reader {
     char iobuf[1 << 20];
 };
 
-/* Opens path ("-" = stdin). Returns 0, or -1 with errno set. */
+/* Opens path ("-" = stdin). Returns HOST_OK, or HOST_ERR_IO with errno set. */
 int csv_open(struct csv_reader *r, const char *path);
 
 /* Reads an open stream (not closed by csv_close); name is used in messages. */
@@ -57,8 +58,8 @@ void csv_open_stream(struct csv_reader *r, FILE *f, const char *name);
 void csv_close(struct csv_reader *r);
 
 /*
- * Reads the next row. Returns 1 with *row filled; 0 at end of file; -1 for a malformed row, with
- * a reason in err (the caller prints path:line: reason and goes on).
+ * Reads the next row. Returns 1 with *row filled; 0 at end of file; HOST_ERR_ROW for a
+ * malformed row, with a reason in err (the caller prints path:line: reason and goes on).
  */
 int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen);
 
@@ -72,7 +73,8 @@ struct csv_meta csv_meta_none(void);
 
 /*
  * Writes one row in the study's form (samples in one quoted field), then `key=value` metadata
- * columns, so the study's loader still finds its four columns. meta may be NULL.
+ * columns, so the study's loader still finds its four columns. meta may be NULL. Returns HOST_OK
+ * or HOST_ERR_IO.
  */
 int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t *s, uint16_t n, const struct csv_meta *meta);
 

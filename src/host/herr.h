@@ -10,7 +10,8 @@ enum host_err {
     HOST_ERR_IO = -32,      /* a file, socket or device call failed (errno kept where it says so) */
     HOST_ERR_CONFIG = -33,  /* an option or a config file is invalid; the message names it */
     HOST_ERR_PUBLISH = -34, /* a sink could not deliver a message (counted in status) */
-    HOST_ERR_CLOSED = -35   /* the peer closed the link, or the device is gone */
+    HOST_ERR_CLOSED = -35,  /* the peer closed the link, or the device is gone */
+    HOST_ERR_ROW = -36      /* a malformed input row (CSV); the message names it and the reading goes on */
 };
 
 #define HOST_CHECK SONAR_CHECK

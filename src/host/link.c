@@ -58,7 +58,7 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
             long b = strtol(colon + 1, &end, 10);
             if (*end != '\0' || speed_of(b) == 0) {
                 snprintf(err, errlen, "--sonar %s: baud '%s' is not one termios supports (9600..3000000)", url, colon + 1);
-                return -1;
+                return HOST_ERR_CONFIG;
             }
             l->baud = b;
             snprintf(l->path, sizeof(l->path), "%.*s", (int)(colon - rest), rest);
@@ -67,7 +67,7 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
         }
         if (l->path[0] == '\0') {
             snprintf(err, errlen, "--sonar %s: no device path", url);
-            return -1;
+            return HOST_ERR_CONFIG;
         }
         if (baud_opt == -1) {
             l->autobaud = 1;
@@ -75,11 +75,11 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
         } else if (baud_opt > 0) {
             if (speed_of(baud_opt) == 0) {
                 snprintf(err, errlen, "--baud %ld: not a rate termios supports", baud_opt);
-                return -1;
+                return HOST_ERR_CONFIG;
             }
             l->baud = baud_opt;
         }
-        return 0;
+        return HOST_OK;
     }
     if (strncmp(url, "udp:", 4) == 0 || strncmp(url, "tcp:", 4) == 0) {
         const char *colon;
@@ -89,14 +89,14 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
         if (colon == NULL || colon == rest || colon[1] == '\0' || strlen(colon + 1) >= sizeof(l->port) ||
             strspn(colon + 1, "0123456789") != strlen(colon + 1) || atoi(colon + 1) < 1 || atoi(colon + 1) > 65535) {
             snprintf(err, errlen, "--sonar %s: expected %s:HOST:PORT with a port 1..65535", url, l->kind == LINK_UDP ? "udp" : "tcp");
-            return -1;
+            return HOST_ERR_CONFIG;
         }
         snprintf(l->host, sizeof(l->host), "%.*s", (int)(colon - rest), rest);
         snprintf(l->port, sizeof(l->port), "%s", colon + 1);
-        return 0;
+        return HOST_OK;
     }
     snprintf(err, errlen, "--sonar %s: not serial:, udp: or tcp:", url);
-    return -1;
+    return HOST_ERR_CONFIG;
 }
 
 static int open_serial(struct link *l, char *err, size_t errlen)
@@ -176,33 +176,33 @@ int link_finish_connect(struct link *l, char *err, size_t errlen)
     socklen_t len = sizeof(e);
     if (getsockopt(l->fd, SOL_SOCKET, SO_ERROR, &e, &len) != 0 || e != 0) {
         snprintf(err, errlen, "%s:%s: %s", l->host, l->port, strerror(e ? e : errno));
-        return -1;
+        return HOST_ERR_IO;
     }
     l->connecting = 0;
-    return 0;
+    return HOST_OK;
 }
 
 ssize_t link_read(struct link *l, uint8_t *buf, size_t cap)
 {
     ssize_t n;
     if (l->fd < 0)
-        return -1;
+        return HOST_ERR_CLOSED;
     n = read(l->fd, buf, cap);
     if (n > 0)
         return n;
     if (n == 0) /* TCP: closed. Serial with VMIN = 0: just nothing yet (a hang-up shows as POLLHUP or EIO). */
-        return l->kind == LINK_TCP ? -1 : 0;
-    return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : -1;
+        return l->kind == LINK_TCP ? HOST_ERR_CLOSED : 0;
+    return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : HOST_ERR_CLOSED;
 }
 
 int link_write(struct link *l, const uint8_t *buf, size_t n)
 {
     ssize_t w;
     if (l->fd < 0 || l->connecting)
-        return -1;
+        return HOST_ERR_IO;
     w = write(l->fd, buf, n);
     /* A full kernel buffer for a 24-byte request means the link is stuck: the timeout will retry. */
-    return w == (ssize_t)n ? 0 : -1;
+    return w == (ssize_t)n ? HOST_OK : HOST_ERR_IO;
 }
 
 void link_line_break(struct link *l, int64_t now_us)
@@ -237,7 +237,7 @@ int64_t link_timers(struct link *l, int64_t now_us)
 int link_next_baud(struct link *l)
 {
     if (!l->autobaud)
-        return -1;
+        return SONAR_ERR_RANGE;
     l->baud_index = (l->baud_index + 1) % NRATES;
     l->baud = rates[l->baud_index];
     return l->baud_index == 0 ? -1 : 0;

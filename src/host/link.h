@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <sys/types.h>
 
+#include "herr.h"
+
 enum link_kind { LINK_SERIAL = 0, LINK_UDP = 1, LINK_TCP = 2 };
 
 struct link {
@@ -24,21 +26,21 @@ struct link {
 
 /*
  * Parses serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT. baud_opt: > 0 overrides the URL's,
- * -1 means auto. Returns 0, or -1 with a message naming the URL part in err.
+ * -1 means auto. Returns HOST_OK, or HOST_ERR_CONFIG with a message naming the URL part in err.
  */
-int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t errlen);
+HOST_CHECK int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t errlen);
 
-/* Opens (TCP: starts connecting). Returns 0, or -1 with err set (errno kept). */
-int link_open(struct link *l, int64_t now_us, char *err, size_t errlen);
+/* Opens (TCP: starts connecting). Returns HOST_OK, or HOST_ERR_IO with err set (errno kept). */
+HOST_CHECK int link_open(struct link *l, int64_t now_us, char *err, size_t errlen);
 
-/* TCP: after POLLOUT, 0 if connected, -1 (err set) if the connect failed. */
-int link_finish_connect(struct link *l, char *err, size_t errlen);
+/* TCP: after POLLOUT, HOST_OK if connected, HOST_ERR_IO (err set) if the connect failed. */
+HOST_CHECK int link_finish_connect(struct link *l, char *err, size_t errlen);
 
-/* Reads what is there: > 0 bytes, 0 nothing now, -1 the link is gone (closed, unplugged, refused). */
+/* Reads what is there: > 0 bytes, 0 nothing now, HOST_ERR_CLOSED the link is gone (closed, unplugged, refused). */
 ssize_t link_read(struct link *l, uint8_t *buf, size_t cap);
 
-/* Writes a whole request (small: <= 40 bytes). Returns 0 or -1. */
-int link_write(struct link *l, const uint8_t *buf, size_t n);
+/* Writes a whole request (small: <= 40 bytes). Returns HOST_OK or HOST_ERR_IO. */
+HOST_CHECK int link_write(struct link *l, const uint8_t *buf, size_t n);
 
 /*
  * Serial: starts a 50 ms line break, then "UUU" (the device's baud detection) without blocking;
@@ -49,8 +51,8 @@ void link_line_break(struct link *l, int64_t now_us);
 /* Runs the line-break timers. Returns the next time it needs a call, or INT64_MAX. */
 int64_t link_timers(struct link *l, int64_t now_us);
 
-/* Serial auto-baud: moves to the next rate. Returns 0, or -1 when every rate was tried (it wraps). */
-int link_next_baud(struct link *l);
+/* Serial auto-baud: moves to the next rate. Returns HOST_OK, or SONAR_ERR_RANGE when every rate was tried (it wraps). */
+HOST_CHECK int link_next_baud(struct link *l);
 
 void link_close(struct link *l);
 

@@ -13,6 +13,7 @@ const char *host_err_str(int err)
     case HOST_ERR_CONFIG: return "bad configuration";
     case HOST_ERR_PUBLISH: return "could not publish";
     case HOST_ERR_CLOSED: return "link closed";
+    case HOST_ERR_ROW: return "malformed row";
     default: return sonar_err_str(err);
     }
 }
