@@ -6,6 +6,8 @@ OPT      ?= -O2
 SAN      ?=
 ARM_CC   ?= arm-none-eabi-gcc
 ARM_SIZE ?= arm-none-eabi-size
+ARM_NM   ?= arm-none-eabi-nm
+ARM_OBJCOPY ?= arm-none-eabi-objcopy
 
 # The core gets the strict set; host code and tests compile with the same warnings plus POSIX.
 WARN      = -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror -Wcast-qual -Wstrict-prototypes \
@@ -23,17 +25,18 @@ CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
             src/host/pvbin.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
-LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o
+LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
+            $(BUILD)/host/source_coproc.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 geometry median background sweep kmeans hull detector detector_stages pipeline csv options
+UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages pipeline csv options
 UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -64,7 +67,15 @@ $(BUILD)/lcm/c/%.o: $(BUILD)/lcm/.stamp
 
 $(BUILD)/host/sinks.o: src/host/sinks.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -c $< -o $@
+	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
+
+$(BUILD)/host/source_coproc.o: src/host/source_coproc.c $(BUILD)/lcm/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
+
+$(BUILD)/msg/msg.o: src/msg/msg.c $(BUILD)/lcm/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 
 $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 	$(AR) rcs $@ $^
@@ -99,7 +110,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live soak realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live soak mcu-test realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -212,6 +223,37 @@ venv: .venv/.done
 ARM_M7  = -mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard
 ARM_M4F = -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 ARM_CFLAGS = $(WARN) -Os -ffunction-sections -fdata-sections -Iinclude
+
+# The co-processor firmware for QEMU's mps2-an500 (Cortex-M7): the core, the board, the LCM encoders.
+MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c src/msg/msg.c $(CORE_SRC)
+MCU_LCM   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.c)
+MCU_FLAGS = $(ARM_M7) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
+
+## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), then check that the linked image has no heap
+firmware: $(BUILD)/mcu/sonard-an500.bin
+	@if $(ARM_NM) $(BUILD)/mcu/sonard-an500.elf | grep -wE '_?(malloc|calloc|realloc|free|_malloc_r|_sbrk)$$'; then \
+	  echo "firmware: FAILED: the linked image references the heap"; exit 1; \
+	else echo "firmware: $(BUILD)/mcu/sonard-an500.elf links no malloc, calloc, realloc, free or _sbrk"; fi
+	@$(ARM_SIZE) $(BUILD)/mcu/sonard-an500.elf
+
+$(BUILD)/mcu/inc/lcm/lcm_coretypes.h: /usr/include/lcm/lcm_coretypes.h
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+$(BUILD)/mcu/sonard-an500.elf: $(MCU_SRC) src/mcu/an500.ld src/mcu/board.h $(BUILD)/lcm/.stamp $(BUILD)/mcu/inc/lcm/lcm_coretypes.h
+	@mkdir -p $(dir $@)
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -c src/mcu/main.c -o $(BUILD)/mcu/main.o
+	$(ARM_CC) $(MCU_FLAGS) -std=c99 -w -c $(MCU_LCM) && mv $(LCM_NAMES:%=%.o) $(BUILD)/mcu/
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections \
+	  -Wl,-Map=$(BUILD)/mcu/sonard-an500.map $(filter-out src/mcu/main.c,$(MCU_SRC)) $(BUILD)/mcu/main.o \
+	  $(LCM_NAMES:%=$(BUILD)/mcu/%.o) -lm -o $@
+
+$(BUILD)/mcu/sonard-an500.bin: $(BUILD)/mcu/sonard-an500.elf
+	$(ARM_OBJCOPY) -O binary $< $@
+
+## mcu-test: the firmware in QEMU (mps2-an500) between sonar-feed (UART0) and sonard --coprocessor (UART1): detections equal --replay, a faulty sonar recovered
+mcu-test: all firmware
+	@sh tests/mcu.sh $(BUILD)
 
 ## cross: build the core with arm-none-eabi-gcc for Cortex-M7 and Cortex-M4F (-Os)
 cross:

@@ -195,7 +195,7 @@ static void test_whole_config_checks_name_the_field(void **state)
     {
         const char *argv[] = {"sonard", "--replay", "x", "--sonar", "tcp:127.0.0.1:1"};
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
-        assert_non_null(strstr(err, "give either --sonar URL"));
+        assert_non_null(strstr(err, "give one of --sonar URL"));
     }
     {
         const char *argv[] = {"sonard", "--replay", "x", "--background", "range"};

@@ -1,7 +1,7 @@
 #!/bin/sh
 # deps.sh -- installs the Debian packages sonard's build, tests and tools need, only those missing; idempotent.
 set -eu
-pkgs="make gcc g++ clang libclang-rt-14-dev pkg-config binutils libcmocka-dev libopencv-dev gcc-arm-none-eabi libnewlib-arm-none-eabi python3 python3-venv liblcm-dev liblcm-bin"
+pkgs="make gcc g++ clang libclang-rt-14-dev pkg-config binutils libcmocka-dev libopencv-dev gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm python3 python3-venv liblcm-dev liblcm-bin"
 [ "$#" -gt 0 ] && pkgs="$*"
 missing=""
 for p in $pkgs; do

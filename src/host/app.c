@@ -147,6 +147,32 @@ int app_push(struct app *a, const struct app_beam *b)
     return HOST_OK;
 }
 
+void app_detections(struct app *a, const struct sonar_detections *d)
+{
+    if (!a->sweeps_done)
+        on_sweep(a, d);
+}
+
+void app_forward(struct app *a, const struct app_beam *b)
+{
+    if (!a->sweeps_done)
+        sinks_beam(a, b);
+}
+
+void app_emit_status(struct app *a, const struct app_status *s)
+{
+    unsigned i;
+    for (i = 0; i < a->nsinks; i++) {
+        struct app_sink *k = a->sinks[i];
+        if (k->status == NULL)
+            continue;
+        if (k->status(k->self, s) < 0)
+            k->errors++;
+        else
+            k->n_statuses++;
+    }
+}
+
 int app_finish(struct app *a)
 {
     return sonar_pipeline_finish(&a->pipe);
@@ -269,7 +295,7 @@ unsigned long app_sink_errors(const struct app *a)
 
 void app_status(struct app *a, int link_state, struct app_status *s)
 {
-    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING), i;
+    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
     memcpy(a->sorted, a->proc_us, n * sizeof(float));
     qsort(a->sorted, n, sizeof(float), cmpf);
     memset(s, 0, sizeof(*s));
@@ -288,15 +314,7 @@ void app_status(struct app *a, int link_state, struct app_status *s)
     s->last_sweep_s = a->last_sweep_s;
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
-    for (i = 0; i < a->nsinks; i++) {
-        struct app_sink *k = a->sinks[i];
-        if (k->status == NULL)
-            continue;
-        if (k->status(k->self, s) < 0)
-            k->errors++;
-        else
-            k->n_statuses++;
-    }
+    app_emit_status(a, s);
 }
 
 int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen)

@@ -44,6 +44,7 @@ struct app_status {
     uint32_t sink_errors;                  /* sink calls that failed, all sinks */
     float last_sweep_s;                    /* seconds the last sweep took */
     float beam_us_p50, beam_us_p99;        /* per-beam processing time */
+    uint32_t stack_used;                   /* co-processor: stack high-water mark, bytes; 0 on the host */
 };
 
 /* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */
@@ -124,6 +125,15 @@ HOST_CHECK int app_add_sink(struct app *a, struct app_sink *s);
  * Returns HOST_OK, or SONAR_ERR_ARG when the pipeline refused it (counted; the sinks had it).
  */
 HOST_CHECK int app_push(struct app *a, const struct app_beam *b);
+
+/*
+ * A source that detects elsewhere (the co-processor) hands over what it got: a sweep's detections
+ * (to every sink, counted as a sweep, --sweeps honoured), a raw beam (to the sinks only, not the
+ * pipeline), a status (to every sink as it is).
+ */
+void app_detections(struct app *a, const struct sonar_detections *d);
+void app_forward(struct app *a, const struct app_beam *b);
+void app_emit_status(struct app *a, const struct app_status *s);
 
 /* Ends the open sweep (end of a recording, shutdown). Returns HOST_OK or a core error. */
 HOST_CHECK int app_finish(struct app *a);

@@ -18,7 +18,7 @@ static int64_t now_us(const struct app *a)
     return a->clock.mono_ns(a->clock.user) / 1000;
 }
 
-int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void *reload_user)
+int live_run(struct app *a, const struct live_source *src, live_reload_fn reload, void *reload_user)
 {
     struct app_status st;
     sigset_t mask;
@@ -36,7 +36,7 @@ int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void
         return HOST_ERR_IO;
     }
     next_status = now_us(a) + STATUS_US;
-    source_link_start(src, a, now_us(a));
+    src->start(src->self, a, now_us(a));
     for (;;) {
         struct pollfd pfd[2];
         int64_t now = now_us(a), wake;
@@ -45,11 +45,11 @@ int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void
         if (!stop && a->sweeps_done) {
             stop = 1;
             stop_deadline = now + STOP_GRACE_US;
-            source_link_stop(src, now);
+            src->stop(src->self, now);
         }
-        if (stop && (source_link_stopped(src) || now >= stop_deadline))
+        if (stop && (src->stopped(src->self) || now >= stop_deadline))
             break;
-        wake = source_link_timers(src, now);
+        wake = src->timers(src->self, now);
         if (next_status < wake)
             wake = next_status;
         if (stop_deadline < wake)
@@ -59,7 +59,7 @@ int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void
         pfd[0].fd = sigfd;
         pfd[0].events = POLLIN;
         pfd[0].revents = 0;
-        if ((pfd[1].fd = source_link_fd(src, &events)) >= 0) {
+        if ((pfd[1].fd = src->fd(src->self, &events)) >= 0) {
             pfd[1].events = events;
             pfd[1].revents = 0;
             np = 2;
@@ -76,22 +76,24 @@ int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void
                 } else if (!stop) {
                     stop = interrupted = 1;
                     stop_deadline = now + STOP_GRACE_US;
-                    source_link_stop(src, now);
+                    src->stop(src->self, now);
                 }
             }
         }
         if (np == 2 && pfd[1].revents != 0)
-            source_link_ready(src, pfd[1].revents, now);
+            src->ready(src->self, pfd[1].revents, now);
         if (now >= next_status) {
-            app_status(a, source_link_state(src), &st);
+            if (!src->own_status)
+                app_status(a, src->state(src->self), &st);
             next_status = now + STATUS_US;
         }
     }
     /* An interrupted sweep is still worth publishing; a --sweeps run already has all it asked for. */
     if (interrupted && app_finish(a) != SONAR_OK)
         fprintf(stderr, "sonard: finishing the last sweep failed\n");
-    app_status(a, source_link_state(src), &st);
-    source_link_close(src);
+    if (!src->own_status)
+        app_status(a, src->state(src->self), &st);
+    src->close(src->self);
     close(sigfd);
     return HOST_OK;
 }

@@ -3,15 +3,28 @@
 #define SONARD_LIVE_H
 
 #include "app.h"
-#include "source_link.h"
 
 /* Called on SIGHUP; returns HOST_OK or an error it has already reported (the running settings stay). */
 typedef int (*live_reload_fn)(void *user);
 
+/* A live source as the loop sees it: a descriptor, its events, timers, a stop. */
+struct live_source {
+    void *self;
+    void (*start)(void *self, struct app *a, int64_t now_us);
+    int (*fd)(const void *self, short *events);          /* -1 when closed */
+    void (*ready)(void *self, short revents, int64_t now_us);
+    int64_t (*timers)(void *self, int64_t now_us);       /* returns when to call it next */
+    void (*stop)(void *self, int64_t now_us);
+    int (*stopped)(const void *self);
+    int (*state)(const void *self);                      /* enum sonar_ping360_state for status */
+    void (*close)(void *self);
+    int own_status;                                      /* the source sends status itself (co-processor) */
+};
+
 /*
- * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the head
+ * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the source
  * (motor_off, at most 1.5 s) and sends a last status. Returns HOST_OK or HOST_ERR_IO (signalfd).
  */
-HOST_CHECK int live_run(struct app *a, struct source_link *src, live_reload_fn reload, void *reload_user);
+HOST_CHECK int live_run(struct app *a, const struct live_source *src, live_reload_fn reload, void *reload_user);
 
 #endif

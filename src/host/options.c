@@ -23,6 +23,17 @@ static int parse_sonar(void *base, const char *v, char *err, size_t n)
     return HOST_OK;
 }
 
+static int parse_coprocessor(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    if (strncmp(v, "serial:", 7) != 0 && strncmp(v, "udp:", 4) != 0 && strncmp(v, "tcp:", 4) != 0) {
+        snprintf(err, n, "--coprocessor: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->coprocessor = v;
+    return HOST_OK;
+}
+
 static int parse_baud(void *base, const char *v, char *err, size_t n)
 {
     struct sonard_options *o = base;
@@ -113,6 +124,11 @@ static const struct opt_spec spec[] = {
      "record beams in the study's CSV plus metadata columns (live: raw;\nreplay: the --stage)", NULL, NULL},
     {"config", "FILE", OPT_ACTION, 0, 0, 0, 0, 0, "file", NULL,
      "key = value lines, keys as the long options; several apply in order,\nflags override them; re-read on SIGHUP", NULL, NULL},
+    SECTION("co-processor (docs/coprocessor.md)"),
+    {"coprocessor", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
+     "the co-processor's host link: push these options to its firmware,\nrepublish its detections and status", NULL, parse_coprocessor},
+    {"coprocessor-beams", "N", OPT_LONG, 1, 0, F(coproc_beams), 0, 1000, "beams (0 = none)", "0",
+     "ask the firmware for every Nth raw beam (SONAR_BEAM, --csv-out)", NULL, NULL},
     SECTION("replay"),
     {"replay", "FILE", OPT_STR, 0, 0, F(replay), 0, 0, "file, - for stdin", NULL,
      "process a recording in the study's CSV form instead of a live sonar", NULL, NULL},
@@ -192,7 +208,8 @@ static void defaults(struct sonard_options *o)
 
 static void usage(void)
 {
-    printf("usage: sonard --sonar URL [options]      live: drive a Ping360, publish over LCM\n"
+    printf("usage: sonard --sonar URL [options]       live: drive a Ping360, publish over LCM\n"
+           "       sonard --coprocessor URL [options] the same, detected on the co-processor\n"
            "       sonard --replay FILE.csv [options] offline: a recording in the study's CSV form\n\n");
     opt_usage(&schema, stdout);
 }
@@ -205,8 +222,8 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
     if (!(o->given & ((uint64_t)1 << bgw)))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
-    if ((o->replay == NULL) == (o->sonar == NULL)) {
-        snprintf(err, errlen, "give either --sonar URL (live) or --replay FILE.csv (see --help)");
+    if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1) {
+        snprintf(err, errlen, "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");
         return HOST_ERR_CONFIG;
     }
     if (o->device.use_auto && o->device.step > 10) {
@@ -216,7 +233,7 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     o->device.range_m = (float)(o->range_m > 0 ? o->range_m : 2.0);
     o->device.speed_of_sound = (float)o->speed_of_sound;
     if ((why = sonar_pipeline_config_check(&o->pipeline)) != NULL ||
-        (o->sonar != NULL && (why = sonar_ping360_config_check(&o->device)) != NULL)) {
+        (o->replay == NULL && (why = sonar_ping360_config_check(&o->device)) != NULL)) {
         snprintf(err, errlen, "configuration: %s", why);
         return HOST_ERR_CONFIG;
     }

@@ -15,6 +15,8 @@
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
     const char *sonar;          /* live: serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT */
+    const char *coprocessor;    /* the firmware's host link, same URL forms */
+    long coproc_beams;          /* ask the firmware for every Nth raw beam; 0 = none */
     const char *csv_out;        /* export / recording file */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "csv.h"
+#include "msg.h"
 #include "report.h"
 #include "sonar_beam_t.h"
 #include "sonar_detections_t.h"
@@ -41,25 +42,7 @@ static int lcm_detections(void *self, const struct sonar_detections *d)
     struct sink_lcm *s = self;
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
     sonar_detections_t m;
-    unsigned i;
-    for (i = 0; i < d->count; i++) {
-        const struct sonar_detection *o = &d->det[i];
-        det[i].x_m = o->x_m;
-        det[i].y_m = o->y_m;
-        det[i].range_m = o->range_m;
-        det[i].bearing_deg = o->bearing_deg;
-        det[i].area_m2 = o->area_m2;
-        det[i].points = (int32_t)o->points;
-        det[i].mean_intensity = o->mean_intensity;
-        det[i].hull_count = o->hull_count;
-        det[i].hull_x = (float *)(uintptr_t)o->hull_x;
-        det[i].hull_y = (float *)(uintptr_t)o->hull_y;
-    }
-    m.utime = d->utime;
-    m.sweep = (int32_t)d->sweep;
-    m.beams = (int16_t)d->beams;
-    m.count = d->count;
-    m.detections = det;
+    msg_detections(d, det, &m);
     return lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 
@@ -91,6 +74,7 @@ static int lcm_status(void *self, const struct app_status *st)
     m.last_sweep_s = st->last_sweep_s;
     m.beam_us_p50 = st->beam_us_p50;
     m.beam_us_p99 = st->beam_us_p99;
+    m.stack_used = (int32_t)st->stack_used;
     return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 

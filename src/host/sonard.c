@@ -10,6 +10,7 @@
 #include "live.h"
 #include "options.h"
 #include "sinks.h"
+#include "source_coproc.h"
 #include "source_link.h"
 #include "source_replay.h"
 
@@ -23,6 +24,7 @@ struct sonard {
     struct sink_csv csv;
     struct sink_report report;
     struct source_link link;
+    struct source_coproc coproc;
     struct source_replay replay;
     FILE *csv_out;
     int have_lcm;
@@ -80,7 +82,7 @@ static int reload(void *user)
 static int open_sinks(struct sonard *s, char *err, size_t errlen)
 {
     const struct sonard_options *o = &s->opt;
-    int live = o->sonar != NULL, r;
+    int live = o->replay == NULL, r;
     if (live && !o->no_lcm) {
         if ((r = sink_lcm_open(&s->lcm, o->lcm_url, o->channel_prefix, o->publish_filtered, err, errlen)) != HOST_OK)
             return r;
@@ -129,7 +131,9 @@ static void sink_summary(const struct app *a)
 static int run_live(struct sonard *s)
 {
     struct app_status st;
-    if (live_run(&s->app, &s->link, reload, s) != HOST_OK)
+    struct live_source ls;
+    source_link_live(&s->link, &ls);
+    if (live_run(&s->app, &ls, reload, s) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
@@ -137,6 +141,22 @@ static int run_live(struct sonard *s)
         sink_summary(&s->app);
     }
     return 0;
+}
+
+static int run_coproc(struct sonard *s)
+{
+    struct live_source ls;
+    source_coproc_live(&s->coproc, &ls);
+    if (live_run(&s->app, &ls, NULL, NULL) != HOST_OK)
+        return 2;
+    if (!s->opt.quiet) {
+        fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
+                        " before_config %u\n",
+                s->coproc.parser.counters.frames, s->coproc.parser.counters.crc_errors, s->coproc.parser.counters.oversize,
+                s->coproc.parser.counters.bytes_dropped, s->coproc.decode_errors, s->coproc.dropped_before_config);
+        sink_summary(&s->app);
+    }
+    return s->coproc.refused ? 2 : 0;
 }
 
 static int run_replay(struct sonard *s)
@@ -182,6 +202,11 @@ int main(int argc, char **argv)
         io.send = source_link_send;
         io.line_break = source_link_break;
         io.user = &s.link;
+    } else if (s.opt.coprocessor != NULL) {
+        if (source_coproc_parse(&s.coproc, s.opt.coprocessor, &s.opt, err, sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
+        }
     } else if (source_replay_open(&s.replay, s.opt.replay, s.opt.range_m, s.opt.speed_of_sound, err, sizeof(err)) !=
                HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
@@ -196,7 +221,7 @@ int main(int argc, char **argv)
     app_set_log(&s.app, log_stderr, &s);
     if (s.opt.replay != NULL)
         s.app.link = s.opt.replay;
-    rc = s.opt.sonar != NULL ? run_live(&s) : run_replay(&s);
+    rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);
     if (s.csv_out != NULL && fclose(s.csv_out) != 0)
         s.csv.sink.errors++;
     if (s.csv.sink.errors)

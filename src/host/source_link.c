@@ -186,3 +186,26 @@ void source_link_close(struct source_link *s)
 {
     link_close(&s->link);
 }
+
+static void v_start(void *s, struct app *a, int64_t now) { source_link_start(s, a, now); }
+static int v_fd(const void *s, short *ev) { return source_link_fd(s, ev); }
+static void v_ready(void *s, short rev, int64_t now) { source_link_ready(s, rev, now); }
+static int64_t v_timers(void *s, int64_t now) { return source_link_timers(s, now); }
+static void v_stop(void *s, int64_t now) { source_link_stop(s, now); }
+static int v_stopped(const void *s) { return source_link_stopped(s); }
+static int v_state(const void *s) { return source_link_state(s); }
+static void v_close(void *s) { source_link_close(s); }
+
+void source_link_live(struct source_link *s, struct live_source *out)
+{
+    out->self = s;
+    out->start = v_start;
+    out->fd = v_fd;
+    out->ready = v_ready;
+    out->timers = v_timers;
+    out->stop = v_stop;
+    out->stopped = v_stopped;
+    out->state = v_state;
+    out->close = v_close;
+    out->own_status = 0;
+}

@@ -4,6 +4,7 @@
 
 #include "app.h"
 #include "link.h"
+#include "live.h"
 
 #define SOURCE_LINK_RETRY_US 1000000 /* after an open that failed */
 #define SOURCE_LINK_READS 16         /* reads per wake: a fast device cannot starve the loop */
@@ -49,5 +50,8 @@ int source_link_stopped(const struct source_link *s);
 int source_link_state(const struct source_link *s);
 
 void source_link_close(struct source_link *s);
+
+/* The live loop's view of it. */
+void source_link_live(struct source_link *s, struct live_source *out);
 
 #endif

@@ -1,0 +1,38 @@
+/* source_coproc.h -- the co-processor source: frames from the firmware on a serial, TCP or UDP link, CRC-checked, decoded and republished through the app's sinks; the options are pushed to it as a sonar.config_t; ~4.2 KB (one frame) plus the link. */
+#ifndef SONARD_SOURCE_COPROC_H
+#define SONARD_SOURCE_COPROC_H
+
+#include "app.h"
+#include "link.h"
+#include "live.h"
+#include "options.h"
+#include "sonar/cpframe.h"
+
+#define COPROC_CONFIG_RETRY_US 2000000 /* no reply: send the configuration again */
+
+struct source_coproc {
+    struct link link;
+    struct app *app;
+    struct sonar_cpf_parser parser;
+    uint8_t config[512];    /* the encoded configuration frame */
+    int config_len;
+    int configured;         /* the firmware answered "ok": its detections count from now on */
+    int refused;            /* it answered "error: ...": sonard stops, exit 2 */
+    int stopping, stopped;
+    int64_t reconnect_at, config_at;
+    uint32_t dropped_before_config, decode_errors;
+    char desc[160];
+    char why[256];          /* the refusal */
+};
+
+/*
+ * url as for --sonar; the configuration frame is built from o (acquisition, filters, detector,
+ * --coprocessor-beams). Returns HOST_OK or HOST_ERR_CONFIG with err naming what is wrong.
+ */
+HOST_CHECK int source_coproc_parse(struct source_coproc *s, const char *url, const struct sonard_options *o, char *err,
+                                   size_t errlen);
+
+/* The live loop's view of it (the firmware's status frames are republished as SONAR_STATUS). */
+void source_coproc_live(struct source_coproc *s, struct live_source *out);
+
+#endif

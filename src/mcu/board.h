@@ -1,0 +1,38 @@
+/* board.h -- what the co-processor firmware needs of a board: two non-blocking UARTs, a microsecond clock, an idle wait, a debug line; one implementation per board (board_an500.c). */
+#ifndef SONAR_MCU_BOARD_H
+#define SONAR_MCU_BOARD_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define BOARD_UART_SONAR 0 /* Ping Protocol to the Ping360 */
+#define BOARD_UART_HOST 1  /* co-processor frames to the onboard computer */
+
+/* Clocks, UARTs (115200 8N1, receive by interrupt into a ring), the 1 kHz tick. */
+void board_init(void);
+
+/* Bytes received on uart (0 or 1) since the last call, at most cap; never blocks. */
+size_t board_uart_read(int uart, uint8_t *buf, size_t cap);
+
+/* Queues n bytes for uart; returns how many fit (the rest is the caller's to retry); never blocks. */
+size_t board_uart_write(int uart, const uint8_t *buf, size_t n);
+
+/* Moves queued bytes into the UARTs' transmitters; call it from the main loop. */
+void board_uart_pump(void);
+
+/* Bytes that board_uart_write can take now for uart. */
+size_t board_uart_room(int uart);
+
+/* Microseconds since boot, monotonic. */
+int64_t board_micros(void);
+
+/* Sleeps until the next interrupt (a byte, or the 1 ms tick). */
+void board_idle(void);
+
+/* Stack high-water mark in bytes: the painted words overwritten since reset (startup.c paints them). */
+uint32_t board_stack_used(void);
+
+/* Receive overruns counted by the UART hardware (bytes lost), per uart. */
+uint32_t board_uart_overruns(int uart);
+
+#endif

@@ -1,0 +1,59 @@
+/* msg.c -- struct sonar_detections <-> sonar_detections_t, field by field; O(detections x hull) per call, no heap. */
+#include "msg.h"
+
+#include <string.h>
+
+void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, sonar_detections_t *m)
+{
+    unsigned i;
+    for (i = 0; i < d->count; i++) {
+        const struct sonar_detection *o = &d->det[i];
+        det[i].x_m = o->x_m;
+        det[i].y_m = o->y_m;
+        det[i].range_m = o->range_m;
+        det[i].bearing_deg = o->bearing_deg;
+        det[i].area_m2 = o->area_m2;
+        det[i].points = (int32_t)o->points;
+        det[i].mean_intensity = o->mean_intensity;
+        det[i].hull_count = o->hull_count;
+        det[i].hull_x = (float *)(uintptr_t)o->hull_x; /* encode only reads them */
+        det[i].hull_y = (float *)(uintptr_t)o->hull_y;
+    }
+    m->utime = d->utime;
+    m->sweep = (int32_t)d->sweep;
+    m->beams = (int16_t)d->beams;
+    m->threshold = d->threshold;
+    m->runs = (int16_t)d->runs;
+    m->groups = (int16_t)d->groups;
+    m->count = d->count;
+    m->detections = det;
+}
+
+void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
+{
+    int i, v;
+    memset(d, 0, sizeof(*d));
+    d->utime = m->utime;
+    d->sweep = (uint32_t)m->sweep;
+    d->beams = (uint16_t)m->beams;
+    d->threshold = (uint8_t)(m->threshold < 0 ? 0 : m->threshold > 255 ? 255 : m->threshold);
+    d->runs = (uint16_t)(m->runs < 0 ? 0 : m->runs);
+    d->groups = (uint16_t)(m->groups < 0 ? 0 : m->groups);
+    d->count = (uint8_t)(m->count < 0 ? 0 : m->count > SONAR_MAX_CLUSTERS ? SONAR_MAX_CLUSTERS : m->count);
+    for (i = 0; i < d->count; i++) {
+        const sonar_detection_t *o = &m->detections[i];
+        struct sonar_detection *t = &d->det[i];
+        t->x_m = o->x_m;
+        t->y_m = o->y_m;
+        t->range_m = o->range_m;
+        t->bearing_deg = o->bearing_deg;
+        t->area_m2 = o->area_m2;
+        t->points = o->points < 0 ? 0u : (uint32_t)o->points;
+        t->mean_intensity = o->mean_intensity;
+        t->hull_count = (uint8_t)(o->hull_count < 0 ? 0 : o->hull_count > SONAR_MAX_HULL ? SONAR_MAX_HULL : o->hull_count);
+        for (v = 0; v < t->hull_count; v++) {
+            t->hull_x[v] = o->hull_x[v];
+            t->hull_y[v] = o->hull_y[v];
+        }
+    }
+}

@@ -1,0 +1,14 @@
+/* msg.h -- core structs to LCM messages, once, for the host's LCM sink and the co-processor firmware; no heap (the messages point into the caller's structs). */
+#ifndef SONAR_MSG_H
+#define SONAR_MSG_H
+
+#include "sonar/detector.h"
+#include "sonar_detections_t.h"
+
+/* Fills *m from d; det (SONAR_MAX_CLUSTERS entries) holds the detections, whose hulls point into d. */
+void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, sonar_detections_t *m);
+
+/* The reverse, for a host republishing a co-processor's detections; counts beyond the limits are cut. */
+void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d);
+
+#endif

@@ -1,0 +1,96 @@
+#!/bin/sh
+# mcu.sh -- the co-processor firmware in QEMU (mps2-an500): sonar-feed serves a scene over TCP to UART0, UART1 goes to
+# sonard --coprocessor; detections must equal --replay of the beams the firmware forwarded. Then a faulty sonar.
+# Loopback only, every run bounded in time. Usage: sh tests/mcu.sh BUILD_DIR. Ends with "N passed, N failed".
+set -u
+B=${1:-build}
+T=$(mktemp -d /tmp/sonard-mcu.XXXXXX)
+PORT=$(( 21000 + ($$ % 19000) ))
+PIDS=""
+trap 'for p in $PIDS; do kill $p 2>/dev/null; done; rm -rf "$T"' EXIT
+. "$(dirname "$0")/lib.sh"
+ELF="$B/mcu/sonard-an500.elf"
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+    echo "mcu: SKIPPED: qemu-system-arm is not installed (make deps installs it)"
+    echo "mcu: 0 passed, 0 failed, 1 skipped"
+    exit 0
+fi
+types="$B/lcm/python"
+# The options both the firmware (pushed to it) and the replay use. A sector and 200 samples keep QEMU's
+# ~12 KiB/s UART quick enough: about 5 s a sweep.
+OPTS="--range 12 --samples 200 --sector 100:300 --step 2"
+
+# run NAME SWEEPS [feed options...]: feed -> QEMU UART0; QEMU UART1 -> sonard --coprocessor.
+run() {
+    name=$1 sweeps=$2; shift 2
+    p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))
+    "$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" --scene pool --pace fast --log "$T/$name.feed" --max-seconds 150 "$@" \
+        2> /dev/null & fp=$!
+    sleep 0.3
+    qemu-system-arm -M mps2-an500 -display none -monitor none -kernel "$ELF" \
+        -serial "tcp:127.0.0.1:$p0,reconnect=1" -serial "tcp:127.0.0.1:$p1,server=on,wait=off" \
+        > "$T/$name.qemu" 2>&1 & qp=$!
+    PIDS="$fp $qp"
+    sleep 0.5
+    # shellcheck disable=SC2086
+    timeout 140 "$B/sonard" --coprocessor "tcp:127.0.0.1:$p1" $OPTS --sweeps "$sweeps" --json \
+        --lcm "file://$T/$name.lcm?mode=w" --coprocessor-beams 1 --csv-out "$T/$name.csv" \
+        > "$T/$name.jsonl" 2> "$T/$name.err"; rc=$?
+    kill $qp $fp 2>/dev/null; wait $qp $fp 2>/dev/null; PIDS=""
+}
+
+cmp_replay() {
+    # shellcheck disable=SC2086
+    "$B/sonard" --replay "$T/$1.csv" $OPTS --json --quiet > "$T/$1.replay.jsonl"
+    python3 - "$T/$1.jsonl" "$T/$1.replay.jsonl" <<'PY'
+import json, sys
+co = [json.loads(l) for l in open(sys.argv[1])]
+re = {d["sweep"]: d for d in map(json.loads, open(sys.argv[2]))}
+assert co, "no sweeps from the co-processor"
+n = 0
+for c in co:
+    r = re[c["sweep"]]
+    for k in ("beams", "threshold", "runs", "groups"):
+        assert c[k] == r[k], (c["sweep"], k, c[k], r[k])
+    assert len(c["detections"]) == len(r["detections"]), (c["sweep"], len(c["detections"]), len(r["detections"]))
+    for a, b in zip(c["detections"], r["detections"]):
+        assert a["points"] == b["points"], (c["sweep"], a["points"], b["points"])
+        assert abs(a["x_m"] - b["x_m"]) <= 0.001 and abs(a["y_m"] - b["y_m"]) <= 0.001, (c["sweep"], a, b)
+        n += 1
+print(f"{len(co)} sweeps, {n} detections: counts, cells and positions (within 1 mm) equal")
+PY
+}
+
+run clean 4
+check "clean: sonard --coprocessor exits 0 after --sweeps 4" sh -c "test $rc -eq 0 && test \$(wc -l < '$T/clean.jsonl') -eq 4"
+check "clean: the firmware accepted the pushed configuration" grep -q "configuration accepted" "$T/clean.err"
+check "clean: detections equal --replay of the beams the firmware forwarded" cmp_replay clean
+sed 's/^/    /' "$T/out"
+check "clean: the scene's objects are found (some sweep has a detection)" grep -q x_m "$T/clean.jsonl"
+check "clean: no corrupt or undecodable frame on the host link" grep -q "crc_errors 0 .*decode_errors 0" "$T/clean.err"
+python3 tools/lcm_log.py "$T/clean.lcm" summary --types "$types" > "$T/clean.summary" 2>&1
+check "clean: SONAR_DETECTIONS, SONAR_STATUS and SONAR_BEAM republished on LCM" \
+    sh -c "grep -q '^SONAR_DETECTIONS 4' '$T/clean.summary' && grep -q '^SONAR_STATUS' '$T/clean.summary' && grep -q '^SONAR_BEAM' '$T/clean.summary'"
+
+# A faulty sonar: drops, corruption, junk, one disconnect (QEMU's UART0 reconnects). The firmware recovers as the host
+# does and its counters reach SONAR_STATUS.
+run faulty 4 --drop 0.03 --corrupt 0.02 --garbage 0.03 --disconnect-after 150
+check "faulty: the firmware keeps detecting: 4 sweeps, exit 0" sh -c "test $rc -eq 0 && test \$(wc -l < '$T/faulty.jsonl') -eq 4"
+check "faulty: detections still equal --replay of the forwarded beams" cmp_replay faulty
+python3 tools/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/faulty.status" 2>&1
+sed -n 's/^summary //p' "$T/faulty.feed" > "$T/faulty.injected"
+check "faulty: the firmware's counters reach SONAR_STATUS (checksum errors, resyncs, timeouts, retries)" \
+    python3 - "$T/faulty.status" "$T/faulty.injected" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+w = open(sys.argv[2]).read().split()
+f = {w[i]: int(w[i + 1]) for i in range(0, len(w), 2)}
+print("firmware:", {k: s[k] for k in ("checksum_errors", "resyncs", "timeouts", "retries", "reconnects", "beams", "stack_used")})
+print("injected:", {k: f[k] for k in ("dropped", "corrupted", "garbage", "disconnects")})
+assert s["checksum_errors"] >= 1 and s["timeouts"] >= 1 and s["retries"] >= 1 and s["resyncs"] >= 1
+assert f["disconnects"] == 1 and s["beams"] > 0
+PY
+sed 's/^/    /' "$T/out"
+
+echo "mcu: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
