@@ -36,7 +36,7 @@ UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -227,7 +227,7 @@ ARM_CFLAGS = $(WARN) -Os -ffunction-sections -fdata-sections -Iinclude
 # The co-processor firmware for QEMU's mps2-an500 (Cortex-M7): the core, the board, the LCM encoders.
 MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c src/msg/msg.c $(CORE_SRC)
 MCU_LCM   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.c)
-MCU_FLAGS = $(ARM_M7) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
+MCU_FLAGS = $(ARM_M7) $(MCU_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 
 ## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), then check that the linked image has no heap
 firmware: $(BUILD)/mcu/sonard-an500.bin
@@ -247,6 +247,17 @@ $(BUILD)/mcu/sonard-an500.elf: $(MCU_SRC) src/mcu/an500.ld src/mcu/board.h $(BUI
 	$(ARM_CC) $(WARN) $(MCU_FLAGS) -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections \
 	  -Wl,-Map=$(BUILD)/mcu/sonard-an500.map $(filter-out src/mcu/main.c,$(MCU_SRC)) $(BUILD)/mcu/main.o \
 	  $(LCM_NAMES:%=$(BUILD)/mcu/%.o) -lm -o $@
+
+# The bench image: BENCH_BEAMS x BENCH_N synthetic sweeps through the core, timed in instructions under -icount shift=0.
+$(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
+	@mkdir -p $(dir $@)
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -DBENCH_BEAMS=$(word 1,$(subst x, ,$*)) -DBENCH_N=$(word 2,$(subst x, ,$*)) \
+	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
+
+## mcu-bench: instructions per beam and per sweep detection on the Cortex-M7 in QEMU (-icount shift=0), at 400x1200, 400x600, 200x600
+mcu-bench: $(BUILD)/mcu/bench-400x1200.elf $(BUILD)/mcu/bench-400x600.elf $(BUILD)/mcu/bench-200x600.elf
+	@for e in $^; do echo "== $$e"; timeout 600 qemu-system-arm -M mps2-an500 -display none -monitor none -icount shift=0 \
+	  -semihosting-config enable=on,target=native -kernel $$e -serial stdio -serial null || exit 1; done
 
 $(BUILD)/mcu/sonard-an500.bin: $(BUILD)/mcu/sonard-an500.elf
 	$(ARM_OBJCOPY) -O binary $< $@

@@ -32,6 +32,9 @@ void board_idle(void);
 /* Stack high-water mark in bytes: the painted words overwritten since reset (startup.c paints them). */
 uint32_t board_stack_used(void);
 
+/* Ends the program: under QEMU with -semihosting, QEMU exits with code (0 or 1); elsewhere it halts. */
+void board_exit(int code);
+
 /* Receive overruns counted by the UART hardware (bytes lost), per uart. */
 uint32_t board_uart_overruns(int uart);
 

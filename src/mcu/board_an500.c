@@ -185,3 +185,13 @@ uint32_t board_uart_overruns(int uart)
 {
     return hw.overruns[uart];
 }
+
+void board_exit(int code)
+{
+    /* Semihosting SYS_EXIT (0x18) with ADP_Stopped_ApplicationExit (0x20026) or RunTimeErrorUnknown (0x20023). */
+    register uint32_t r0 __asm__("r0") = 0x18u;
+    register uint32_t r1 __asm__("r1") = code == 0 ? 0x20026u : 0x20023u;
+    __asm__ volatile("bkpt #0xAB" : : "r"(r0), "r"(r1) : "memory");
+    for (;;)
+        __asm__ volatile("wfi");
+}

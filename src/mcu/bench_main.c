@@ -1,0 +1,154 @@
+/* bench_main.c -- the co-processor bench image: the core's per-beam step and per-sweep detection on synthetic sweeps, timed by the board clock; under QEMU -icount shift=0 one instruction is one ns, so the figures are instruction counts. Results as text on UART0. RAM: one sweep of samples (N x beams) plus the stages. */
+#include <string.h>
+
+#include "board.h"
+#include "sonar/background.h"
+#include "sonar/detector.h"
+#include "sonar/median.h"
+
+#ifndef BENCH_BEAMS
+#define BENCH_BEAMS 400
+#endif
+#ifndef BENCH_N
+#define BENCH_N 1200
+#endif
+#define INSN_PER_US 1000u /* -icount shift=0: one instruction per ns of virtual time */
+
+struct bench {
+    uint8_t sweep[BENCH_BEAMS][BENCH_N];
+    uint8_t filt[BENCH_N], fg[BENCH_N];
+    struct sonar_background bg;
+    struct sonar_detector det;
+    struct sonar_detections out;
+    uint32_t rng;
+};
+
+static uint32_t next(struct bench *b)
+{
+    b->rng = b->rng * 1664525u + 1013904223u;
+    return b->rng >> 8;
+}
+
+/* Speckle ((a^2 + b^2) >> 7), a static wall and 20 moving 9 x 21 blobs, as tools/bench.c makes them. */
+static void make_sweep(struct bench *b, int s)
+{
+    int i, j, k;
+    for (i = 0; i < BENCH_BEAMS; i++)
+        for (j = 0; j < BENCH_N; j++) {
+            uint32_t a = next(b) % 64u, c = next(b) % 64u;
+            b->sweep[i][j] = (uint8_t)((a * a + c * c) >> 7);
+            if (j >= BENCH_N * 3 / 4 + i / 8 && j < BENCH_N * 3 / 4 + 10 + i / 8)
+                b->sweep[i][j] = (uint8_t)(120u + next(b) % 60u);
+        }
+    for (k = 0; k < 20; k++) {
+        int bi = (k * 19 + s * 11) % (BENCH_BEAMS - 9), bj = 50 + (k * 41 + s * 3) % (BENCH_N - 300);
+        for (i = bi; i < bi + 9; i++)
+            for (j = bj; j < bj + 21; j++)
+                b->sweep[i][j] = (uint8_t)(150u + next(b) % 100u);
+    }
+}
+
+static void put(const char *s)
+{
+    size_t n = strlen(s), k = 0;
+    while (k < n) {
+        k += board_uart_write(BOARD_UART_SONAR, (const uint8_t *)s + k, n - k);
+        board_uart_pump();
+    }
+}
+
+static void put_num(const char *key, uint64_t v)
+{
+    char buf[48], d[24];
+    int i = 0, k;
+    do {
+        d[i++] = (char)('0' + (int)(v % 10u));
+        v /= 10u;
+    } while (v > 0);
+    for (k = 0; key[k] != '\0' && k < 30; k++)
+        buf[k] = key[k];
+    buf[k++] = ' ';
+    while (i > 0)
+        buf[k++] = d[--i];
+    buf[k++] = '\n';
+    buf[k] = '\0';
+    put(buf);
+}
+
+static struct sonar_detector_config det_cfg(void)
+{
+    struct sonar_detector_config c;
+    memset(&c, 0, sizeof(c));
+    c.threshold_k = 3.0f;
+    c.min_threshold = 16;
+    c.max_clusters = 8;
+    c.iterations = 10;
+    c.link_beams = 2;
+    c.min_points = 20;
+    c.link_m = 0.15f;
+    c.track_points = 10;
+    return c;
+}
+
+int main(void)
+{
+    static struct bench b; /* main's own */
+    struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+    struct sonar_detector_config dc = det_cfg();
+    int64_t t0, beam_us = 0, det_us = 0, worst_us;
+    int s, i, typical = 0;
+    board_init();
+    b.rng = 42;
+    if (sonar_background_init(&b.bg, &bc) != SONAR_OK || sonar_detector_init(&b.det, &dc) != SONAR_OK)
+        return 1;
+    /* Two sweeps seed the background, one sets the threshold; the fourth is timed. */
+    for (s = 0; s < 4; s++) {
+        make_sweep(&b, s);
+        t0 = board_micros();
+        for (i = 0; i < BENCH_BEAMS; i++) {
+            if (sonar_median_1d(b.sweep[i], b.filt, BENCH_N, 5) != SONAR_OK ||
+                sonar_background_apply(&b.bg, (uint16_t)(i * 400 / BENCH_BEAMS), b.filt, b.fg, BENCH_N) != SONAR_OK ||
+                sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.fg, BENCH_N, 20.0f, 0) != SONAR_OK)
+                return 2;
+        }
+        beam_us = board_micros() - t0;
+        t0 = board_micros();
+        if (sonar_detector_end(&b.det, &b.out) < 0)
+            return 3;
+        det_us = board_micros() - t0;
+        typical = b.out.count;
+    }
+    /* The detector's worst case: the run table full, every rule on, wide groups cut into the most pieces. */
+    dc.min_threshold = 0;
+    dc.threshold_k = 0.0f;
+    dc.max_clusters = SONAR_MAX_CLUSTERS;
+    dc.max_extent_m = 1.0f;
+    dc.split_points = 1;
+    dc.max_aspect = 2.0f;
+    dc.min_range_m = 0.5f;
+    dc.track_m = 1.0f;
+    dc.track_points = 1;
+    if (sonar_detector_init(&b.det, &dc) != SONAR_OK)
+        return 4;
+    for (i = 0; i < BENCH_BEAMS; i++)
+        if (sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.sweep[i], BENCH_N, 20.0f, 0) != SONAR_OK)
+            return 5;
+    put_num("worst_runs", b.det.nruns);
+    t0 = board_micros();
+    if (sonar_detector_end(&b.det, &b.out) < 0)
+        return 6;
+    worst_us = board_micros() - t0;
+    put_num("beams", BENCH_BEAMS);
+    put_num("samples", BENCH_N);
+    put_num("insn_per_beam", (uint64_t)beam_us * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_sweep_detect_typical", (uint64_t)det_us * INSN_PER_US);
+    put_num("typical_detections", (uint64_t)typical);
+    put_num("worst_detections", b.out.count);
+    put_num("insn_sweep_detect_worst", (uint64_t)worst_us * INSN_PER_US);
+    put_num("stack_used_bytes", board_stack_used());
+    put("done\n");
+    while (board_uart_room(BOARD_UART_SONAR) < 8191u)
+        board_uart_pump();
+    board_exit(0);
+    return 0;
+}
