@@ -36,7 +36,7 @@ UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -254,6 +254,22 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -DBENCH_BEAMS=$(word 1,$(subst x, ,$*)) -DBENCH_N=$(word 2,$(subst x, ,$*)) \
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
+# The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
+MCU_UNIT = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages pipeline
+$(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
+	@mkdir -p $(dir $@)
+	$(ARM_CC) -std=c99 -Wall -Wextra -Werror -Wshadow $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/core -Wl,--defsym=STACK_SIZE=0x20000 \
+	  -nostartfiles --specs=nano.specs --specs=nosys.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
+
+## mcu-demo: the demo's pool detected on the emulated co-processor (QEMU), the QEMU command line printed
+mcu-demo: deps all firmware
+	@sh tools/mcu_demo.sh $(BUILD)
+
+## mcu-unit: the core's CMocka cases built for Cortex-M7 and run in qemu-system-arm -M mps2-an500 with semihosting
+mcu-unit: $(MCU_UNIT:%=$(BUILD)/mcu/test_%.elf)
+	@for e in $^; do echo "== $$e"; timeout 300 qemu-system-arm -M mps2-an500 -display none -monitor none -serial null \
+	  -semihosting-config enable=on,target=native -kernel $$e || exit 1; done
+
 ## mcu-bench: instructions per beam and per sweep detection on the Cortex-M7 in QEMU (-icount shift=0), at 400x1200, 400x600, 200x600
 mcu-bench: $(BUILD)/mcu/bench-400x1200.elf $(BUILD)/mcu/bench-400x600.elf $(BUILD)/mcu/bench-200x600.elf
 	@for e in $^; do echo "== $$e"; timeout 600 qemu-system-arm -M mps2-an500 -display none -monitor none -icount shift=0 \
@@ -262,8 +278,10 @@ mcu-bench: $(BUILD)/mcu/bench-400x1200.elf $(BUILD)/mcu/bench-400x600.elf $(BUIL
 $(BUILD)/mcu/sonard-an500.bin: $(BUILD)/mcu/sonard-an500.elf
 	$(ARM_OBJCOPY) -O binary $< $@
 
-## mcu-test: the firmware in QEMU (mps2-an500) between sonar-feed (UART0) and sonard --coprocessor (UART1): detections equal --replay, a faulty sonar recovered
+## mcu-test: the core's unit cases on the Cortex-M7 in QEMU, then the firmware between sonar-feed (UART0) and sonard --coprocessor (UART1): detections equal --replay, a faulty sonar recovered
 mcu-test: all firmware
+	@if command -v qemu-system-arm >/dev/null 2>&1; then $(MAKE) --no-print-directory mcu-unit; \
+	else echo "mcu-unit: SKIPPED: qemu-system-arm is not installed (make deps installs it)"; fi
 	@sh tests/mcu.sh $(BUILD)
 
 ## cross: build the core with arm-none-eabi-gcc for Cortex-M7 and Cortex-M4F (-Os)
