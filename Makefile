@@ -121,7 +121,7 @@ $(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
 
 ## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40), then each libFuzzer harness (Ping parser + Ping360 driver, CSV, config, .bin) for FUZZ_SECONDS (default 5) under ASan+UBSan
 FUZZ_SECONDS ?= 5
-FUZZ_HARNESS = ping360 csv config pvbin
+FUZZ_HARNESS = ping360 cpframe csv config pvbin
 FUZZ_SAN = -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 fuzz: fuzz-random
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang OPT=-O1 SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" \

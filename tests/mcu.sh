@@ -92,5 +92,18 @@ assert f["disconnects"] == 1 and s["beams"] > 0
 PY
 sed 's/^/    /' "$T/out"
 
+# A bad host: garbage, truncated and corrupt frames, an out-of-range configuration (named, settings kept), then silence.
+p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" --scene pool --pace fast --max-seconds 60 2> /dev/null & fp=$!
+sleep 0.3
+qemu-system-arm -M mps2-an500 -display none -monitor none -kernel "$ELF" -serial "tcp:127.0.0.1:$p0,reconnect=1" \
+    -serial "tcp:127.0.0.1:$p1,server=on,wait=off" > "$T/bad.qemu" 2>&1 & qp=$!
+PIDS="$fp $qp"
+sleep 0.5
+check "bad host: junk and corrupt frames dropped; an out-of-range value refused by name; a good one accepted; keeps sending" \
+    timeout 60 python3 tests/mcu_badhost.py "$p1" --types "$types"
+sed 's/^/    /' "$T/out"
+kill $qp $fp 2>/dev/null; wait $qp $fp 2>/dev/null; PIDS=""
+
 echo "mcu: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -28,6 +28,12 @@ def frames(data):
         i += 9 + n
 
 
+def encode(channel, payload):
+    """One frame: sync, channel, length, payload, CRC-32 of channel + length + payload."""
+    body = bytes([channel]) + struct.pack("<H", len(payload)) + payload
+    return b"\xA5\x5C" + body + struct.pack("<I", binascii.crc32(body) & 0xFFFFFFFF)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("capture")
