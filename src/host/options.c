@@ -12,26 +12,25 @@
 /* Rows: name, metavariable, type, in files, on SIGHUP, offset, lo, hi, unit, default, help, choices, parser */
 #define SECTION(title) {title, NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL}
 
-static int parse_sonar(void *base, const char *v, char *err, size_t n)
+/* serial:, udp: or tcp: for --sonar and --coprocessor (link.c checks the rest when it opens). */
+static int link_url(const char *opt, const char *v, const char **field, char *err, size_t n)
 {
-    struct sonard_options *o = base;
     if (strncmp(v, "serial:", 7) != 0 && strncmp(v, "udp:", 4) != 0 && strncmp(v, "tcp:", 4) != 0) {
-        snprintf(err, n, "--sonar: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", v);
+        snprintf(err, n, "--%s: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", opt, v);
         return HOST_ERR_CONFIG;
     }
-    o->sonar = v;
+    *field = v;
     return HOST_OK;
+}
+
+static int parse_sonar(void *base, const char *v, char *err, size_t n)
+{
+    return link_url("sonar", v, &((struct sonard_options *)base)->sonar, err, n);
 }
 
 static int parse_coprocessor(void *base, const char *v, char *err, size_t n)
 {
-    struct sonard_options *o = base;
-    if (strncmp(v, "serial:", 7) != 0 && strncmp(v, "udp:", 4) != 0 && strncmp(v, "tcp:", 4) != 0) {
-        snprintf(err, n, "--coprocessor: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->coprocessor = v;
-    return HOST_OK;
+    return link_url("coprocessor", v, &((struct sonard_options *)base)->coprocessor, err, n);
 }
 
 static int parse_baud(void *base, const char *v, char *err, size_t n)

@@ -5,6 +5,7 @@
 #include "sonar/background.h"
 #include "sonar/detector.h"
 #include "sonar/median.h"
+#include "sonar/pipeline.h"
 
 #ifndef BENCH_BEAMS
 #define BENCH_BEAMS 400
@@ -75,19 +76,12 @@ static void put_num(const char *key, uint64_t v)
     put(buf);
 }
 
+/* sonard's default detector settings. */
 static struct sonar_detector_config det_cfg(void)
 {
-    struct sonar_detector_config c;
-    memset(&c, 0, sizeof(c));
-    c.threshold_k = 3.0f;
-    c.min_threshold = 16;
-    c.max_clusters = 8;
-    c.iterations = 10;
-    c.link_beams = 2;
-    c.min_points = 20;
-    c.link_m = 0.15f;
-    c.track_points = 10;
-    return c;
+    struct sonar_pipeline_config p;
+    sonar_pipeline_defaults(&p);
+    return p.detector;
 }
 
 int main(void)
