@@ -102,6 +102,35 @@ static void test_seed_rounding_exhaustive(void **state)
     }
 }
 
+/* Every (x, b) pair in steady state at several margins and steps against the rule written out cell by cell. */
+static void test_track_exhaustive(void **state)
+{
+    static const uint8_t margins[] = {0, 1, 8, 64}, steps[] = {1, 3, 64};
+    uint8_t row[256], x[256], fg[256];
+    unsigned mi, si, m, i;
+    (void)state;
+    for (i = 0; i < 256; i++)
+        x[i] = (uint8_t)i;
+    for (mi = 0; mi < sizeof(margins); mi++)
+        for (si = 0; si < sizeof(steps); si++) {
+            struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 1, steps[si], margins[mi]};
+            assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+            for (m = 0; m < 256; m++) {
+                memset(row, (int)m, sizeof(row));
+                assert_int_equal(sonar_background_apply(&bg, (uint16_t)m, row, fg, 256), SONAR_OK); /* seeds b = m */
+                assert_int_equal(sonar_background_apply(&bg, (uint16_t)m, x, fg, 256), SONAR_OK);
+                for (i = 0; i < 256; i++) {
+                    unsigned up = i > m ? i - m : 0, dn = m > i ? m - i : 0, g = (m * margins[mi]) >> 4;
+                    unsigned gate = g < 255 ? g : 255, want_fg = up > gate ? up - gate : 0;
+                    unsigned want_b = m + (up < steps[si] ? up : steps[si]) - (dn < steps[si] ? dn : steps[si]);
+                    if (fg[i] != want_fg || bg.cell[m * SONAR_MAX_ANGLES / 400][i] != want_b)
+                        fail_msg("x %u b %u margin %u step %u: fg %u (want %u), b %u (want %u)", i, m, margins[mi],
+                                 steps[si], fg[i], want_fg, bg.cell[m * SONAR_MAX_ANGLES / 400][i], want_b);
+                }
+            }
+        }
+}
+
 static void test_margin_scales_with_background(void **state)
 {
     struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 1, 1, 8};
@@ -154,6 +183,7 @@ int main(void)
         cmocka_unit_test(test_subtract_and_clamp),
         cmocka_unit_test(test_warmup_mean_then_median),
         cmocka_unit_test(test_seed_rounding_exhaustive),
+        cmocka_unit_test(test_track_exhaustive),
         cmocka_unit_test(test_margin_scales_with_background),
         cmocka_unit_test(test_range_mode_shares_bins_across_angles),
         cmocka_unit_test(test_off_and_reset),

@@ -96,10 +96,54 @@ static void seed(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restr
         (b)[i] = (uint8_t)(m + (up < (step) ? up : (step)) - (dn < (step) ? dn : (step)));                         \
     }
 
+#if defined(__ARM_FEATURE_SIMD32)
+#include <arm_acle.h>
+
+/*
+ * The same rule four cells a word on ARMv7E-M. uqsub8(x, m) is max(x, m) - m per byte; min(u, s) is
+ * u - uqsub8(u, s); and since a cell moves up or down but not both, m + min(up, step) - min(dn, step)
+ * never carries or borrows across bytes. The gate m * margin / 16 (saturated at 255) is two
+ * halfword lanes, each product at most 255 * 64, saturated with uqsub16.
+ */
+static uint32_t gate4(uint32_t m, uint32_t margin)
+{
+    uint32_t even = ((m & 0x00FF00FFu) * margin >> 4) & 0x0FFF0FFFu;
+    uint32_t odd = (((m >> 8) & 0x00FF00FFu) * margin >> 4) & 0x0FFF0FFFu;
+    /* min(lane, 255) = lane - uqsub16(lane, 255), per halfword */
+    even -= __uqsub16(even, 0x00FF00FFu);
+    odd -= __uqsub16(odd, 0x00FF00FFu);
+    return even | odd << 8;
+}
+
+static void track4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
+{
+    uint32_t s4 = 0x01010101u * step;
+    int w;
+    for (w = 0; w < words; w++) {
+        uint32_t x, m, up, dn, gate;
+        memcpy(&x, in + 4 * w, 4);
+        memcpy(&m, b + 4 * w, 4);
+        up = __uqsub8(x, m);
+        dn = __uqsub8(m, x);
+        gate = margin ? gate4(m, margin) : 0u;
+        x = __uqsub8(up, gate); /* the foreground */
+        memcpy(fg + 4 * w, &x, 4);
+        m = m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
+        memcpy(b + 4 * w, &m, 4);
+    }
+}
+#endif
+
 static void track(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restrict fg, uint16_t n, uint8_t step,
                   uint8_t margin)
 {
     int i, i0;
+#if defined(__ARM_FEATURE_SIMD32)
+    i0 = (int)n & ~3;
+    track4(b, in, fg, i0 / 4, step, margin);
+    TRACK_SPAN(b + i0, in + i0, fg + i0, (int)n - i0, step, margin)
+    return;
+#endif
     for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
         TRACK_SPAN(b + i0, in + i0, fg + i0, BLOCK, step, margin)
     TRACK_SPAN(b + i0, in + i0, fg + i0, (int)n - i0, step, margin)

@@ -68,12 +68,48 @@ static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uin
         bm = v > bm ? v : bm;                                                                                      \
     }
 
+#if defined(__ARM_FEATURE_SIMD32)
+#include <arm_acle.h>
+
+/*
+ * One 64-sample block four samples a word on ARMv7E-M: usada8 adds four bytes, smlad squares and
+ * adds two halfword lanes (a beam's sum of squares, 1200 * 255^2, stays below 2^31), and
+ * m + uqsub8(x, m) is the byte-wise maximum.
+ */
+static uint8_t block4(const uint8_t *p, uint32_t *bs, uint32_t *bq)
+{
+    uint32_t s = *bs, mx = 0;
+    int32_t q = (int32_t)*bq;
+    int w;
+    for (w = 0; w < BLOCK / 4; w++) {
+        uint32_t x, lo, hi;
+        memcpy(&x, p + 4 * w, 4);
+        s = __usada8(x, 0u, s);
+        lo = x & 0x00FF00FFu;
+        hi = (x >> 8) & 0x00FF00FFu;
+        q = __smlad((int16x2_t)lo, (int16x2_t)lo, q);
+        q = __smlad((int16x2_t)hi, (int16x2_t)hi, q);
+        mx += __uqsub8(x, mx);
+    }
+    *bs = s;
+    *bq = (uint32_t)q;
+    /* The four lanes' maxima to one: bytes 0,1 take max(b0, b2), max(b1, b3); then byte 0 takes both. */
+    mx += __uqsub8(mx >> 16, mx);
+    mx += __uqsub8(mx >> 8, mx);
+    return (uint8_t)(mx & 0xFFu);
+}
+#endif
+
 static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, uint8_t *blockmax)
 {
     uint32_t bs = 0, bq = 0;
     uint8_t bm;
     int j, j0, b = 0;
     for (j0 = 0; j0 + BLOCK <= (int)n; j0 += BLOCK) {
+#if defined(__ARM_FEATURE_SIMD32)
+        blockmax[b++] = block4(fg + j0, &bs, &bq);
+        continue;
+#endif
         bm = 0;
         STATS_SPAN(fg + j0, BLOCK)
         blockmax[b++] = bm;

@@ -79,11 +79,45 @@ static void load_lane(uint8_t *lane, const uint8_t *in, int32_t s, uint16_t n)
 
 #define PAD (SONAR_MAX_MEDIAN / 2)
 
+#if defined(__ARM_FEATURE_SIMD32)
+#include <arm_acle.h>
+
+/*
+ * Four samples per word on ARMv7E-M (Cortex-M4/M7 have no vector unit, but byte-wise saturating
+ * arithmetic): d = uqsub8(a, b) is max(a - b, 0) per byte, so a - d is the minimum and b + d the
+ * maximum, and neither can borrow or carry across bytes. Three instructions exchange four pairs.
+ */
+#define CE4(a, b)                                                                                                  \
+    {                                                                                                              \
+        uint32_t d_ = __uqsub8((a), (b));                                                                          \
+        (a) -= d_;                                                                                                 \
+        (b) += d_;                                                                                                 \
+    }
+/* Unrolled word loads of the window (unaligned loads are single instructions on ARMv7E-M). */
+#define L4(v, p, k) memcpy(&(v)[k], (p) + (k), 4);
+#define LOADS_3(v, p) L4(v, p, 0) L4(v, p, 1) L4(v, p, 2)
+#define LOADS_5(v, p) LOADS_3(v, p) L4(v, p, 3) L4(v, p, 4)
+#define LOADS_7(v, p) LOADS_5(v, p) L4(v, p, 5) L4(v, p, 6)
+#define LOADS_9(v, p) LOADS_7(v, p) L4(v, p, 7) L4(v, p, 8)
+#define MEDIAN_BEAM(W)                                                                                             \
+    {                                                                                                              \
+        const uint8_t *q = pad + PAD - (W) / 2;                                                                    \
+        for (j = 0; j + 4 <= (int)n; j += 4) {                                                                     \
+            uint32_t v[W];                                                                                         \
+            LOADS_##W(v, q + j)                                                                                    \
+            SONAR_NET##W##_APPLY(v, CE4)                                                                           \
+            memcpy(out + j, &v[(W) / 2], 4);                                                                       \
+        }                                                                                                          \
+        j0 = j;                                                                                                    \
+        MEDIAN_SPAN(W, q + j0, out + j0, (int)n - j0)                                                              \
+    }
+#else
 /* Full 64-sample blocks have a constant trip count, so -O2 vectorises them; the tail runs scalar. */
 #define MEDIAN_BEAM(W)                                                                                             \
     for (j0 = 0; j0 + LANES <= (int)n; j0 += LANES)                                                                \
         MEDIAN_SPAN(W, pad + j0 + PAD - (W) / 2, out + j0, LANES)                                                  \
     MEDIAN_SPAN(W, pad + j0 + PAD - (W) / 2, out + j0, (int)n - j0)
+#endif
 
 int sonar_median_1d(const uint8_t *in, uint8_t *out, uint16_t n, uint8_t window)
 {
