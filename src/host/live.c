@@ -36,7 +36,7 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         return HOST_ERR_IO;
     }
     next_status = now_us(a) + STATUS_US;
-    src->start(src->self, a, now_us(a));
+    src->ops->start(src->self, a, now_us(a));
     for (;;) {
         struct pollfd pfd[2];
         int64_t now = now_us(a), wake;
@@ -45,11 +45,11 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         if (!stop && a->sweeps_done) {
             stop = 1;
             stop_deadline = now + STOP_GRACE_US;
-            src->stop(src->self, now);
+            src->ops->stop(src->self, now);
         }
-        if (stop && (src->stopped(src->self) || now >= stop_deadline))
+        if (stop && (src->ops->stopped(src->self) || now >= stop_deadline))
             break;
-        wake = src->timers(src->self, now);
+        wake = src->ops->timers(src->self, now);
         if (next_status < wake)
             wake = next_status;
         if (stop_deadline < wake)
@@ -59,7 +59,7 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         pfd[0].fd = sigfd;
         pfd[0].events = POLLIN;
         pfd[0].revents = 0;
-        if ((pfd[1].fd = src->fd(src->self, &events)) >= 0) {
+        if ((pfd[1].fd = src->ops->fd(src->self, &events)) >= 0) {
             pfd[1].events = events;
             pfd[1].revents = 0;
             np = 2;
@@ -76,24 +76,24 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
                 } else if (!stop) {
                     stop = interrupted = 1;
                     stop_deadline = now + STOP_GRACE_US;
-                    src->stop(src->self, now);
+                    src->ops->stop(src->self, now);
                 }
             }
         }
         if (np == 2 && pfd[1].revents != 0)
-            src->ready(src->self, pfd[1].revents, now);
+            src->ops->ready(src->self, pfd[1].revents, now);
         if (now >= next_status) {
-            if (!src->own_status)
-                app_status(a, src->state(src->self), &st);
+            if (!src->ops->own_status)
+                app_status(a, src->ops->state(src->self), &st);
             next_status = now + STATUS_US;
         }
     }
     /* An interrupted sweep is still worth publishing; a --sweeps run already has all it asked for. */
     if (interrupted && app_finish(a) != SONAR_OK)
         fprintf(stderr, "sonard: finishing the last sweep failed\n");
-    if (!src->own_status)
-        app_status(a, src->state(src->self), &st);
-    src->close(src->self);
+    if (!src->ops->own_status)
+        app_status(a, src->ops->state(src->self), &st);
+    src->ops->close(src->self);
     close(sigfd);
     return HOST_OK;
 }

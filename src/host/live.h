@@ -7,9 +7,8 @@
 /* Called on SIGHUP; returns HOST_OK or an error it has already reported (the running settings stay). */
 typedef int (*live_reload_fn)(void *user);
 
-/* A live source as the loop sees it: a descriptor, its events, timers, a stop. */
-struct live_source {
-    void *self;
+/* A live source as the loop sees it: a descriptor, its events, timers, a stop; one const table per kind. */
+struct live_source_ops {
     void (*start)(void *self, struct app *a, int64_t now_us);
     int (*fd)(const void *self, short *events);          /* -1 when closed */
     void (*ready)(void *self, short revents, int64_t now_us);
@@ -19,6 +18,11 @@ struct live_source {
     int (*state)(const void *self);                      /* enum sonar_ping360_state for status */
     void (*close)(void *self);
     int own_status;                                      /* the source sends status itself (co-processor) */
+};
+
+struct live_source {
+    const struct live_source_ops *ops;
+    void *self;
 };
 
 /*

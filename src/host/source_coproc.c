@@ -300,16 +300,10 @@ static void v_close(void *self)
     link_close(&s->link);
 }
 
+static const struct live_source_ops ops = {v_start, v_fd, v_ready, v_timers, v_stop, v_stopped, v_state, v_close, 1};
+
 void source_coproc_live(struct source_coproc *s, struct live_source *out)
 {
+    out->ops = &ops;
     out->self = s;
-    out->start = v_start;
-    out->fd = v_fd;
-    out->ready = v_ready;
-    out->timers = v_timers;
-    out->stop = v_stop;
-    out->stopped = v_stopped;
-    out->state = v_state;
-    out->close = v_close;
-    out->own_status = 1;
 }

@@ -196,16 +196,10 @@ static int v_stopped(const void *s) { return source_link_stopped(s); }
 static int v_state(const void *s) { return source_link_state(s); }
 static void v_close(void *s) { source_link_close(s); }
 
+static const struct live_source_ops ops = {v_start, v_fd, v_ready, v_timers, v_stop, v_stopped, v_state, v_close, 0};
+
 void source_link_live(struct source_link *s, struct live_source *out)
 {
+    out->ops = &ops;
     out->self = s;
-    out->start = v_start;
-    out->fd = v_fd;
-    out->ready = v_ready;
-    out->timers = v_timers;
-    out->stop = v_stop;
-    out->stopped = v_stopped;
-    out->state = v_state;
-    out->close = v_close;
-    out->own_status = 0;
 }
