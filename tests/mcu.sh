@@ -10,9 +10,18 @@ PIDS=""
 trap 'for p in $PIDS; do kill $p 2>/dev/null; done; rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
 ELF="$B/mcu/sonard-an500.elf"
+# A co-processor that refuses the configuration: sonard says why and exits 2 (no QEMU needed).
+fp=$PORT; PORT=$((PORT + 1))
+python3 tests/fake_coproc.py "$fp" & pp=$!
+sleep 0.5
+timeout 30 "$B/sonard" --coprocessor "tcp:127.0.0.1:$fp" --no-lcm --json > /dev/null 2> "$T/refused.err"; rc=$?
+kill $pp 2>/dev/null; wait $pp 2>/dev/null
+check "a refused configuration: sonard --coprocessor says why and exits 2" \
+    sh -c "test $rc -eq 2 && grep -q 'refused the configuration: error: detector.track_points' '$T/refused.err'"
+
 if ! command -v qemu-system-arm >/dev/null 2>&1; then
     echo "mcu: SKIPPED: qemu-system-arm is not installed (make deps installs it)"
-    echo "mcu: 0 passed, 0 failed, 1 skipped"
+    echo "mcu: $pass passed, $fail failed, 1 skipped"
     exit 0
 fi
 types="$B/lcm/python"

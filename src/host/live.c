@@ -49,6 +49,8 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         }
         if (stop && (src->ops->stopped(src->self) || now >= stop_deadline))
             break;
+        if (src->ops->stopped(src->self))
+            break; /* the source gave up by itself (a co-processor refused the configuration) */
         wake = src->ops->timers(src->self, now);
         if (next_status < wake)
             wake = next_status;
