@@ -251,7 +251,7 @@ $(BUILD)/mcu/sonard-an500.elf: $(MCU_SRC) src/mcu/an500.ld src/mcu/board.h $(BUI
 # The bench image: BENCH_BEAMS x BENCH_N synthetic sweeps through the core, timed in instructions under -icount shift=0.
 $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
 	@mkdir -p $(dir $@)
-	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -DBENCH_BEAMS=$(word 1,$(subst x, ,$*)) -DBENCH_N=$(word 2,$(subst x, ,$*)) \
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -Isrc/core -DBENCH_BEAMS=$(word 1,$(subst x, ,$*)) -DBENCH_N=$(word 2,$(subst x, ,$*)) \
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).

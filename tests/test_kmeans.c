@@ -65,6 +65,25 @@ static void test_empty_cluster_keeps_centre(void **state)
     assert_int_equal(l[1], 0);
 }
 
+/* Coordinates beyond SONAR_KMEANS_MAX_COORD are refused, so the int32 differences cannot overflow. */
+static void test_coordinates_bounded(void **state)
+{
+    struct sonar_point p[2] = {{0, 0, 1}, {SONAR_KMEANS_MAX_COORD, -SONAR_KMEANS_MAX_COORD, 1}};
+    struct sonar_xy c[2] = {{0, 0}, {10, 10}};
+    uint8_t labels[2] = {0, 0}, part[2] = {0, 0};
+    (void)state;
+    assert_true(sonar_kmeans_lloyd(p, 2, labels, c, 2, 5) > 0); /* at the bound: fine */
+    p[1].x = SONAR_KMEANS_MAX_COORD + 1;
+    assert_int_equal(sonar_kmeans_seed(p, 2, c, 2), SONAR_ERR_ARG);
+    assert_int_equal(sonar_kmeans_lloyd(p, 2, labels, c, 2, 5), SONAR_ERR_ARG);
+    assert_int_equal(sonar_kmeans_lloyd_within(p, 2, labels, c, part, 2, 5), SONAR_ERR_ARG);
+    p[1].w = 0; /* an unweighted point is ignored, wherever it is */
+    labels[0] = labels[1] = 0;
+    assert_true(sonar_kmeans_lloyd_within(p, 2, labels, c, part, 2, 5) > 0);
+    c[1].y = -SONAR_KMEANS_MAX_COORD - 1; /* and so is a centre out of bounds refused */
+    assert_int_equal(sonar_kmeans_lloyd(p, 2, labels, c, 2, 5), SONAR_ERR_ARG);
+}
+
 static void test_deterministic_and_bounded(void **state)
 {
     static struct sonar_point p[3000];
@@ -149,6 +168,7 @@ int main(void)
         cmocka_unit_test(test_two_blobs),
         cmocka_unit_test(test_weights_and_skips),
         cmocka_unit_test(test_empty_cluster_keeps_centre),
+        cmocka_unit_test(test_coordinates_bounded),
         cmocka_unit_test(test_deterministic_and_bounded),
         cmocka_unit_test(test_within_parts),
     };

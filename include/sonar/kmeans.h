@@ -10,7 +10,14 @@
 #define SONAR_KMEANS_MAX_K 64
 #define SONAR_KMEANS_SKIP 0xFFu /* label of a point with weight 0 */
 
-/* A point in integer units (sonard uses mm, |x|, |y| <= 2^26) with a weight (cells it stands for). */
+/*
+ * Coordinates are bounded: |x|, |y| <= SONAR_KMEANS_MAX_COORD (sonard's millimetres reach 10^6), so
+ * a difference fits an int32 and a squared distance an int64. Every entry point refuses points and
+ * centres outside the bound with SONAR_ERR_ARG.
+ */
+#define SONAR_KMEANS_MAX_COORD (1L << 26)
+
+/* A point in integer units (sonard uses mm) with a weight (cells it stands for). */
 struct sonar_point {
     int32_t x;
     int32_t y;

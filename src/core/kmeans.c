@@ -3,10 +3,37 @@
 
 #include <string.h>
 
+/* Both within SONAR_KMEANS_MAX_COORD (checked at the entry points): the differences fit an int32, so
+ * each square is one 32 x 32 -> 64 multiply (SMULL/SMLAL on a Cortex-M) instead of a 64-bit one. */
 static int64_t dist2(const struct sonar_point *p, const struct sonar_xy *c)
+{
+    int32_t dx = p->x - c->x, dy = p->y - c->y;
+    return (int64_t)dx * dx + (int64_t)dy * dy;
+}
+
+/* For sonar_kmeans_inertia, which has no error to return for out-of-bound input: 64-bit throughout. */
+static int64_t dist2_wide(const struct sonar_point *p, const struct sonar_xy *c)
 {
     int64_t dx = (int64_t)p->x - c->x, dy = (int64_t)p->y - c->y;
     return dx * dx + dy * dy;
+}
+
+static int in_bounds(int32_t v)
+{
+    return v >= -SONAR_KMEANS_MAX_COORD && v <= SONAR_KMEANS_MAX_COORD;
+}
+
+/* Every weighted point and every given centre within the bound. */
+static int bounded(const struct sonar_point *pts, uint16_t n, const struct sonar_xy *c, uint8_t k)
+{
+    uint16_t i;
+    for (i = 0; i < n; i++)
+        if (pts[i].w > 0 && !(in_bounds(pts[i].x) && in_bounds(pts[i].y)))
+            return 0;
+    for (i = 0; i < k; i++)
+        if (!(in_bounds(c[i].x) && in_bounds(c[i].y)))
+            return 0;
+    return 1;
 }
 
 static uint8_t nearest(const struct sonar_point *p, const struct sonar_xy *c, uint8_t k, int64_t *best_d)
@@ -29,7 +56,7 @@ int sonar_kmeans_seed(const struct sonar_point *pts, uint16_t n, struct sonar_xy
 {
     uint16_t i;
     uint8_t m = 0;
-    if (pts == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K)
+    if (pts == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || !bounded(pts, n, c, 0))
         return SONAR_ERR_ARG;
     for (i = 0; i < n && m == 0; i++)
         if (pts[i].w > 0) {
@@ -128,7 +155,8 @@ static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, str
 int sonar_kmeans_lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                        uint8_t k, uint8_t iterations)
 {
-    if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1)
+    if (pts == NULL || labels == NULL || c == NULL || k < 1 || k > SONAR_KMEANS_MAX_K || iterations < 1 ||
+        !bounded(pts, n, c, k))
         return SONAR_ERR_ARG;
     memset(labels, SONAR_KMEANS_SKIP, n);
     return lloyd(pts, n, labels, c, NULL, k, iterations);
@@ -139,7 +167,7 @@ int sonar_kmeans_lloyd_within(const struct sonar_point *pts, uint16_t n, uint8_t
 {
     uint16_t i;
     if (pts == NULL || labels == NULL || c == NULL || part == NULL || k < 1 || k > SONAR_KMEANS_MAX_K ||
-        iterations < 1)
+        iterations < 1 || !bounded(pts, n, c, k))
         return SONAR_ERR_ARG;
     for (i = 0; i < n; i++) {
         if (pts[i].w == 0)
@@ -157,6 +185,6 @@ double sonar_kmeans_inertia(const struct sonar_point *pts, uint16_t n, const uin
     uint16_t i;
     for (i = 0; i < n; i++)
         if (pts[i].w > 0 && labels[i] != SONAR_KMEANS_SKIP)
-            s += (double)pts[i].w * (double)dist2(&pts[i], &c[labels[i]]);
+            s += (double)pts[i].w * (double)dist2_wide(&pts[i], &c[labels[i]]);
     return s;
 }

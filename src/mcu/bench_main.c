@@ -6,6 +6,7 @@
 #include "sonar/detector.h"
 #include "sonar/median.h"
 #include "sonar/pipeline.h"
+#include "detector_internal.h"
 
 #ifndef BENCH_BEAMS
 #define BENCH_BEAMS 400
@@ -142,6 +143,34 @@ int main(void)
     if (sonar_detector_end(&b.det, &b.out) < 0)
         return 6;
     worst_us = board_micros() - t0;
+    /* The same worst sweep again, stage by stage (the stages sonar_detector_end runs, in its order). */
+    if (sonar_detector_init(&b.det, &dc) != SONAR_OK)
+        return 7;
+    for (i = 0; i < BENCH_BEAMS; i++)
+        if (sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.sweep[i], BENCH_N, 20.0f, 0) != SONAR_OK)
+            return 8;
+    {
+        struct sonar_xy c[SONAR_MAX_CLUSTERS], at;
+        uint8_t part[SONAR_MAX_CLUSTERS], k, j;
+        uint16_t groups;
+        struct sonar_detection o;
+        int64_t t1, t2, t3, t4;
+        t1 = board_micros();
+        sonar_det_link(&b.det);
+        t2 = board_micros();
+        k = sonar_det_seed(&b.det, c, part, &groups);
+        t3 = board_micros();
+        if (sonar_kmeans_lloyd_within(b.det.pts, b.det.nruns, b.det.labels, c, part, k, b.det.cfg.iterations) < 0)
+            return 9;
+        t4 = board_micros();
+        for (j = 0; j < k; j++)
+            (void)sonar_det_emit(&b.det, j, 1, &o, &at);
+        put_num("worst_insn_link", (uint64_t)(t2 - t1) * INSN_PER_US);
+        put_num("worst_insn_seed_and_cut", (uint64_t)(t3 - t2) * INSN_PER_US);
+        put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);
+        put_num("worst_insn_rules_hulls", (uint64_t)(board_micros() - t4) * INSN_PER_US);
+        put_num("worst_clusters", k);
+    }
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);
     put_num("insn_per_beam", (uint64_t)beam_us * INSN_PER_US / BENCH_BEAMS);
