@@ -312,7 +312,7 @@ $(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
 
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev .venv .venv-brping
+	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev build-mcu-* .venv .venv-brping
 
 ## help: this list
 help:
