@@ -10,7 +10,7 @@
 /*
  * out[j] = median of in[clamp(j - w/2 .. j + w/2)], the edge samples replicated; equals
  * cv::medianBlur on a 1 x n image. window: odd, 3..SONAR_MAX_MEDIAN; n: 1..65535. in and out
- * must not overlap. Returns SONAR_OK or SONAR_ERR_ARG. Cost: a branch-free selection network
+ * must not overlap. Returns SONAR_OK or SONAR_ERR_ARG. Cost: a branchless selection network
  * (3, 8, 14 or 24 compare-exchanges) per sample; stack: n + 8 bytes. n <= SONAR_MAX_SAMPLES.
  */
 SONAR_CHECK int sonar_median_1d(const uint8_t *in, uint8_t *out, uint16_t n, uint8_t window);

@@ -112,7 +112,7 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c,
     return best;
 }
 
-/* Lloyd's rounds, free (part == NULL) or kept inside parts; arguments already checked. */
+/* Lloyd's rounds, unconstrained (part == NULL) or kept inside parts; arguments already checked. */
 static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                  const uint8_t *part, uint8_t k, uint8_t iterations)
 {

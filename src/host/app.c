@@ -17,6 +17,15 @@ void app_say(const struct app *a, const char *fmt, ...)
     va_end(ap);
 }
 
+/* A sink call's result: a failure counted in errors, a success in *ok. */
+static void tally(struct app_sink *s, int r, unsigned long *ok)
+{
+    if (r < 0)
+        s->errors++;
+    else
+        (*ok)++;
+}
+
 static void sinks_beam(struct app *a, const struct app_beam *b)
 {
     unsigned i;
@@ -24,10 +33,7 @@ static void sinks_beam(struct app *a, const struct app_beam *b)
         struct app_sink *s = a->sinks[i];
         if (s->beam == NULL || !(s->stages & (1u << b->stage)))
             continue;
-        if (s->beam(s->self, b) < 0)
-            s->errors++;
-        else
-            s->n_beams++;
+        tally(s, s->beam(s->self, b), &s->n_beams);
     }
 }
 
@@ -61,10 +67,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
         struct app_sink *s = a->sinks[i];
         if (s->detections == NULL)
             continue;
-        if (s->detections(s->self, d) < 0)
-            s->errors++;
-        else
-            s->n_detections++;
+        tally(s, s->detections(s->self, d), &s->n_detections);
     }
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
@@ -166,10 +169,7 @@ void app_emit_status(struct app *a, const struct app_status *s)
         struct app_sink *k = a->sinks[i];
         if (k->status == NULL)
             continue;
-        if (k->status(k->self, s) < 0)
-            k->errors++;
-        else
-            k->n_statuses++;
+        tally(k, k->status(k->self, s), &k->n_statuses);
     }
 }
 

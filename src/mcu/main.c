@@ -146,6 +146,17 @@ static void status(struct fw *f, int64_t now)
 
 static const struct sonar_ping360_io io = {sonar_send, NULL, NULL};
 
+/* A wire integer into a narrower field; one that does not fit becomes `bad`, which the core's check refuses by name. */
+static uint8_t to_u8(int32_t v, uint8_t bad)
+{
+    return v < 0 || v > 255 ? bad : (uint8_t)v;
+}
+
+static uint16_t to_u16(int32_t v, uint16_t bad)
+{
+    return v < 0 || v > 65535 ? bad : (uint16_t)v;
+}
+
 /* The host's sonar.config_t: checked whole with the core's checks, applied, or refused by name. */
 static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
 {
@@ -180,20 +191,20 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     next->background.step = (uint8_t)c.bg_step;
     next->background.margin = (uint8_t)c.bg_margin;
     next->detector.threshold_k = c.threshold_k;
-    next->detector.min_threshold = (uint8_t)(c.min_threshold < 0 || c.min_threshold > 255 ? 255 : c.min_threshold);
-    next->detector.max_clusters = (uint8_t)(c.max_clusters < 0 || c.max_clusters > 255 ? 0 : c.max_clusters);
-    next->detector.iterations = (uint8_t)(c.iterations < 0 || c.iterations > 255 ? 0 : c.iterations);
-    next->detector.link_beams = (uint8_t)(c.link_beams < 0 || c.link_beams > 255 ? 0 : c.link_beams);
-    next->detector.min_points = (uint16_t)(c.min_points < 0 || c.min_points > 65535 ? 0 : c.min_points);
+    next->detector.min_threshold = to_u8(c.min_threshold, 255);
+    next->detector.max_clusters = to_u8(c.max_clusters, 0);
+    next->detector.iterations = to_u8(c.iterations, 0);
+    next->detector.link_beams = to_u8(c.link_beams, 0);
+    next->detector.min_points = to_u16(c.min_points, 0);
     next->detector.link_m = c.link_m;
     next->detector.angle_offset = c.angle_offset;
-    next->detector.min_beams = (uint8_t)(c.min_beams < 0 || c.min_beams > 255 ? 255 : c.min_beams);
+    next->detector.min_beams = to_u8(c.min_beams, 255);
     next->detector.max_extent_m = c.max_extent_m;
-    next->detector.split_points = (uint16_t)(c.split_points < 0 || c.split_points > 65535 ? 65535 : c.split_points);
+    next->detector.split_points = to_u16(c.split_points, 65535);
     next->detector.min_range_m = c.min_range_m;
     next->detector.max_aspect = c.max_aspect;
     next->detector.track_m = c.track_m;
-    next->detector.track_points = (uint16_t)(c.track_points < 0 || c.track_points > 65535 ? 0 : c.track_points);
+    next->detector.track_points = to_u16(c.track_points, 0);
     /* Nothing changes unless all of it is valid. */
     if ((why = sonar_ping360_config_check(&d)) != NULL || (why = sonar_pipeline_config_check(next)) != NULL) {
         f->config_errors++;
