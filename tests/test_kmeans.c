@@ -1,4 +1,4 @@
-/* test_kmeans.c -- seeding, Lloyd on hand-made blobs, weights, skipped points, determinism, Lloyd kept inside parts. */
+/* test_kmeans.c -- seeding, Lloyd on hand-made blobs, weights, skipped points, determinism, Lloyd kept inside parts, the pruned search against a plain one. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -162,6 +162,113 @@ static void test_within_parts(void **state)
     assert_int_equal(sonar_kmeans_lloyd_within(p, 11, l, c, NULL, 3, 10), SONAR_ERR_ARG);
 }
 
+/* The plain Lloyd the pruned search must equal: every centre of the point's part, lowest index on ties. */
+static int64_t ref_d2(const struct sonar_point *p, const struct sonar_xy *c)
+{
+    int64_t dx = (int64_t)p->x - c->x, dy = (int64_t)p->y - c->y;
+    return dx * dx + dy * dy;
+}
+
+static int32_t ref_mean(int64_t sum, uint64_t w)
+{
+    int64_t half = (int64_t)(w / 2u);
+    return (int32_t)(sum >= 0 ? (sum + half) / (int64_t)w : -((-sum + half) / (int64_t)w));
+}
+
+static int ref_lloyd(const struct sonar_point *pts, int n, uint8_t *labels, struct sonar_xy *c, const uint8_t *part,
+                     int k, int iterations)
+{
+    int it, i, j;
+    for (it = 0; it < iterations; it++) {
+        int64_t sx[64] = {0}, sy[64] = {0};
+        uint64_t sw[64] = {0};
+        int changed = 0;
+        for (i = 0; i < n; i++) {
+            int best = -1;
+            int64_t bd = 0;
+            if (pts[i].w == 0)
+                continue;
+            for (j = 0; j < k; j++) {
+                int64_t d;
+                if (part != NULL && labels[i] != SONAR_KMEANS_SKIP && part[j] != part[labels[i]])
+                    continue;
+                d = ref_d2(&pts[i], &c[j]);
+                if (best < 0 || d < bd) {
+                    bd = d;
+                    best = j;
+                }
+            }
+            changed += best != labels[i];
+            labels[i] = (uint8_t)best;
+            sx[best] += (int64_t)pts[i].x * pts[i].w;
+            sy[best] += (int64_t)pts[i].y * pts[i].w;
+            sw[best] += pts[i].w;
+        }
+        for (j = 0; j < k; j++)
+            if (sw[j] > 0) {
+                c[j].x = ref_mean(sx[j], sw[j]);
+                c[j].y = ref_mean(sy[j], sw[j]);
+            }
+        if (changed == 0 && (it > 0 || part == NULL))
+            return it + 1;
+    }
+    return iterations;
+}
+
+static void test_pruned_search_equals_plain(void **state)
+{
+    /*
+     * Clustered and uniform points on a coarse grid (many exact ties), k = 1..20 (beyond 16 the
+     * search is the plain one), free and within parts: labels, centres and rounds all equal.
+     */
+    static struct sonar_point p[400];
+    static uint8_t l[400], lr[400];
+    struct sonar_xy c[20], cr[20];
+    uint8_t part[20];
+    int trial;
+    (void)state;
+    srand(5);
+    for (trial = 0; trial < 300; trial++) {
+        int n = 1 + rand() % 400, k = 1 + rand() % 20, within = trial % 2, i, j, got, want;
+        int grid = trial % 3 == 0 ? 1 : 50;
+        for (i = 0; i < n; i++) {
+            int blob = rand() % 4;
+            p[i].x = (blob * 3000 + rand() % 2000) / grid * grid;
+            p[i].y = (blob % 2 * 2000 + rand() % 2000) / grid * grid;
+            p[i].w = rand() % 8 == 0 ? 0u : (uint32_t)(1 + rand() % 5);
+        }
+        for (j = 0; j < k; j++) {
+            c[j].x = p[rand() % n].x;
+            c[j].y = p[rand() % n].y;
+            part[j] = (uint8_t)(within ? rand() % 3 : 0);
+        }
+        for (i = 0; i < n; i++) {
+            /* entry labels: a centre of a random part present */
+            l[i] = (uint8_t)(rand() % k);
+        }
+        memcpy(cr, c, sizeof(c));
+        memcpy(lr, l, sizeof(l));
+        if (within) {
+            for (i = 0; i < n; i++)
+                if (p[i].w == 0)
+                    lr[i] = SONAR_KMEANS_SKIP;
+            got = sonar_kmeans_lloyd_within(p, (uint16_t)n, l, c, part, (uint8_t)k, 25);
+            want = ref_lloyd(p, n, lr, cr, part, k, 25);
+        } else {
+            memset(lr, SONAR_KMEANS_SKIP, sizeof(lr));
+            got = sonar_kmeans_lloyd(p, (uint16_t)n, l, c, (uint8_t)k, 25);
+            want = ref_lloyd(p, n, lr, cr, NULL, k, 25);
+        }
+        assert_int_equal(got, want);
+        for (i = 0; i < n; i++)
+            assert_int_equal(l[i], lr[i]);
+        for (j = 0; j < k; j++) {
+            assert_int_equal(c[j].x, cr[j].x);
+            assert_int_equal(c[j].y, cr[j].y);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -171,6 +278,7 @@ int main(void)
         cmocka_unit_test(test_coordinates_bounded),
         cmocka_unit_test(test_deterministic_and_bounded),
         cmocka_unit_test(test_within_parts),
+        cmocka_unit_test(test_pruned_search_equals_plain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,7 +24,7 @@
 #define SONAR_MAX_MEDIAN 9
 #endif
 
-/* Largest K of the K x K median over adjacent beams (3 or 5). RAM: K * (SONAR_MAX_SAMPLES + 24) bytes. */
+/* Largest K of the K x K median over adjacent beams (3 or 5). RAM: K * (SONAR_MAX_SAMPLES + 28) bytes. */
 #ifndef SONAR_MAX_MEDIAN2D
 #define SONAR_MAX_MEDIAN2D 5
 #endif

@@ -1,4 +1,4 @@
-/* median.h -- 1-D median along a beam and K x K median over adjacent beams, bit-exact with OpenCV medianBlur (replicated edges); RAM: struct sonar_median2d = K * (SONAR_MAX_SAMPLES + 24) B. */
+/* median.h -- 1-D median along a beam and K x K median over adjacent beams, bit-exact with OpenCV medianBlur (replicated edges); RAM: struct sonar_median2d = K * (SONAR_MAX_SAMPLES + 28) B. */
 #ifndef SONAR_MEDIAN_H
 #define SONAR_MEDIAN_H
 
@@ -27,8 +27,11 @@ struct sonar_median_row {
  * study's scipy median_filter with OpenCV's replicated border: equals cv::medianBlur on the sweep
  * matrix. Row i comes out when row i + K/2 arrives, or at sonar_median2d_flush.
  */
+/* Replicated border samples kept on each side of a stored row. */
+#define SONAR_MEDIAN2D_PAD (SONAR_MAX_MEDIAN2D / 2)
+
 struct sonar_median2d {
-    uint8_t ring[SONAR_MAX_MEDIAN2D][SONAR_MAX_SAMPLES];
+    uint8_t ring[SONAR_MAX_MEDIAN2D][SONAR_MAX_SAMPLES + 2 * SONAR_MEDIAN2D_PAD]; /* rows, border included */
     struct sonar_median_row meta[SONAR_MAX_MEDIAN2D];
     uint32_t pushed;  /* rows pushed this sweep */
     uint32_t emitted; /* rows emitted this sweep */

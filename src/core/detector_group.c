@@ -39,11 +39,8 @@ static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *wid
         width[j] = x1[j] - x0[j] > y1[j] - y0[j] ? x1[j] - x0[j] : y1[j] - y0[j];
 }
 
-/*
- * One more centre, c[k], for group `root`: its run farthest from the nearest of the group's
- * centres (maximin). labels[i] holds that nearest centre, so each new centre costs two passes.
- */
-static int add_split_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t k, uint16_t root)
+/* The run of group `root` farthest from its labelled centre (maximin), lowest index on ties; -1 if all coincide. */
+static int32_t farthest(const struct sonar_detector *d, const struct sonar_xy *c, uint16_t root)
 {
     int64_t far_d = 0;
     int32_t far_i = -1;
@@ -59,18 +56,37 @@ static int add_split_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t 
             far_i = i;
         }
     }
-    if (far_i < 0)
-        return 0;
-    c[k].x = d->pts[far_i].x;
-    c[k].y = d->pts[far_i].y;
+    return far_i;
+}
+
+/*
+ * One more centre, c[k] = run `at` of group `root`; the group's runs nearer to it move to it.
+ * The same pass finds the next farthest run, so each centre costs one pass of two distances.
+ */
+static int32_t split_at(struct sonar_detector *d, struct sonar_xy *c, uint8_t k, uint16_t root, int32_t at)
+{
+    int64_t far_d = 0;
+    int32_t far_i = -1;
+    uint16_t i;
+    c[k].x = d->pts[at].x;
+    c[k].y = d->pts[at].y;
     for (i = 0; i < d->nruns; i++) {
         const struct sonar_point *p = &d->pts[i];
+        int64_t dk, dl;
         if (p->w == 0 || d->runs[i].parent != root)
             continue;
-        if (sonar_det_dist2_mm(p->x, p->y, c[k].x, c[k].y) < sonar_det_dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y))
+        dk = sonar_det_dist2_mm(p->x, p->y, c[k].x, c[k].y);
+        dl = sonar_det_dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y);
+        if (dk < dl) {
             d->labels[i] = k;
+            dl = dk;
+        }
+        if (dl > far_d) {
+            far_d = dl;
+            far_i = i;
+        }
     }
-    return 1;
+    return far_i;
 }
 
 /*
@@ -85,6 +101,7 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
     uint64_t sw[SONAR_MAX_CLUSTERS];
     uint8_t k = 0, ng, j;
     uint16_t i, need = seed_min(d);
+    int32_t far;
     struct sonar_detector_run *r = d->runs;
     for (i = 0; i < d->nruns; i++) {
         r[i].parent = sonar_det_find(r, i);
@@ -144,7 +161,8 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
         int64_t want = (width[j] + piece - 1) / piece, have = 1;
         if (width[j] <= lim)
             continue;
-        for (; have < want && k < SONAR_MAX_CLUSTERS && add_split_seed(d, c, k, root[j]); have++) {
+        for (far = farthest(d, c, root[j]); have < want && k < SONAR_MAX_CLUSTERS && far >= 0; have++) {
+            far = split_at(d, c, k, root[j], far);
             part[k] = j;
             k++;
         }

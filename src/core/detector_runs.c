@@ -27,7 +27,10 @@ struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, u
 {
     struct sonar_xy p;
     int64_t range_mm = (int64_t)((double)d->range_m * 1000.0 + 0.5);
-    int64_t r = ((int64_t)twice_pos * range_mm) / (2 * (int64_t)d->n);
+    uint64_t num = (uint64_t)twice_pos * (uint64_t)range_mm;
+    /* One 32-bit divide when the product fits (up to 1000 m at 1200 samples), not a 64-bit library call. */
+    int64_t r = num <= UINT32_MAX ? (int64_t)((uint32_t)num / (2u * (uint32_t)d->n))
+                                  : (int64_t)(num / (2u * (uint64_t)d->n));
     int64_t c = sonar_cos_q16[a % SONAR_GRAD_TURN], s = sonar_cos_q16[(a + 300u) % SONAR_GRAD_TURN]; /* sin a = cos(a - 100) */
     p.x = (int32_t)((r * c + 32768) >> 16);
     p.y = (int32_t)((r * s + 32768) >> 16);
@@ -64,7 +67,7 @@ static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uin
     for (j = 0; j < (len); j++) {                                                                                  \
         uint8_t v = (p)[j];                                                                                        \
         bs += v;                                                                                                   \
-        bq += (uint32_t)v * v;                                                                                     \
+        bq += (uint16_t)(v * v); /* a square fits 16 bits: 16-bit vector multiplies */                        \
         bm = v > bm ? v : bm;                                                                                      \
     }
 
@@ -115,7 +118,17 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
         blockmax[b++] = bm;
     }
     bm = 0;
-    STATS_SPAN(fg + j0, (int)n - j0)
+    if (j0 < (int)n) {
+        /* The ragged end zero-padded to a full block: zeros add nothing to the sums or the maximum. */
+        uint8_t tail[BLOCK];
+        memset(tail, 0, sizeof(tail));
+        memcpy(tail, fg + j0, (size_t)((int)n - j0));
+#if defined(__ARM_FEATURE_SIMD32)
+        bm = block4(tail, &bs, &bq);
+#else
+        STATS_SPAN(tail, BLOCK)
+#endif
+    }
     blockmax[b] = bm;
     *s = bs;
     *q = bq;

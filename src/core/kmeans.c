@@ -112,25 +112,95 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c,
     return best;
 }
 
+/* Centres up to this many get the neighbour lists below (stack: PRUNE_K^2 * 9 bytes); more use the plain search. */
+#define PRUNE_K 16
+
+/*
+ * For each centre a, the other centres a point labelled a may move to (its part's, or all),
+ * nearest first: nb[a][t] with q[a][t] = |c_a - c_nb|^2 ascending.
+ */
+struct neighbours {
+    int64_t q[PRUNE_K][PRUNE_K - 1];
+    uint8_t nb[PRUNE_K][PRUNE_K - 1];
+    uint8_t cnt[PRUNE_K];
+};
+
+static void neighbours_build(struct neighbours *n, const struct sonar_xy *c, const uint8_t *part, uint8_t k)
+{
+    uint8_t a, j;
+    for (a = 0; a < k; a++) {
+        uint8_t m = 0;
+        for (j = 0; j < k; j++) {
+            struct sonar_point pa;
+            int64_t q;
+            uint8_t t;
+            if (j == a || (part != NULL && part[j] != part[a]))
+                continue;
+            pa.x = c[a].x;
+            pa.y = c[a].y;
+            pa.w = 1;
+            q = dist2(&pa, &c[j]);
+            /* Insertion by distance; j ascends, so equal distances stay in index order. */
+            for (t = m; t > 0 && n->q[a][t - 1] > q; t--) {
+                n->q[a][t] = n->q[a][t - 1];
+                n->nb[a][t] = n->nb[a][t - 1];
+            }
+            n->q[a][t] = q;
+            n->nb[a][t] = j;
+            m++;
+        }
+        n->cnt[a] = m;
+    }
+}
+
+/*
+ * The nearest centre to p among a's list, lowest index on ties: the same answer as a full
+ * search. A centre j with |c_a - c_j| > 2 |p - c_a| is strictly farther from p than c_a (triangle
+ * inequality), and the list is sorted, so the scan stops at the first such j. All integer: the
+ * test is |c_a - c_j|^2 > 4 |p - c_a|^2.
+ */
+static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct neighbours *n,
+                              uint8_t a)
+{
+    int64_t da = dist2(p, &c[a]), bd = da, lim = 4 * da;
+    uint8_t t, best = a;
+    for (t = 0; t < n->cnt[a] && n->q[a][t] <= lim; t++) {
+        uint8_t j = n->nb[a][t];
+        int64_t d = dist2(p, &c[j]);
+        if (d < bd || (d == bd && j < best)) {
+            bd = d;
+            best = j;
+        }
+    }
+    return best;
+}
+
 /* Lloyd's rounds, unconstrained (part == NULL) or kept inside parts; arguments already checked. */
 static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                  const uint8_t *part, uint8_t k, uint8_t iterations)
 {
     int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
     uint64_t sw[SONAR_KMEANS_MAX_K];
+    struct neighbours nbr;
     unsigned it;
     uint16_t i;
     uint8_t j;
     for (it = 0; it < iterations; it++) {
         unsigned changed = 0;
+        int prune = k <= PRUNE_K;
         memset(sx, 0, sizeof(sx));
         memset(sy, 0, sizeof(sy));
         memset(sw, 0, sizeof(sw));
+        if (prune)
+            neighbours_build(&nbr, c, part, k);
         for (i = 0; i < n; i++) {
             uint8_t l;
             if (pts[i].w == 0)
                 continue;
-            l = part == NULL ? nearest(&pts[i], c, k, NULL) : nearest_in(&pts[i], c, part, k, labels[i]);
+            if (prune && labels[i] < k)
+                l = nearest_pruned(&pts[i], c, &nbr, labels[i]);
+            else
+                l = part == NULL ? nearest(&pts[i], c, k, NULL) : nearest_in(&pts[i], c, part, k, labels[i]);
             changed += l != labels[i];
             labels[i] = l;
             sx[l] += (int64_t)pts[i].x * pts[i].w;

@@ -183,7 +183,7 @@ int main(void)
     put_num("insn_sweep_detect_worst", (uint64_t)worst_us * INSN_PER_US);
     put_num("stack_used_bytes", board_stack_used());
     put("done\n");
-    while (board_uart_room(BOARD_UART_SONAR) < 8191u)
+    while (board_uart_pending(BOARD_UART_SONAR) > 0)
         board_uart_pump();
     board_exit(0);
     return 0;

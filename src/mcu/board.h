@@ -23,6 +23,9 @@ void board_uart_pump(void);
 /* Bytes that board_uart_write can take now for uart. */
 size_t board_uart_room(int uart);
 
+/* Bytes written to uart and not yet handed to its transmitter. */
+size_t board_uart_pending(int uart);
+
 /* Microseconds since boot, monotonic. */
 int64_t board_micros(void);
 

@@ -36,7 +36,13 @@
 #define UART_TX_IRQ(n) (2u * (uint32_t)(n) + 1u)
 
 #define RX_RING 1024u
-#define TX_RING 8192u
+/* Transmit rings: the sonar gets 24-byte requests; the host gets whole frames (a detections frame is up to 4 KB). */
+#ifndef BOARD_SONAR_TX_RING
+#define BOARD_SONAR_TX_RING 256u
+#endif
+#ifndef BOARD_HOST_TX_RING
+#define BOARD_HOST_TX_RING 8192u
+#endif
 
 struct ring_rx {
     uint8_t b[RX_RING];
@@ -44,14 +50,15 @@ struct ring_rx {
 };
 
 struct ring_tx {
-    uint8_t b[TX_RING];
-    uint16_t head, tail;
+    uint8_t *b;
+    uint16_t size, head, tail;
 };
 
 /* The hardware's state: the interrupt handlers reach it, so it cannot live in a caller's struct. */
 static struct an500 {
     struct ring_rx rx[2];
     struct ring_tx tx[2];
+    uint8_t tx0[BOARD_SONAR_TX_RING], tx1[BOARD_HOST_TX_RING];
     uint32_t overruns[2];
     uint32_t last_ticks;
     uint64_t ticks_hi; /* timer ticks elapsed before last_ticks, extended past 32 bits */
@@ -69,7 +76,7 @@ static void pump(int n)
     struct ring_tx *t = &hw.tx[n];
     while (t->tail != t->head && !(UART_STATE(n) & STATE_TX_FULL)) {
         UART_DATA(n) = t->b[t->tail];
-        t->tail = (uint16_t)((t->tail + 1u) % TX_RING);
+        t->tail = (uint16_t)((t->tail + 1u) % t->size);
     }
 }
 
@@ -112,6 +119,10 @@ void board_systick_irq(void) { /* only wakes board_idle */ }
 void board_init(void)
 {
     int n;
+    hw.tx[0].b = hw.tx0;
+    hw.tx[0].size = BOARD_SONAR_TX_RING;
+    hw.tx[1].b = hw.tx1;
+    hw.tx[1].size = BOARD_HOST_TX_RING;
     for (n = 0; n < 2; n++) {
         UART_BAUDDIV(n) = SYSCLK_HZ / BAUD;
         UART_CTRL(n) = CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INT | CTRL_TX_INT;
@@ -142,7 +153,7 @@ size_t board_uart_write(int uart, const uint8_t *buf, size_t n)
     struct ring_tx *t = &hw.tx[uart];
     size_t k = 0;
     while (k < n) {
-        uint16_t next = (uint16_t)((t->head + 1u) % TX_RING);
+        uint16_t next = (uint16_t)((t->head + 1u) % t->size);
         if (next == t->tail)
             break;
         t->b[t->head] = buf[k++];
@@ -164,7 +175,13 @@ void board_uart_pump(void)
 size_t board_uart_room(int uart)
 {
     const struct ring_tx *t = &hw.tx[uart];
-    return TX_RING - 1u - (size_t)((t->head + TX_RING - t->tail) % TX_RING);
+    return t->size - 1u - (size_t)((t->head + t->size - t->tail) % t->size);
+}
+
+size_t board_uart_pending(int uart)
+{
+    const struct ring_tx *t = &hw.tx[uart];
+    return (size_t)((t->head + t->size - t->tail) % t->size);
 }
 
 int64_t board_micros(void)

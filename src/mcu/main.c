@@ -23,9 +23,12 @@ struct fw {
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
     int64_t next_status, reconnect_at;
-    uint8_t msg[SONAR_CPF_MAX_PAYLOAD];
+    /* One frame buffer: messages are encoded at its payload offset and framed in place (4 KB less RAM). */
     uint8_t out[SONAR_CPF_MAX_PAYLOAD + SONAR_CPF_OVERHEAD];
 };
+
+#define MSG(f) ((f)->out + SONAR_CPF_HEADER)
+#define MSG_CAP ((int)SONAR_CPF_MAX_PAYLOAD)
 
 static int sonar_send(void *user, const uint8_t *buf, size_t len)
 {
@@ -40,7 +43,7 @@ static int sonar_send(void *user, const uint8_t *buf, size_t len)
 static void host_send(struct fw *f, uint8_t channel, int len)
 {
     int n;
-    if (len < 0 || (n = sonar_cpf_encode(f->out, sizeof(f->out), channel, f->msg, (uint16_t)len)) < 0 ||
+    if (len < 0 || (n = sonar_cpf_encode(f->out, sizeof(f->out), channel, MSG(f), (uint16_t)len)) < 0 ||
         board_uart_room(BOARD_UART_HOST) < (size_t)n) {
         f->frames_dropped++;
         return;
@@ -51,13 +54,13 @@ static void host_send(struct fw *f, uint8_t channel, int len)
 static void reply(struct fw *f, const char *what, const char *why)
 {
     size_t a = strlen(what), b = why ? strlen(why) : 0;
-    if (a + b + 2 > sizeof(f->msg))
+    if (a + b + 2 > (size_t)MSG_CAP)
         return;
-    memcpy(f->msg, what, a);
+    memcpy(MSG(f), what, a);
     if (why != NULL) {
-        f->msg[a] = ':';
-        f->msg[a + 1] = ' ';
-        memcpy(f->msg + a + 2, why, b);
+        MSG(f)[a] = ':';
+        MSG(f)[a + 1] = ' ';
+        memcpy(MSG(f) + a + 2, why, b);
         a += b + 2;
     }
     host_send(f, SONAR_CPF_REPLY, (int)a);
@@ -70,7 +73,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     sonar_detections_t m;
     f->sweeps++;
     msg_detections(d, det, &m);
-    host_send(f, SONAR_CPF_DETECTIONS, sonar_detections_t_encode(f->msg, 0, (int)sizeof(f->msg), &m));
+    host_send(f, SONAR_CPF_DETECTIONS, sonar_detections_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
 static void forward_beam(struct fw *f, const struct sonar_ping360_data *d, float range_m, int64_t utime)
@@ -87,7 +90,7 @@ static void forward_beam(struct fw *f, const struct sonar_ping360_data *d, float
     m.stage = SONAR_STAGE_RAW;
     m.number_of_samples = (int16_t)d->data_length;
     m.samples = (uint8_t *)(uintptr_t)d->data;
-    host_send(f, SONAR_CPF_BEAM, sonar_beam_t_encode(f->msg, 0, (int)sizeof(f->msg), &m));
+    host_send(f, SONAR_CPF_BEAM, sonar_beam_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
 static void beam_in(struct fw *f, const struct sonar_ping360_data *d, int64_t now)
@@ -141,7 +144,7 @@ static void status(struct fw *f, int64_t now)
     m.beams_rejected = f->rejected;
     m.stack_used = (int32_t)board_stack_used();
     m.nacks += f->config_errors; /* configurations refused count as NACKs of the host's requests */
-    host_send(f, SONAR_CPF_STATUS, sonar_status_t_encode(f->msg, 0, (int)sizeof(f->msg), &m));
+    host_send(f, SONAR_CPF_STATUS, sonar_status_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
 static const struct sonar_ping360_io io = {sonar_send, NULL, NULL};
