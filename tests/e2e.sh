@@ -29,6 +29,40 @@ fa=$(python3 tools/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false 
 check "the study's range background keeps the walls: >= 1 false alarm a sweep (got $fa)" \
     awk -v f="$fa" 'BEGIN { exit !(f >= 1.0) }' 
 
+# Tracking (issue 10): the moving scenes, scored against the truth IDs. The floors below are what
+# the tracker does today with margin (regression guards; the issue's targets of 0.95 are not met
+# yet, see docs/results.md section 5). Each line also prints the full tracking table.
+for sc in sector moving; do
+    "$B/sonar-sim" --scene $sc --out "$T/$sc.csv" --truth "$T/$sc.json"
+    "$B/sonard" --replay "$T/$sc.csv" --json --quiet --min-points 8 > "$T/$sc.jsonl" 2>/dev/null
+    python3 tools/score.py "$T/$sc.json" "$T/$sc.jsonl" --tracks --label "  $sc: " | tail -1
+done
+check "tracking, sector scene (back and forth): IDF1 >= 0.80, MOTA >= 0.70, no ID switch" \
+    python3 tools/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.80 --min-mota 0.70 --max-idsw-per-100 0
+check "tracking, moving scene (crossing, turning, fading, 1.5 m/s): IDF1 >= 0.55, velocity error <= 0.1 m/s" \
+    python3 tools/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.55 --max-vel-error 0.1
+check "tracks: IDs never reused, each line's tracks carry id/state/x_m/y_m/vx_mps/vy_mps/age/hits" python3 -c "
+import json, sys
+seen_ids, last = set(), {}
+for line in open('$T/moving.jsonl'):
+    d = json.loads(line)
+    ids = [t['id'] for t in d['tracks']]
+    assert len(ids) == len(set(ids)), ids
+    for t in d['tracks']:
+        assert {'id', 'state', 'x_m', 'y_m', 'vx_mps', 'vy_mps', 'age', 'hits'} <= set(t), t
+        assert t['state'] in ('tentative', 'confirmed', 'coasting'), t
+        # an id once gone never comes back
+        assert t['id'] not in seen_ids or t['id'] in last, t['id']
+    seen_ids |= set(ids)
+    last = set(ids)
+    assert all(det['utime'] > 0 for det in d['detections'])
+"
+"$B/sonard" --replay "$T/sector.csv" --json --quiet --track off > "$T/off.jsonl" 2>/dev/null
+check "--track off: detections still, no tracks in the JSON" sh -c "grep -q x_m '$T/off.jsonl' && ! grep -q '\"tracks\"' '$T/off.jsonl'"
+"$B/sonard" --replay "$T/sector.csv" --track-confirm 4 --track-window 3 > "$T/conf.out" 2>&1; rc=$?
+check "--track-confirm 4 --track-window 3 is refused (exit 2), naming both" \
+    sh -c "test $rc -eq 2 && grep -q -- '--track-confirm 4 exceeds --track-window 3' '$T/conf.out'"
+
 # The shipped preset parses and runs (scored on the real recordings by tests/realdata.sh).
 check "docs/presets/occupied-pool.conf is read and runs" sh -c "'$B/sonard' --replay '$T/open.csv' --json --quiet --config docs/presets/occupied-pool.conf > '$T/preset.jsonl' && test -s '$T/preset.jsonl'"
 

@@ -12,6 +12,7 @@
 #include "sonar_beam_t.h"
 #include "sonar_detections_t.h"
 #include "sonar_status_t.h"
+#include "sonar_tracks_t.h"
 
 #include <cmocka.h>
 
@@ -95,7 +96,9 @@ static void test_lcm_detections_and_status(void **state)
     static struct sent out;
     static struct sonar_detections d;
     struct app_status st;
+    static struct sonar_tracker tk;
     sonar_detections_t m;
+    sonar_tracks_t mt;
     sonar_status_t ms;
     (void)state;
     memset(&out, 0, sizeof(out));
@@ -111,13 +114,37 @@ static void test_lcm_detections_and_status(void **state)
     d.det[1].points = 99;
     d.det[1].hull_count = 3;
     d.det[1].hull_y[2] = -2.25f;
-    assert_int_equal(s.sink.detections(s.sink.self, &d), HOST_OK);
+    d.det[1].utime = 41;
+    memset(&tk, 0, sizeof(tk));
+    tk.n = 2;
+    tk.t[1].id = 17;
+    tk.t[1].state = SONAR_TRACK_COASTING;
+    tk.t[1].px = 2.5f;
+    tk.t[1].vy = -0.75f;
+    tk.t[1].pa = 0.04f;
+    tk.t[1].hits = 9;
+    tk.t[1].det = -1;
+    tk.t[0].det = 1;
+    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk), HOST_OK);
     assert_string_equal(out.channel[0], "SONAR_DETECTIONS");
+    assert_string_equal(out.channel[1], "SONAR_TRACKS");
+    assert_true(sonar_tracks_t_decode(out.buf[1], 0, (int)out.len[1], &mt) > 0);
+    assert_int_equal(mt.sweep, 7);
+    assert_int_equal(mt.count, 2);
+    assert_int_equal(mt.tracks[1].id, 17);
+    assert_int_equal(mt.tracks[1].state, 2);
+    assert_true(mt.tracks[1].x_m == 2.5f && mt.tracks[1].vy_mps == -0.75f);
+    assert_true(mt.tracks[1].cov_xx == 0.04f && mt.tracks[1].cov_yy == 0.04f && mt.tracks[1].cov_xy == 0.0f);
+    assert_int_equal(mt.tracks[1].hits, 9);
+    assert_int_equal(mt.tracks[1].detection, -1);
+    assert_int_equal(mt.tracks[0].detection, 1);
+    sonar_tracks_t_decode_cleanup(&mt);
     assert_true(sonar_detections_t_decode(out.buf[0], 0, (int)out.len[0], &m) > 0);
     assert_int_equal(m.sweep, 7);
     assert_int_equal(m.count, 2);
     assert_true(m.detections[1].x_m == 1.5f);
     assert_int_equal(m.detections[1].points, 99);
+    assert_int_equal(m.detections[1].utime, 41);
     assert_int_equal(m.detections[1].hull_count, 3);
     assert_true(m.detections[1].hull_y[2] == -2.25f);
     sonar_detections_t_decode_cleanup(&m);
@@ -130,8 +157,8 @@ static void test_lcm_detections_and_status(void **state)
     st.sink_errors = 8;
     st.beams_rejected = 9;
     assert_int_equal(s.sink.status(s.sink.self, &st), HOST_OK);
-    assert_string_equal(out.channel[1], "SONAR_STATUS");
-    assert_true(sonar_status_t_decode(out.buf[1], 0, (int)out.len[1], &ms) > 0);
+    assert_string_equal(out.channel[2], "SONAR_STATUS");
+    assert_true(sonar_status_t_decode(out.buf[2], 0, (int)out.len[2], &ms) > 0);
     assert_int_equal(ms.link_state, 1);
     assert_string_equal(ms.link, "tcp:127.0.0.1:9");
     assert_int_equal(ms.oversize, 3);
@@ -179,6 +206,7 @@ static void test_report_sink_json_line(void **state)
 {
     static struct sink_report s;
     static struct sonar_detections d;
+    static struct sonar_tracker tk;
     char text[4096];
     FILE *f = fmemopen(text, sizeof(text), "w");
     (void)state;
@@ -189,9 +217,21 @@ static void test_report_sink_json_line(void **state)
     d.det[0].points = 40;
     sink_report_init(&s, f, 1);
     assert_null(s.sink.beam);
-    assert_int_equal(s.sink.detections(s.sink.self, &d), HOST_OK);
+    assert_int_equal(s.sink.detections(s.sink.self, &d, NULL), HOST_OK);
+    assert_null(strstr(text, "tracks"));
+    memset(&tk, 0, sizeof(tk));
+    tk.n = 1;
+    tk.t[0].id = 4;
+    tk.t[0].state = SONAR_TRACK_CONFIRMED;
+    tk.t[0].vx = 0.5f;
+    tk.t[0].age = 6;
+    tk.t[0].hits = 5;
+    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk), HOST_OK);
     fclose(f);
     assert_non_null(strstr(text, "{\"sweep\":3,"));
+    assert_non_null(strstr(text, "\"tracks\":[{\"id\":4,\"state\":\"confirmed\","));
+    assert_non_null(strstr(text, "\"vx_mps\":0.500,"));
+    assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0}]}\n"));
     assert_non_null(strstr(text, "\"x_m\":1.000"));
     assert_non_null(strstr(text, "\"points\":40"));
     assert_true(text[strlen(text) - 1] == '\n');

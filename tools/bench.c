@@ -11,6 +11,7 @@
 #include "sonar/kmeans.h"
 #include "sonar/median.h"
 #include "sonar/pipeline.h"
+#include "sonar/tracker.h"
 
 #define BEAMS 400
 #define N 1200
@@ -202,6 +203,43 @@ int main(int argc, char **argv)
                 sink += sonar_hull_build(hp, (uint16_t)m, hull, 10000);
         }
         t_km[r] = (now() - t0) * 1e3;
+    }
+    /* The tracker: 32 live tracks, a sweep of 16 detections near half of them (the other half
+       coast), from the same saved state each time. */
+    {
+        static struct sonar_tracker tk0, tk;
+        struct sonar_tracker_config tc;
+        struct sonar_tracker_obs ob[16];
+        struct sonar_tracker_sweep tsw = {0, 400, NULL, 0.0f, 50.0f};
+        double t_trk[REPS];
+        int s2, k2, rep;
+        sonar_tracker_defaults(&tc);
+        if (sonar_tracker_init(&tk0, &tc) != SONAR_OK)
+            return 1;
+        for (s2 = 0; s2 < 2; s2++) {
+            for (k2 = 0; k2 < 16; k2++) {
+                ob[k2].x_m = (float)(k2 % 4) * 4.0f - 6.0f + (float)s2 * 20.0f;
+                ob[k2].y_m = (float)(k2 / 4) * 4.0f - 6.0f;
+                ob[k2].utime = 1000000 + (int64_t)k2 * 10000;
+            }
+            tsw.utime = 2000000;
+            sink += sonar_tracker_update(&tk0, ob, 16, &tsw);
+        }
+        for (k2 = 0; k2 < 16; k2++) {
+            ob[k2].x_m = (float)(k2 % 4) * 4.0f - 5.9f;
+            ob[k2].utime = 11000000 + (int64_t)k2 * 10000;
+        }
+        tsw.utime = 12000000;
+        for (r = 0; r < REPS; r++) {
+            double t0 = now();
+            for (rep = 0; rep < 200; rep++) {
+                memcpy(&tk, &tk0, sizeof(tk));
+                sink += sonar_tracker_update(&tk, ob, 16, &tsw);
+            }
+            t_trk[r] = (now() - t0) / 200 * 1e6;
+        }
+        printf("tracker_sweep_us %.3f\n", median_of(t_trk, REPS));
+        printf("tracker_tracks %d\n", (int)tk0.n);
     }
     printf("median5_ns_per_sample %.4f\n", median_of(t_med, REPS));
     printf("median5x5_ns_per_sample %.4f\n", median_of(t_2d, REPS));

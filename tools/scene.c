@@ -34,30 +34,102 @@ int scene_make(struct scene *s, const char *name)
         memcpy(s->wall, w, sizeof(w));
         s->nwall = 4;
         s->sweeps = 7;
-        s->obj[0] = (struct scene_object){"gate_post_left", 5.0, 2.0, 0.10, 0, 0, 170, 2};
-        s->obj[1] = (struct scene_object){"gate_post_right", 5.0, 3.6, 0.10, 0, 0, 170, 2};
-        s->obj[2] = (struct scene_object){"buoy", -3.0, -2.0, 0.25, 0.35, 0.1, 190, 3};
+        s->obj[0] = (struct scene_object){"gate_post_left", 5.0, 2.0, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0};
+        s->obj[1] = (struct scene_object){"gate_post_right", 5.0, 3.6, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0};
+        s->obj[2] = (struct scene_object){"buoy", -3.0, -2.0, 0.25, 0.35, 0.1, 190, 3, 0, {0}, {0}, {0}, 0};
         s->nobj = 3;
     } else if (strcmp(name, "open") == 0) {
         /* Open water: no walls, objects there from the first ping. */
         s->sweeps = 4;
-        s->obj[0] = (struct scene_object){"gate_post", 4.0, 1.0, 0.10, 0, 0, 170, 0};
-        s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0};
-        s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0};
+        s->obj[0] = (struct scene_object){"gate_post", 4.0, 1.0, 0.10, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0};
+        s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0, 0, {0}, {0}, {0}, 0};
+        s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0, 0, {0}, {0}, {0}, 0};
         s->nobj = 3;
+    } else if (strcmp(name, "moving") == 0) {
+        /*
+         * Open water, full turns at 4 gradians a step (6.3 s a turn at 15 m): two swimmers crossing
+         * 0.5 m apart at 0.5 m/s, a diver at 1 m/s who turns, a fast one at 1.5 m/s going round the
+         * sonar, a drifting buoy that fades for two turns, arrivals and departures. The first turn
+         * and the second are the background's warm-up: objects arrive from 16 s on.
+         */
+        static const struct scene_object o[] = {
+            {"swimmer_a", 0, 0, 0.25, 0, 0, 160, 0, 2, {16, 52}, {-9, 9}, {6.25, 6.25}, 0},
+            {"swimmer_b", 0, 0, 0.25, 0, 0, 160, 0, 2, {16, 52}, {9, -9}, {5.75, 5.75}, 0},
+            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 3, {18, 38, 68}, {4, 4, -11}, {-10, 10, 10}, 0},
+            {"fast", 0, 0, 0.25, 0, 0, 170, 0, 5, {22, 33.3, 44.6, 55.9, 67.2}, {0, 12, 0, -12, 0}, {-12, 0, 12, 0, -12}, 0},
+            {"buoy", 0, 0, 0.25, 0, 0, 190, 0, 2, {20, 83}, {-5, -2.5}, {-5, -6.5}, (1ull << 6) | (1ull << 7)},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 2, {48, 88}, {10, 3}, {6, 6}, 0},
+        };
+        s->range_m = 15.0;
+        s->samples = 600;
+        s->step = 4;
+        s->sweeps = 14;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "sector") == 0) {
+        /*
+         * A 180-degree sector (gradians 100..300, the x < 0 half) scanned back and forth at 2
+         * gradians a step (5 s a pass at 15 m): two people crossing at 0.3 m/s, one at 0.8 m/s
+         * who walks out of the sector, one who arrives late; the first two passes are the background's warm-up.
+         */
+        static const struct scene_object o[] = {
+            {"walker_a", 0, 0, 0.25, 0, 0, 160, 0, 2, {12, 72}, {-4, -4}, {-9, 9}, 0},
+            {"walker_b", 0, 0, 0.25, 0, 0, 160, 0, 2, {12, 72}, {-4.5, -4.5}, {9, -9}, 0},
+            {"leaver", 0, 0, 0.25, 0, 0, 170, 0, 2, {14, 31}, {-8, 5}, {-3, -7}, 0},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 2, {36, 72}, {-10, -2}, {4, 4}, 0},
+        };
+        s->range_m = 15.0;
+        s->samples = 600;
+        s->step = 2;
+        s->start = 100;
+        s->stop = 300;
+        s->sweeps = 14;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else {
         return -1;
     }
     return 0;
 }
 
-int scene_object_at(const struct scene *s, int k, int sweep, double *x, double *y)
+int scene_object_at(const struct scene *s, int k, int sweep, double t, double *x, double *y, double *vx, double *vy)
 {
     const struct scene_object *o = &s->obj[k];
-    int d = sweep - o->first_sweep;
-    *x = o->x + o->vx * d;
-    *y = o->y + o->vy * d;
-    return sweep >= o->first_sweep;
+    int d = sweep - o->first_sweep, w;
+    if (o->nwp == 0) {
+        *x = o->x + o->vx * d;
+        *y = o->y + o->vy * d;
+        *vx = *vy = 0.0;
+        return sweep >= o->first_sweep;
+    }
+    if (t < o->wp_t[0] || t > o->wp_t[o->nwp - 1])
+        return 0;
+    for (w = 0; w + 2 < o->nwp && t > o->wp_t[w + 1]; w++)
+        ;
+    {
+        double dt = o->wp_t[w + 1] - o->wp_t[w], f = dt > 0 ? (t - o->wp_t[w]) / dt : 0.0;
+        *vx = dt > 0 ? (o->wp_x[w + 1] - o->wp_x[w]) / dt : 0.0;
+        *vy = dt > 0 ? (o->wp_y[w + 1] - o->wp_y[w]) / dt : 0.0;
+        *x = o->wp_x[w] + f * (o->wp_x[w + 1] - o->wp_x[w]);
+        *y = o->wp_y[w] + f * (o->wp_y[w + 1] - o->wp_y[w]);
+    }
+    return 1;
+}
+
+int scene_angle(const struct scene *s, int sweep, int i)
+{
+    int n, a;
+    if (s->start == s->stop) {
+        a = i * s->step;
+        return a < 400 ? a : -1;
+    }
+    /* Sweep 0 is start..stop; after that each pass leaves out the end it turned at. */
+    n = (s->stop - s->start) / s->step + (sweep == 0);
+    if (i >= n)
+        return -1;
+    if (sweep == 0)
+        return s->start + i * s->step;
+    return sweep % 2 ? s->stop - (i + 1) * s->step : s->start + (i + 1) * s->step;
 }
 
 /* Distance along the unit ray (ux, uy) to a wall segment, and |cos| of the incidence; < 0 if missed. */
@@ -77,7 +149,8 @@ static double ray_wall(const struct scene_wall *w, double ux, double uy, double 
     return t;
 }
 
-void scene_beam(const struct scene *s, int sweep, int angle, double range_m, int n, struct scene_rng *g, uint8_t *out)
+void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
+                uint8_t *out)
 {
     double th = angle * PI / 200.0, ux = cos(th), uy = sin(th);
     double sig_beam = 0.85 * PI / 180.0; /* 2 degree beam: Gaussian sigma of the two-way pattern */
@@ -109,8 +182,8 @@ void scene_beam(const struct scene *s, int sweep, int angle, double range_m, int
     }
     for (k = 0; k < s->nobj; k++) {
         const struct scene_object *o = &s->obj[k];
-        double ox, oy, d, phi, delta, alpha, e, gain, near, far;
-        if (!scene_object_at(s, k, sweep, &ox, &oy))
+        double ox, oy, ovx, ovy, d, phi, delta, alpha, e, gain, near, far;
+        if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
             continue;
         d = sqrt(ox * ox + oy * oy);
         phi = atan2(oy, ox);
@@ -135,20 +208,24 @@ void scene_beam(const struct scene *s, int sweep, int angle, double range_m, int
 }
 
 
-int scene_write_truth(FILE *f, const struct scene *s, int sweeps)
+int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct scene_seen *seen, long long t0_us)
 {
     int sweep, k;
+    int beams = 0;
+    while (scene_angle(s, 1, beams) >= 0)
+        beams++;
     fprintf(f, "{\"scene\":\"%s\",\"range_m\":%.3f,\"samples\":%d,\"beams_per_sweep\":%d,\"sweeps\":[", s->name,
-            s->range_m, s->samples, 400 / s->step);
+            s->range_m, s->samples, beams);
     for (sweep = 0; sweep < sweeps; sweep++) {
         int first = 1;
         fprintf(f, "%s{\"sweep\":%d,\"objects\":[", sweep ? "," : "", sweep);
         for (k = 0; k < s->nobj; k++) {
-            double x, y;
-            if (!scene_object_at(s, k, sweep, &x, &y))
+            const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
+            if (!v->visible)
                 continue;
-            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f}", first ? "" : ",", s->obj[k].id, x, y,
-                    s->obj[k].r);
+            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f,\"t_us\":%lld,\"vx\":%.3f,\"vy\":%.3f}",
+                    first ? "" : ",", s->obj[k].id, v->x, v->y, s->obj[k].r, t0_us + (long long)floor(v->t * 1e6 + 0.5),
+                    v->vx, v->vy);
             first = 0;
         }
         fputs("]}", f);

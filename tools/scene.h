@@ -1,4 +1,4 @@
-/* scene.h -- simulated Ping360 scenes (pool, open water): echo model and ground truth, shared by sonar-sim and sonar-feed. */
+/* scene.h -- simulated Ping360 scenes (pool, open water, moving targets): echo model and ground truth, shared by sonar-sim and sonar-feed. */
 #ifndef SONARD_SCENE_H
 #define SONARD_SCENE_H
 
@@ -7,6 +7,7 @@
 
 #define SCENE_MAX_OBJ 8
 #define SCENE_MAX_WALL 4
+#define SCENE_MAX_WP 6
 
 struct scene_object {
     const char *id;
@@ -14,6 +15,13 @@ struct scene_object {
     double vx, vy;   /* metres per sweep */
     double strength; /* peak echo, grey levels */
     int first_sweep; /* present from this sweep on */
+    /*
+     * Timed motion instead (nwp > 0): straight legs between waypoints (seconds since the scene's
+     * first beam, metres), present from the first waypoint's time to the last's.
+     */
+    int nwp;
+    double wp_t[SCENE_MAX_WP], wp_x[SCENE_MAX_WP], wp_y[SCENE_MAX_WP];
+    unsigned long long fade; /* bit k: no echo at all in sweep k */
 };
 
 struct scene_wall {
@@ -28,6 +36,7 @@ struct scene {
     int nwall;
     struct scene_object obj[SCENE_MAX_OBJ];
     int nobj;
+    int start, stop; /* a sector scanned back and forth, gradians; start == stop: full turns */
 };
 
 /* xorshift64*: the same stream on every machine. */
@@ -35,20 +44,39 @@ struct scene_rng {
     uint64_t s;
 };
 
-/* Fills s for "pool" or "open"; returns 0, or -1 for an unknown name. */
+/* Fills s for "pool", "open", "moving" or "sector"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);
 
-/* Where object k is at a sweep; returns 0 if it is not there yet. */
-int scene_object_at(const struct scene *s, int k, int sweep, double *x, double *y);
+/*
+ * Where object k is in a sweep at t seconds since the scene's first beam, and its velocity (m/s;
+ * 0 for the per-sweep steps of untimed objects). Returns 0 if it is not there then.
+ */
+int scene_object_at(const struct scene *s, int k, int sweep, double t, double *x, double *y, double *vx, double *vy);
+
+/* The i-th beam's angle of a sweep (full turns: 0, step, ...; sectors: back and forth). Returns -1 past its end. */
+int scene_angle(const struct scene *s, int sweep, int i);
 
 /*
  * One beam: angle in gradians, n samples over range_m metres (sample i at (i + 0.5) range_m / n),
- * as the scene looks during the given sweep. Uses and advances g.
+ * as the scene looks during the given sweep at t seconds. Uses and advances g.
  */
-void scene_beam(const struct scene *s, int sweep, int angle, double range_m, int n, struct scene_rng *g, uint8_t *out);
+void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
+                uint8_t *out);
 
-/* The truth file: {"scene","range_m","samples","beams_per_sweep","sweeps":[{"sweep","objects":[...]}]}. */
-int scene_write_truth(FILE *f, const struct scene *s, int sweeps);
+/* What the truth says of one object in one sweep: where it was when a beam crossed it. */
+struct scene_seen {
+    int present;            /* there and inside the range */
+    int visible;            /* present and not faded */
+    double t, x, y, vx, vy; /* seconds since the first beam; metres; m/s */
+    double d;               /* gradians between that beam and the object's bearing */
+};
+
+/*
+ * The truth file: {"scene","range_m","samples","beams_per_sweep","sweeps":[{"sweep","objects":
+ * [{"id","x","y","radius","t_us","vx","vy"}]}]}, objects that are visible (faded ones are left out:
+ * nothing can be seen). seen[sweep * SCENE_MAX_OBJ + k]; t0_us: the first beam's time.
+ */
+int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct scene_seen *seen, long long t0_us);
 
 double scene_uniform(struct scene_rng *g);
 

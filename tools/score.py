@@ -5,6 +5,14 @@ A detection is a true positive when its centroid lies within --gate metres of a 
 truth object of the same sweep (closest pairs first); other detections are false positives,
 unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
 per sweep; with --min-precision/--min-recall/--min-f1/--max-error it exits 1 when a target is missed.
+
+With --tracks it also scores the "tracks" of each line (confirmed and coasting ones; each predicted
+to the time its truth object was seen, "t_us", when the truth has it) against the truth IDs: MOTA
+(CLEAR MOT: a match kept while it stays within the gate, the rest assigned at least total
+distance), IDF1 (one global truth-ID to track-ID assignment), ID switches (also per 100
+track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the mean velocity
+error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s. --min-idf1, --min-mota,
+--max-idsw-per-100 and --max-vel-error then also decide the exit status.
 """
 import argparse
 import json
@@ -25,6 +33,138 @@ def match(dets, objs, gate):
     return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs
 
 
+def assign(cost):
+    """Least-total assignment of the rows of cost (rows <= cols) to distinct columns: row -> column."""
+    n, m = len(cost), len(cost[0]) if cost else 0
+    if n == 0:
+        return []
+    if n > m:
+        t = assign([list(r) for r in zip(*cost)])
+        out = [-1] * n
+        for j, i in enumerate(t):
+            out[i] = j
+        return out
+    inf = float("inf")
+    u, v, p, way = [0.0] * (n + 1), [0.0] * (m + 1), [0] * (m + 1), [0] * (m + 1)
+    for i in range(1, n + 1):
+        p[0], j0 = i, 0
+        minv, used = [inf] * (m + 1), [False] * (m + 1)
+        while True:
+            used[j0] = True
+            i0, delta, j1 = p[j0], inf, 0
+            for j in range(1, m + 1):
+                if not used[j]:
+                    cur = cost[i0 - 1][j - 1] - u[i0] - v[j]
+                    if cur < minv[j]:
+                        minv[j], way[j] = cur, j0
+                    if minv[j] < delta:
+                        delta, j1 = minv[j], j
+            for j in range(m + 1):
+                if used[j]:
+                    u[p[j]] += delta
+                    v[j] -= delta
+                else:
+                    minv[j] -= delta
+            j0 = j1
+            if p[j0] == 0:
+                break
+        while j0:
+            j1 = way[j0]
+            p[j0] = p[j1]
+            j0 = j1
+    out = [-1] * n
+    for j in range(1, m + 1):
+        if p[j]:
+            out[p[j] - 1] = j - 1
+    return out
+
+
+def track_at(h, o):
+    """Track h's position at the time truth object o was seen (its own state when o has no time)."""
+    dt = (o["t_us"] - h["utime"]) * 1e-6 if "t_us" in o and "utime" in h else 0.0
+    return h["x_m"] + h["vx_mps"] * dt, h["y_m"] + h["vy_mps"] * dt
+
+
+def score_tracks(truth, lines, gate, cutoff=2.0, p=2):
+    gt = fp = fn = idsw = frag = tp = hyp_total = 0
+    last = {}          # truth id -> track id it was last matched to
+    was_matched = {}   # truth id -> matched in its previous present sweep
+    ever = set()
+    ospa, verr = [], []
+    pair_count = {}    # (truth id, track id) -> sweeps within the gate, for IDF1
+    truth_total = 0
+    for k in sorted(truth):
+        objs = truth[k]
+        hyps = [h for h in lines.get(k, {}).get("tracks", []) if h["state"] in ("confirmed", "coasting")]
+        gt += len(objs)
+        truth_total += len(objs)
+        hyp_total += len(hyps)
+        dist = [[math.hypot(*(a - b for a, b in zip(track_at(h, o), (o["x"], o["y"])))) for h in hyps] for o in objs]
+        for i, o in enumerate(objs):
+            for j, h in enumerate(hyps):
+                if dist[i][j] <= gate:
+                    pair_count[(o["id"], h["id"])] = pair_count.get((o["id"], h["id"]), 0) + 1
+        # CLEAR MOT: keep last sweep's pairs still within the gate, assign the rest
+        match, used_h = {}, set()
+        for i, o in enumerate(objs):
+            if o["id"] in last:
+                for j, h in enumerate(hyps):
+                    if h["id"] == last[o["id"]] and dist[i][j] <= gate and j not in used_h:
+                        match[i] = j
+                        used_h.add(j)
+        ri = [i for i in range(len(objs)) if i not in match]
+        cj = [j for j in range(len(hyps)) if j not in used_h]
+        if ri and cj:
+            big = 1e6
+            sol = assign([[dist[i][j] if dist[i][j] <= gate else big for j in cj] for i in ri])
+            for a, b in enumerate(sol):
+                if b >= 0 and dist[ri[a]][cj[b]] <= gate:
+                    match[ri[a]] = cj[b]
+        for i, o in enumerate(objs):
+            oid = o["id"]
+            if i in match:
+                h = hyps[match[i]]
+                tp += 1
+                if oid in last and last[oid] != h["id"]:
+                    idsw += 1
+                if oid in ever and not was_matched.get(oid, True):
+                    frag += 1
+                last[oid] = h["id"]
+                ever.add(oid)
+                was_matched[oid] = True
+                sp = math.hypot(o.get("vx", 0.0), o.get("vy", 0.0))
+                if 0.5 <= sp <= 1.5 and h.get("hits", 0) >= 3 and "vx" in o:
+                    verr.append(math.hypot(h["vx_mps"] - o["vx"], h["vy_mps"] - o["vy"]))
+            else:
+                fn += 1
+                was_matched[oid] = False
+        fp += len(hyps) - len(match)
+        # OSPA between the truth and the tracks of this sweep
+        n, m = len(objs), len(hyps)
+        if n == 0 and m == 0:
+            ospa.append(0.0)
+        elif n == 0 or m == 0:
+            ospa.append(cutoff)
+        else:
+            dc = [[min(cutoff, dist[i][j]) ** p for j in range(m)] for i in range(n)]
+            sol = assign(dc)
+            total = sum(dc[i][sol[i]] for i in range(n) if sol[i] >= 0)
+            ospa.append(((total + cutoff ** p * abs(n - m)) / max(n, m)) ** (1.0 / p))
+    # IDF1: one truth id -> track id assignment over the whole run
+    tids = sorted({a for a, _ in pair_count})
+    hids = sorted({b for _, b in pair_count})
+    idtp = 0
+    if tids and hids:
+        sol = assign([[-pair_count.get((t, h), 0) for h in hids] for t in tids])
+        idtp = sum(pair_count.get((tids[i], hids[j]), 0) for i, j in enumerate(sol) if j >= 0)
+    idf1 = 2 * idtp / (truth_total + hyp_total) if truth_total + hyp_total else 1.0
+    mota = 1 - (fn + fp + idsw) / gt if gt else 1.0
+    return {"mota": mota, "idf1": idf1, "idsw": idsw, "idsw_per_100": 100.0 * idsw / max(1, hyp_total),
+            "frag": frag, "ospa": sum(ospa) / len(ospa) if ospa else 0.0,
+            "vel_err": sum(verr) / len(verr) if verr else float("nan"), "vel_n": len(verr),
+            "tp": tp, "fp": fp, "fn": fn, "gt": gt, "track_sweeps": hyp_total}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("truth")
@@ -35,11 +175,16 @@ def main():
     ap.add_argument("--min-f1", type=float)
     ap.add_argument("--max-error", type=float, help="largest mean centroid error, metres")
     ap.add_argument("--label", default="")
+    ap.add_argument("--tracks", action="store_true", help="also score the tracks (MOTA, IDF1, OSPA, ...)")
+    ap.add_argument("--min-idf1", type=float)
+    ap.add_argument("--min-mota", type=float)
+    ap.add_argument("--max-idsw-per-100", type=float)
+    ap.add_argument("--max-vel-error", type=float, help="m/s")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
     # sweeps marked "labelled": false have unknown truth: neither their detections nor their objects count
     truth = {s["sweep"]: s["objects"] for s in json.load(open(a.truth))["sweeps"] if s.get("labelled", True)}
-    sweeps = {}
+    sweeps, lines = {}, {}
     for n, line in enumerate(open(a.detections), 1):
         line = line.strip()
         if not line:
@@ -49,6 +194,7 @@ def main():
         except json.JSONDecodeError as e:
             sys.exit(f"{a.detections}:{n}: not JSON: {e}")
         sweeps[d["sweep"]] = d["detections"]
+        lines[d["sweep"]] = d
     tp = fp = fn = 0
     errs = []
     for k in sorted(truth):
@@ -80,6 +226,18 @@ def main():
     if a.max_error is not None and not (err <= a.max_error):
         print(f"FAIL: centroid error {err:.3f} m > {a.max_error} m")
         ok = False
+    if a.tracks:
+        t = score_tracks(truth, lines, a.gate)
+        print(f"{a.label}tracking: MOTA {t['mota']:.3f}  IDF1 {t['idf1']:.3f}  ID switches {t['idsw']} "
+              f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
+              f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  (TP {t['tp']} FP {t['fp']} FN {t['fn']}, "
+              f"{t['track_sweeps']} track-sweeps)")
+        for key, lim, worse in (("idf1", a.min_idf1, lambda v, l: v < l), ("mota", a.min_mota, lambda v, l: v < l),
+                                ("idsw_per_100", a.max_idsw_per_100, lambda v, l: v > l),
+                                ("vel_err", a.max_vel_error, lambda v, l: not (v <= l))):
+            if lim is not None and worse(t[key], lim):
+                print(f"FAIL: {key} {t[key]:.3f} misses {lim}")
+                ok = False
     sys.exit(0 if ok else 1)
 
 

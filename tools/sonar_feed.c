@@ -158,7 +158,9 @@ static void render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16
 {
     if (f->use_scene) {
         double range = sonar_geometry_range_m(f->sp, f->n, f->c);
-        scene_beam(&f->scene, (int)f->sweep.index, a, range, f->n, &f->rng, out);
+        /* The scene's clock: sweeps of 400 beams at the feed's own pace are not modelled; timed
+           objects move with the sweep count at a nominal 10 s a sweep. */
+        scene_beam(&f->scene, (int)f->sweep.index, 10.0 * (double)f->sweep.index, a, range, f->n, &f->rng, out);
         *n = f->n;
         *sp = f->sp;
     } else {

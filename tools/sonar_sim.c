@@ -32,9 +32,11 @@ static int parse_seed(void *base, const char *v, char *err, size_t n)
 
 #define SO(field) offsetof(struct sim_opts, field)
 static const struct opt_spec sim_spec[] = {
-    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool or open", "pool",
+    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving or sector", "pool",
      "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
-     "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps)", NULL, NULL},
+     "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps);\n"
+     "moving: 6 targets at 0.05..1.5 m/s crossing, turning, fading, arriving, leaving (14 turns);\n"
+     "sector: 4 walkers in a 180-degree sector scanned back and forth (14 passes)", NULL, NULL},
     {"out", "FILE", OPT_STR, 0, 0, SO(out), 0, 0, "file", NULL, "the study's CSV (12 m, 1200 samples, 400 beams a sweep)", NULL, NULL},
     {"truth", "FILE", OPT_STR, 0, 0, SO(truth), 0, 0, "file", NULL, "ground-truth JSON", NULL, NULL},
     {"sweeps", "N", OPT_LONG, 0, 0, SO(sweeps), 1, 100000, "sweeps", "the scene's", "sweeps to write", NULL, NULL},
@@ -51,14 +53,15 @@ int main(int argc, char **argv)
     struct scene_rng g = {0x9E3779B97F4A7C15ull};
     FILE *csv, *truth;
     uint8_t samples[1200];
-    double t = 1728153122.0;
+    double t = 1728153122.0, t0 = t;
+    struct scene_seen *seen;
     int sweep, a, sweeps, action;
     char err[256];
     struct csv_meta meta;
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open --out FILE.csv --truth FILE.json [--sweeps N] [--seed S]\n");
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector --out FILE.csv --truth FILE.json [--sweeps N] [--seed S]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
     }
@@ -68,7 +71,7 @@ int main(int argc, char **argv)
     sweeps = (int)o.sweeps;
     g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
-        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool or open\n", scene_name);
+        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving or sector\n", scene_name);
         return 2;
     }
     if (csv_path == NULL || truth_path == NULL) {
@@ -81,21 +84,47 @@ int main(int argc, char **argv)
         perror("sonar_sim");
         return 2;
     }
-    if (scene_write_truth(truth, &s, s.sweeps) != 0) {
-        perror("sonar_sim: truth");
+    if ((seen = calloc((size_t)s.sweeps * SCENE_MAX_OBJ, sizeof(*seen))) == NULL) {
+        perror("sonar_sim");
         return 1;
     }
     meta = csv_meta_none();
     meta.range_m = s.range_m;
     for (sweep = 0; sweep < s.sweeps; sweep++) {
-        for (a = 0; a < 400; a += s.step) {
-            double sec = floor(t);
-            scene_beam(&s, sweep, a, s.range_m, s.samples, &g, samples);
+        int i;
+        for (i = 0; (a = scene_angle(&s, sweep, i)) >= 0; i++) {
+            double sec = floor(t), ts = t - t0;
+            int k;
+            scene_beam(&s, sweep, ts, a, s.range_m, s.samples, &g, samples);
             csv_write(csv, (int64_t)sec, (uint32_t)((t - sec) * 1e9), (uint16_t)a, samples, (uint16_t)s.samples, &meta);
+            /* Truth: each object where it was when the beam nearest its bearing passed. */
+            for (k = 0; k < s.nobj; k++) {
+                struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
+                double x, y, vx, vy, d;
+                int timed = s.obj[k].nwp > 0;
+                if (!scene_object_at(&s, k, sweep, ts, &x, &y, &vx, &vy))
+                    continue;
+                d = fabs(remainder(atan2(y, x) * 200.0 / 3.14159265358979323846 - a, 400.0));
+                if (v->present && d >= v->d)
+                    continue;
+                v->present = 1;
+                v->visible = !(timed && hypot(x, y) > s.range_m) && !(sweep < 64 && (s.obj[k].fade >> sweep) & 1u);
+                v->t = ts;
+                v->x = x;
+                v->y = y;
+                v->vx = vx;
+                v->vy = vy;
+                v->d = d;
+            }
             /* Device timing model (ping.md section 3): 19.4 ms + 6 ms per gradian + 2R/c. */
             t += 0.0194 + 0.006 * s.step + 2.0 * s.range_m / 1500.0;
         }
     }
+    if (scene_write_truth(truth, &s, s.sweeps, seen, (long long)(t0 * 1e6)) != 0) {
+        perror("sonar_sim: truth");
+        return 1;
+    }
+    free(seen);
     if (fclose(csv) != 0 || fclose(truth) != 0) {
         perror("sonar_sim");
         return 1;

@@ -62,6 +62,14 @@
 #define SONAR_HULL_WORK 128
 #endif
 
+/*
+ * Tracks the tracker keeps (tracker.h). RAM: 56 bytes each, plus a SONAR_MAX_CLUSTERS x
+ * SONAR_MAX_TRACKS float cost matrix (1 792 + 2 048 B at 32).
+ */
+#ifndef SONAR_MAX_TRACKS
+#define SONAR_MAX_TRACKS 32
+#endif
+
 /* C99 has no _Static_assert: a negative array size stops the build when a relation fails. */
 #define SONAR_STATIC_ASSERT(cond, name) typedef char sonar_static_assert_##name[(cond) ? 1 : -1]
 
@@ -74,6 +82,7 @@ SONAR_STATIC_ASSERT(SONAR_MAX_RUNS >= 16 && SONAR_MAX_RUNS < 65535, runs_fit_u16
 SONAR_STATIC_ASSERT(SONAR_MAX_CLUSTERS >= 1 && SONAR_MAX_CLUSTERS <= 64, clusters_1_64);
 SONAR_STATIC_ASSERT(SONAR_MAX_HULL >= 3, hull_at_least_triangle);
 SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_hull);
+SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
 SONAR_STATIC_ASSERT(SONAR_MAX_SWEEP_BEAMS >= 8 && SONAR_MAX_SWEEP_BEAMS < 65535, sweep_beams);
 
 #endif

@@ -61,6 +61,7 @@ struct sonar_detector_config {
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */
 struct sonar_detection {
+    int64_t utime;          /* us since the epoch when it was seen: its cells' beam times, cell-weighted */
     float x_m, y_m;         /* centroid of its cells, metres */
     float range_m;          /* hypot(x, y) */
     float bearing_deg;      /* atan2(y, x), [0, 360) */
@@ -104,12 +105,14 @@ struct sonar_detector {
     float prev_mean, prev_std;
     float range_m;
     int64_t utime;
+    int64_t t0;                                 /* utime of the sweep's first beam */
+    uint32_t dt_us[SONAR_MAX_SWEEP_BEAMS];      /* each beam's time after t0, us (saturating) */
     uint32_t sweep;
     uint32_t runs_dropped;
     uint16_t nruns, beams, n;
     uint8_t have_prev, threshold;
-    uint8_t ntracks;                                /* detections of the previous sweep */
-    struct sonar_xy tracks[SONAR_MAX_CLUSTERS]; /* their centroids, mm, device frame */
+    uint8_t ntracks;                                /* where objects are expected: the previous sweep's */
+    struct sonar_xy tracks[SONAR_MAX_CLUSTERS]; /* detections, or sonar_detector_set_tracks'; mm, device frame */
 };
 
 /*
@@ -136,5 +139,12 @@ SONAR_CHECK int sonar_detector_end(struct sonar_detector *d, struct sonar_detect
 /* Replaces the rules between sweeps (call it right after sonar_detector_end); the previous sweep's
  * threshold statistics and tracks are kept. Returns SONAR_OK or SONAR_ERR_ARG (nothing changed). */
 SONAR_CHECK int sonar_detector_set_config(struct sonar_detector *d, const struct sonar_detector_config *cfg);
+
+/*
+ * Replaces where the next sweep's objects are expected (the track_m gate), by default the previous
+ * sweep's detections: n <= SONAR_MAX_CLUSTERS positions in metres in the output frame (after
+ * angle_offset), e.g. a tracker's predictions; more are ignored. Returns SONAR_OK or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_detector_set_tracks(struct sonar_detector *d, const float *x_m, const float *y_m, uint8_t n);
 
 #endif

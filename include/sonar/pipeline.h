@@ -10,6 +10,7 @@
 #include "sonar/err.h"
 #include "sonar/median.h"
 #include "sonar/sweep.h"
+#include "sonar/tracker.h"
 
 /* One beam as it arrives; samples belong to the caller and are read during the call only. */
 struct sonar_beam {
@@ -32,7 +33,10 @@ struct sonar_pipeline_config {
     uint16_t max_step; /* gradians; a larger angle move starts a new sweep (1..200) */
     struct sonar_background_config background;
     struct sonar_detector_config detector;
-    /* Optional callbacks (NULL to skip), called from inside push/finish. */
+    uint8_t track; /* 1: track detections across sweeps (tracker below), 0: off */
+    struct sonar_tracker_config tracker;
+    /* Optional callbacks (NULL to skip), called from inside push/finish. on_sweep comes after the
+       tracker has taken the sweep, so p->trk holds this sweep's tracks then. */
     void (*on_beam)(void *user, int stage, const struct sonar_beam *beam);
     void (*on_sweep)(void *user, const struct sonar_detections *d);
     void *user;
@@ -48,6 +52,7 @@ struct sonar_pipeline {
     struct sonar_median2d m2d;
     struct sonar_background bg;
     struct sonar_detector det;
+    struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_detections out;
     uint8_t filt[SONAR_MAX_SAMPLES];
     uint8_t fg[SONAR_MAX_SAMPLES];

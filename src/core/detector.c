@@ -59,6 +59,30 @@ int sonar_detector_set_config(struct sonar_detector *d, const struct sonar_detec
     return SONAR_OK;
 }
 
+int sonar_detector_set_tracks(struct sonar_detector *d, const float *x_m, const float *y_m, uint8_t n)
+{
+    double th, c, s;
+    uint8_t i;
+    if (d == NULL || (n > 0 && (x_m == NULL || y_m == NULL)))
+        return SONAR_ERR_ARG;
+    /* Output frame -> device frame: undo the angle offset the detections were rotated by. */
+    th = -sonar_frame_rad((double)d->cfg.angle_offset);
+    c = cos(th);
+    s = sin(th);
+    d->ntracks = 0;
+    for (i = 0; i < n && d->ntracks < SONAR_MAX_CLUSTERS; i++) {
+        double x = (double)x_m[i], y = (double)y_m[i];
+        double dx = (x * c - y * s) * 1000.0, dy = (x * s + y * c) * 1000.0;
+        /* Off the detector's mm grid (or NaN): such a prediction cannot gate a cluster anyway. */
+        if (!(fabs(dx) < (double)SONAR_KMEANS_MAX_COORD && fabs(dy) < (double)SONAR_KMEANS_MAX_COORD))
+            continue;
+        d->tracks[d->ntracks].x = (int32_t)floor(dx + 0.5);
+        d->tracks[d->ntracks].y = (int32_t)floor(dy + 0.5);
+        d->ntracks++;
+    }
+    return SONAR_OK;
+}
+
 int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
 {
     struct sonar_xy c[SONAR_MAX_CLUSTERS], at[SONAR_MAX_CLUSTERS];

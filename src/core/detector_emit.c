@@ -66,7 +66,7 @@ static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, u
 
 int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
 {
-    uint64_t w = 0, s = 0;
+    uint64_t w = 0, s = 0, st = 0;
     int64_t sx = 0, sy = 0;
     uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
     uint32_t lo = 0, hi = 0, rlo = UINT32_MAX, rhi = 0;
@@ -79,6 +79,7 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
             continue;
         w += d->pts[i].w;
         s += r->sum;
+        st += (uint64_t)d->dt_us[r->beam] * d->pts[i].w;
         sx += (int64_t)d->pts[i].x * d->pts[i].w;
         sy += (int64_t)d->pts[i].y * d->pts[i].w;
         end = (uint32_t)r->start + d->pts[i].w - 1u;
@@ -122,6 +123,7 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
             }
     }
     memset(o, 0, sizeof(*o));
+    o->utime = d->t0 + (int64_t)(st / w);
     o->points = (uint32_t)w;
     o->mean_intensity = (float)((double)s / (double)w);
     o->x_m = (float)((double)sx / (double)w / 1000.0);

@@ -154,6 +154,10 @@ int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *
     beam = d->beams++;
     d->angles[beam] = angle;
     d->utime = utime;
+    if (beam == 0)
+        d->t0 = utime;
+    /* A clock that steps back inside a sweep counts as no time; one beyond 71 minutes saturates. */
+    d->dt_us[beam] = utime <= d->t0 ? 0u : (utime - d->t0 > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)(utime - d->t0));
     beam_stats(fg, n, &s, &q, blockmax);
     d->sum += s;
     d->sumsq += q;

@@ -54,9 +54,16 @@ static void on_stage(void *user, int stage, const struct sonar_beam *b)
     sinks_beam(a, &r);
 }
 
+static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk);
+
 static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
+    to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
+}
+
+static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
+{
     int64_t now = a->clock.mono_ns(a->clock.user);
     unsigned i;
     a->sweeps++;
@@ -67,7 +74,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
         struct app_sink *s = a->sinks[i];
         if (s->detections == NULL)
             continue;
-        tally(s, s->detections(s->self, d), &s->n_detections);
+        tally(s, s->detections(s->self, d, tk), &s->n_detections);
     }
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
@@ -152,8 +159,33 @@ int app_push(struct app *a, const struct app_beam *b)
 
 void app_detections(struct app *a, const struct sonar_detections *d)
 {
-    if (!a->sweeps_done)
-        on_sweep(a, d);
+    const struct sonar_pipeline_config *c = a->pipe.cfg;
+    struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
+    struct sonar_tracker_sweep sw;
+    uint8_t i;
+    if (a->sweeps_done)
+        return;
+    if (!c->track) {
+        to_sinks(a, d, NULL);
+        return;
+    }
+    /*
+     * Detections from elsewhere (a co-processor): tracked here. Which gradians its sweep covered is
+     * not sent, so every track counts as in view (a sector scan coasts tracks outside it).
+     */
+    for (i = 0; i < d->count; i++) {
+        obs[i].x_m = d->det[i].x_m;
+        obs[i].y_m = d->det[i].y_m;
+        obs[i].utime = d->det[i].utime;
+    }
+    sw.utime = d->utime;
+    sw.beams = d->beams;
+    sw.cover = NULL;
+    sw.min_range_m = c->detector.min_range_m;
+    sw.max_range_m = (float)SONAR_PIPE_MAX_RANGE_M;
+    if (sonar_tracker_update(&a->pipe.trk, obs, d->count, &sw) != SONAR_OK)
+        a->beams_rejected++;
+    to_sinks(a, d, &a->pipe.trk);
 }
 
 void app_forward(struct app *a, const struct app_beam *b)

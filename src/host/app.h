@@ -53,7 +53,8 @@ struct app_sink {
     void *self;
     uint8_t stages; /* bit (1 << stage) for each stage of beams it takes */
     int (*beam)(void *self, const struct app_beam *b);
-    int (*detections)(void *self, const struct sonar_detections *d);
+    /* d: one sweep; tk: the tracks after it, or NULL when tracking is off */
+    int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk);
     int (*status)(void *self, const struct app_status *s);
     unsigned long errors; /* failed calls, kept by the app */
     unsigned long n_beams, n_detections, n_statuses; /* calls that succeeded, kept by the app */

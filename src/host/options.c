@@ -9,6 +9,8 @@
 #define D(field) offsetof(struct sonard_options, pipeline.detector.field)
 #define B(field) offsetof(struct sonard_options, pipeline.background.field)
 #define V(field) offsetof(struct sonard_options, device.field)
+#define P(field) offsetof(struct sonard_options, pipeline.field)
+#define T(field) offsetof(struct sonard_options, pipeline.tracker.field)
 /* Rows: name, metavariable, type, in files, on SIGHUP, offset, lo, hi, unit, default, help, choices, parser */
 #define SECTION(title) {title, NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL}
 
@@ -169,13 +171,30 @@ static const struct opt_spec spec[] = {
     {"max-aspect", "R", OPT_F32, 1, 1, D(max_aspect), 0, SONAR_DET_ASPECT_MAX, "ratio (0 = no limit, else >= 0.1)", "0",
      "drop detections R times longer along the beam than across", NULL, NULL},
     {"track-m", "M", OPT_F32, 1, 1, D(track_m), 0, SONAR_DET_TRACK_M_MAX, "metres (0 = off)", "0",
-     "a cluster within M of a detection of the previous sweep needs only\n--track-points cells", NULL, NULL},
+     "a cluster within M of a track's prediction (with --track off: of a\ndetection of the previous sweep) needs only --track-points cells", NULL, NULL},
     {"track-points", "N", OPT_U16, 1, 1, D(track_points), 1, 65535, "cells", "10", "cells a tracked cluster needs", NULL, NULL},
     {"iterations", "N", OPT_U8, 1, 1, D(iterations), 1, SONAR_DET_ITERATIONS_MAX, "rounds", "10", "k-means rounds at most", NULL, NULL},
     {"link-m", "M", OPT_F32, 1, 1, D(link_m), 0, SONAR_DET_LINK_M_MAX, "metres", "0.15", "range gap still joining one object", NULL, NULL},
     {"link-beams", "N", OPT_U8, 1, 1, D(link_beams), 1, SONAR_DET_LINK_BEAMS_MAX, "beams", "2", "beams apart still joining one object", NULL, NULL},
     {"max-step", "G", OPT_U16, 1, 1, offsetof(struct sonard_options, pipeline.max_step), 1, SONAR_PIPE_MAX_STEP_MAX,
      "gradians", "20", "an angle move larger than G starts a sweep", NULL, NULL},
+    SECTION("tracking (once per sweep, docs/architecture.md)"),
+    {"track", "on|off", OPT_CHOICE, 1, 1, P(track), 0, 0, "on or off", "on",
+     "Kalman tracks with IDs on SONAR_TRACKS and in --json", "off=0|on=1", NULL},
+    {"track-gate", "D2", OPT_F32, 1, 1, T(gate), 1, SONAR_TRK_GATE_MAX, "squared Mahalanobis distance", "9.21",
+     "a detection continues a track within this of its prediction\n(chi-square, 2 degrees of freedom: 9.21 = 99%)", NULL, NULL},
+    {"track-sigma", "M", OPT_F32, 1, 1, T(meas_m), 0.01, SONAR_TRK_MEAS_MAX, "metres", "0.15",
+     "position noise of a detection, per axis", NULL, NULL},
+    {"track-accel", "A", OPT_F32, 1, 1, T(accel_mps2), 0.001, SONAR_TRK_ACCEL_MAX, "m/s^2", "0.05",
+     "how hard targets manoeuvre (white acceleration noise)", NULL, NULL},
+    {"track-speed", "V", OPT_F32, 1, 1, T(speed0_mps), 0.01, SONAR_TRK_SPEED_MAX, "m/s", "1",
+     "speed uncertainty of a new track", NULL, NULL},
+    {"track-confirm", "M", OPT_U8, 1, 1, T(confirm_m), 1, SONAR_TRK_WINDOW_MAX, "hits", "2",
+     "hits in the last --track-window visible sweeps that confirm a track", NULL, NULL},
+    {"track-window", "N", OPT_U8, 1, 1, T(confirm_n), 1, SONAR_TRK_WINDOW_MAX, "sweeps", "3",
+     "visible sweeps --track-confirm counts over", NULL, NULL},
+    {"track-misses", "N", OPT_U8, 1, 1, T(max_misses), 1, 255, "sweeps", "3",
+     "visible sweeps in a row without a detection that end a confirmed track", NULL, NULL},
     SECTION("output"),
     {"json", NULL, OPT_FLAG, 1, 0, F(json), 0, 0, NULL, "off", "one JSON line per sweep on stdout", NULL, NULL},
     {"quiet", NULL, OPT_FLAG, 1, 0, F(quiet), 0, 0, NULL, "off", "no per-sweep text and no summary", NULL, NULL},
@@ -231,6 +250,11 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     }
     o->device.range_m = (float)(o->range_m > 0 ? o->range_m : 2.0);
     o->device.speed_of_sound = (float)o->speed_of_sound;
+    if (o->pipeline.tracker.confirm_m > o->pipeline.tracker.confirm_n) {
+        snprintf(err, errlen, "--track-confirm %u exceeds --track-window %u: a track needs M hits in the last N sweeps, M <= N",
+                 (unsigned)o->pipeline.tracker.confirm_m, (unsigned)o->pipeline.tracker.confirm_n);
+        return HOST_ERR_CONFIG;
+    }
     if ((why = sonar_pipeline_config_check(&o->pipeline)) != NULL ||
         (o->replay == NULL && (why = sonar_ping360_config_check(&o->device)) != NULL)) {
         snprintf(err, errlen, "configuration: %s", why);

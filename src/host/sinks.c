@@ -10,6 +10,7 @@
 #include "sonar_beam_t.h"
 #include "sonar_detections_t.h"
 #include "sonar_status_t.h"
+#include "sonar_tracks_t.h"
 
 static int lcm_send(struct sink_lcm *s, const char *channel, int len)
 {
@@ -37,13 +38,20 @@ static int lcm_beam(void *self, const struct app_beam *b)
                     sonar_beam_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 
-static int lcm_detections(void *self, const struct sonar_detections *d)
+static int lcm_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk)
 {
     struct sink_lcm *s = self;
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
     sonar_detections_t m;
+    sonar_track_t trk[SONAR_MAX_TRACKS];
+    sonar_tracks_t t;
+    int r;
     msg_detections(d, det, &m);
-    return lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+    r = lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+    if (r != HOST_OK || tk == NULL)
+        return r;
+    msg_tracks(tk, d, trk, &t);
+    return lcm_send(s, s->tracks, sonar_tracks_t_encode(s->buf, 0, (int)sizeof(s->buf), &t));
 }
 
 static int lcm_status(void *self, const struct app_status *st)
@@ -87,6 +95,7 @@ void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *p
     snprintf(s->filtered, sizeof(s->filtered), "%.30sSONAR_BEAM_FILTERED", prefix);
     snprintf(s->detections, sizeof(s->detections), "%.30sSONAR_DETECTIONS", prefix);
     snprintf(s->status, sizeof(s->status), "%.30sSONAR_STATUS", prefix);
+    snprintf(s->tracks, sizeof(s->tracks), "%.30sSONAR_TRACKS", prefix);
     s->sink.name = "lcm";
     s->sink.self = s;
     s->sink.stages = (uint8_t)(1u << SONAR_STAGE_RAW | (filtered ? 1u << SONAR_STAGE_FOREGROUND : 0u));
@@ -147,10 +156,10 @@ void sink_csv_init(struct sink_csv *s, FILE *f, int stage)
     s->sink.beam = csv_beam;
 }
 
-static int report_detections(void *self, const struct sonar_detections *d)
+static int report_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk)
 {
     struct sink_report *s = self;
-    int r = s->json ? report_json(s->f, d) : report_text(s->f, d);
+    int r = s->json ? report_json(s->f, d, tk) : report_text(s->f, d, tk);
     return r == 0 && fflush(s->f) == 0 ? HOST_OK : HOST_ERR_IO;
 }
 

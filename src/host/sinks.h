@@ -14,13 +14,13 @@ struct sink_lcm {
     void *lcm;                 /* lcm_t when opened by sink_lcm_open */
     sink_lcm_tx tx;
     void *tx_user;
-    char beam[64], filtered[64], detections[64], status[64];
+    char beam[64], filtered[64], detections[64], status[64], tracks[64];
     uint8_t buf[16384];
 };
 
 /*
- * Beams (SONAR_BEAM, and SONAR_BEAM_FILTERED when filtered), detections and status on
- * prefix + channel, through tx(user, ...). prefix: at most 30 characters.
+ * Beams (SONAR_BEAM, and SONAR_BEAM_FILTERED when filtered), detections, tracks (SONAR_TRACKS,
+ * after each SONAR_DETECTIONS when tracking) and status on prefix + channel, through tx(user, ...). prefix: at most 30 characters.
  */
 void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered);
 

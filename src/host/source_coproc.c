@@ -55,6 +55,15 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
     c.max_aspect = p->detector.max_aspect;
     c.track_m = p->detector.track_m;
     c.track_points = p->detector.track_points;
+    c.track = p->track != 0;
+    c.track_accel_mps2 = p->tracker.accel_mps2;
+    c.track_meas_m = p->tracker.meas_m;
+    c.track_speed0_mps = p->tracker.speed0_mps;
+    c.track_gate = p->tracker.gate;
+    c.track_confirm_m = (int8_t)p->tracker.confirm_m;
+    c.track_confirm_n = (int8_t)p->tracker.confirm_n;
+    c.track_max_misses = (int16_t)p->tracker.max_misses;
+    c.track_max_dt_s = p->tracker.max_dt_s;
     c.beam_every = (int16_t)o->coproc_beams;
     n = sonar_config_t_encode(msg, 0, (int)sizeof(msg), &c);
     if (n < 0 || (s->config_len = sonar_cpf_encode(s->config, sizeof(s->config), SONAR_CPF_CONFIG, msg, (uint16_t)n)) < 0) {

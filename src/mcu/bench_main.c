@@ -4,6 +4,7 @@
 #include "board.h"
 #include "sonar/background.h"
 #include "sonar/detector.h"
+#include "sonar/tracker.h"
 #include "sonar/median.h"
 #include "sonar/pipeline.h"
 #include "detector_internal.h"
@@ -78,6 +79,39 @@ static void put_num(const char *key, uint64_t v)
 }
 
 /* sonard's default detector settings. */
+/* The tracker's sweep: 32 live tracks, 16 detections near half of them, as tools/bench.c times it on the host. */
+static int64_t tracker_us(void)
+{
+    static struct sonar_tracker tk;
+    struct sonar_tracker_config tc;
+    struct sonar_tracker_obs ob[16];
+    struct sonar_tracker_sweep sw = {0, 400, NULL, 0.0f, 50.0f};
+    int s, k;
+    int64_t t0;
+    sonar_tracker_defaults(&tc);
+    if (sonar_tracker_init(&tk, &tc) != SONAR_OK)
+        return -1;
+    for (s = 0; s < 2; s++) {
+        for (k = 0; k < 16; k++) {
+            ob[k].x_m = (float)(k % 4) * 4.0f - 6.0f + (float)s * 20.0f;
+            ob[k].y_m = (float)(k / 4) * 4.0f - 6.0f;
+            ob[k].utime = 1000000 + (int64_t)k * 10000;
+        }
+        sw.utime = 2000000;
+        if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
+            return -1;
+    }
+    for (k = 0; k < 16; k++) {
+        ob[k].x_m = (float)(k % 4) * 4.0f - 5.9f;
+        ob[k].utime = 11000000 + (int64_t)k * 10000;
+    }
+    sw.utime = 12000000;
+    t0 = board_micros();
+    if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
+        return -1;
+    return board_micros() - t0;
+}
+
 static struct sonar_detector_config det_cfg(void)
 {
     struct sonar_pipeline_config p;
@@ -170,6 +204,12 @@ int main(void)
         put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);
         put_num("worst_insn_rules_hulls", (uint64_t)(board_micros() - t4) * INSN_PER_US);
         put_num("worst_clusters", k);
+    }
+    {
+        int64_t tu = tracker_us();
+        if (tu < 0)
+            return 5;
+        put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
     }
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);

@@ -208,6 +208,15 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     next->detector.max_aspect = c.max_aspect;
     next->detector.track_m = c.track_m;
     next->detector.track_points = to_u16(c.track_points, 0);
+    next->track = c.track ? 1u : 0u;
+    next->tracker.accel_mps2 = c.track_accel_mps2;
+    next->tracker.meas_m = c.track_meas_m;
+    next->tracker.speed0_mps = c.track_speed0_mps;
+    next->tracker.gate = c.track_gate;
+    next->tracker.confirm_m = to_u8(c.track_confirm_m, 0);
+    next->tracker.confirm_n = to_u8(c.track_confirm_n, 0);
+    next->tracker.max_misses = to_u8(c.track_max_misses, 0);
+    next->tracker.max_dt_s = c.track_max_dt_s;
     /* Nothing changes unless all of it is valid. */
     if ((why = sonar_ping360_config_check(&d)) != NULL || (why = sonar_pipeline_config_check(next)) != NULL) {
         f->config_errors++;

@@ -1,4 +1,4 @@
-/* msg.c -- struct sonar_detections <-> sonar_detections_t, field by field; O(detections x hull) per call, no heap. */
+/* msg.c -- struct sonar_detections <-> sonar_detections_t and the tracker -> sonar_tracks_t, field by field; O(detections x hull + tracks) per call, no heap. */
 #include "msg.h"
 
 #include <string.h>
@@ -8,6 +8,7 @@ void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, so
     unsigned i;
     for (i = 0; i < d->count; i++) {
         const struct sonar_detection *o = &d->det[i];
+        det[i].utime = o->utime;
         det[i].x_m = o->x_m;
         det[i].y_m = o->y_m;
         det[i].range_m = o->range_m;
@@ -43,6 +44,7 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
     for (i = 0; i < d->count; i++) {
         const sonar_detection_t *o = &m->detections[i];
         struct sonar_detection *t = &d->det[i];
+        t->utime = o->utime;
         t->x_m = o->x_m;
         t->y_m = o->y_m;
         t->range_m = o->range_m;
@@ -56,4 +58,36 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
             t->hull_y[v] = o->hull_y[v];
         }
     }
+}
+
+static int16_t to_i16(uint16_t v)
+{
+    return (int16_t)(v > 32767u ? 32767u : v);
+}
+
+void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, sonar_track_t *t, sonar_tracks_t *m)
+{
+    unsigned i;
+    for (i = 0; i < tk->n; i++) {
+        const struct sonar_track *s = &tk->t[i];
+        t[i].id = (int32_t)(s->id > 2147483647u ? 2147483647u : s->id);
+        t[i].state = (int8_t)s->state;
+        t[i].utime = s->utime;
+        t[i].x_m = s->px;
+        t[i].y_m = s->py;
+        t[i].vx_mps = s->vx;
+        t[i].vy_mps = s->vy;
+        /* Both axes share one covariance (tracker.h): the 2 x 2 position block is pa I. */
+        t[i].cov_xx = s->pa;
+        t[i].cov_xy = 0.0f;
+        t[i].cov_yy = s->pa;
+        t[i].age = to_i16(s->age);
+        t[i].hits = to_i16(s->hits);
+        t[i].misses = to_i16(s->misses);
+        t[i].detection = s->det;
+    }
+    m->utime = d->utime;
+    m->sweep = (int32_t)d->sweep;
+    m->count = (int16_t)tk->n;
+    m->tracks = t;
 }

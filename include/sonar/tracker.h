@@ -1,0 +1,134 @@
+/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker = 64 B per track (SONAR_MAX_TRACKS) + 2 KB cost matrix. */
+#ifndef SONAR_TRACKER_H
+#define SONAR_TRACKER_H
+
+#include <stdint.h>
+
+#include "sonar/config.h"
+#include "sonar/err.h"
+
+/*
+ * Each track is x = (px, vx, py, vy) in metres and m/s in the frame of its detections (the sonar
+ * frame), driven by white acceleration noise. Both axes see the same measurement noise, so they
+ * share one 2 x 2 covariance (position, cross, velocity): exact for this model, and a quarter of
+ * the arithmetic. Each detection carries its own time (the beam that saw its centroid), so a
+ * track is predicted to the moment it was seen, not to the end of the sweep.
+ */
+
+enum sonar_track_state {
+    SONAR_TRACK_TENTATIVE = 0, /* not yet M hits in the last N sweeps it was visible in */
+    SONAR_TRACK_CONFIRMED = 1, /* hit in its last visible sweep */
+    SONAR_TRACK_COASTING = 2   /* confirmed, then missed: running on its prediction */
+};
+
+#define SONAR_TRK_ACCEL_MAX 10   /* accel_mps2: 0.001..10 */
+#define SONAR_TRK_MEAS_MAX 10    /* meas_m: 0.01..10 */
+#define SONAR_TRK_SPEED_MAX 20   /* speed0_mps: 0.01..20 */
+#define SONAR_TRK_GATE_MAX 100   /* gate: 1..100 */
+#define SONAR_TRK_WINDOW_MAX 8   /* 1 <= confirm_m <= confirm_n <= 8 */
+#define SONAR_TRK_MAX_DT_MAX 600 /* max_dt_s: 1..600 */
+#define SONAR_TRK_COORD_MAX 1000 /* detections beyond +-1000 m on an axis are refused as absurd */
+
+struct sonar_tracker_config {
+    float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
+    float meas_m;         /* detection position std per axis, m, 0.01..10 */
+    float speed0_mps;     /* velocity std of a new track, m/s, 0.01..20 */
+    float gate;           /* Mahalanobis d^2 a detection may be from a prediction (chi-square, 2 dof: 9.21 = 99%), 1..100 */
+    uint8_t confirm_m;    /* hits ...                                           */
+    uint8_t confirm_n;    /* ... in the last N sweeps the track was visible in confirm it; 1 <= M <= N <= 8 */
+    uint8_t max_misses;   /* visible sweeps in a row without a hit that delete a confirmed track, 1..255 */
+    float max_dt_s;       /* longest prediction step, s, 1..600; longer gaps are counted and clipped */
+};
+
+struct sonar_track {
+    uint32_t id;         /* 1, 2, ... in birth order; never reused in a tracker's life */
+    uint8_t state;       /* enum sonar_track_state */
+    uint8_t history;     /* bit k: hit k visible sweeps ago */
+    uint8_t seen;        /* visible sweeps in history, <= confirm_n */
+    int8_t det;          /* index of the detection used this sweep, -1 if none */
+    uint16_t age;        /* sweeps since birth (saturating) */
+    uint16_t hits;       /* detections used (saturating) */
+    uint16_t misses;     /* visible sweeps in a row without a hit */
+    int64_t utime;       /* us since the epoch: the time of the state below */
+    float px, py, vx, vy; /* m, m/s */
+    float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
+};
+
+/* One detection handed to the tracker. */
+struct sonar_tracker_obs {
+    float x_m, y_m; /* metres, in the tracks' frame */
+    int64_t utime;  /* us since the epoch: when it was seen */
+};
+
+/* What the sweep looked at: a track outside it is neither hit nor missed. */
+struct sonar_tracker_sweep {
+    int64_t utime;        /* us since the epoch of the sweep's last beam */
+    uint16_t beams;       /* 0: an empty sweep, counted and otherwise ignored */
+    const uint8_t *cover; /* 400-bit map (50 bytes, bit a % 8 of byte a / 8) of the gradians scanned, in
+                             the tracks' frame; NULL: everywhere */
+    float min_range_m, max_range_m; /* the ranges scanned (a track predicted inside min_range is out of view) */
+};
+
+struct sonar_tracker {
+    struct sonar_tracker_config cfg;
+    struct sonar_track t[SONAR_MAX_TRACKS];
+    float cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS]; /* scratch of one update */
+    uint8_t n;               /* live tracks, t[0 .. n) in birth order */
+    uint32_t next_id;
+    int64_t last_utime;      /* latest detection or sweep time seen */
+    uint32_t sweeps;         /* non-empty sweeps */
+    uint32_t bad_detections; /* NaN, infinite or beyond SONAR_TRK_COORD_MAX: refused */
+    uint32_t clock_back;     /* sweeps whose time ran backwards (tracks re-timed, nothing predicted back) */
+    uint32_t clock_gaps;     /* predictions clipped at max_dt_s */
+    uint32_t empty_sweeps;   /* sweeps with zero beams */
+    uint32_t overflow;       /* detections that found no free track */
+    uint32_t deleted;        /* tracks ended */
+};
+
+/* Largest assignment sonar_tracker_assign solves: rows <= cols <= this. */
+#define SONAR_ASSIGN_MAX (SONAR_MAX_CLUSTERS + SONAR_MAX_TRACKS)
+
+/* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. */
+const char *sonar_tracker_config_check(const struct sonar_tracker_config *cfg);
+
+/* sonard's defaults: 0.05 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s. */
+void sonar_tracker_defaults(struct sonar_tracker_config *cfg);
+
+/* Validates cfg (copied) and empties the tracker; IDs start at 1. Returns SONAR_OK or SONAR_ERR_ARG. */
+SONAR_CHECK int sonar_tracker_init(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg);
+
+/* Changes the settings in place, keeping the tracks. Returns SONAR_OK or SONAR_ERR_ARG (nothing changed). */
+SONAR_CHECK int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg);
+
+/*
+ * One sweep's detections (n <= SONAR_MAX_CLUSTERS; obs may be NULL when n is 0): predicts every
+ * track to each detection's time, gates, assigns at least total cost (d^2 + 2 ln(S / meas^2) a
+ * pair, 2 gate to start a new track instead), updates, confirms, coasts, deletes, and starts
+ * tentative tracks from the detections left over. A track's det is its detection's index in obs.
+ * Bad detections and full tables are counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG
+ * (tk or sw NULL, n too large; nothing changed).
+ */
+SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
+                                     const struct sonar_tracker_sweep *sw);
+
+/* Position of t predicted to utime (us; earlier than t->utime gives t's own), metres. */
+void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_m, float *y_m);
+
+/* "tentative", "confirmed", "coasting", or "?" for anything else. */
+const char *sonar_track_state_str(int state);
+
+/*
+ * Marks in cover (50 bytes, cleared first) the gradians a sweep's beams scanned: each beam's own
+ * gradian and those between consecutive beams up to max_gap apart (a larger gap is a jump, not
+ * scanned), all shifted by offset gradians (the output frame) and taken modulo 400.
+ */
+void sonar_tracker_cover(uint8_t *cover, const uint16_t *angles, uint16_t n, uint16_t max_gap, int offset);
+
+/*
+ * Minimum-cost assignment of rows to distinct columns (Hungarian, O(rows^2 cols)): cost is
+ * rows x cols, row-major; 1 <= rows <= cols <= SONAR_ASSIGN_MAX. row_col[i] = the column of row
+ * i. Ties go the same way on every platform. Returns SONAR_OK or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_tracker_assign(const float *cost, uint8_t rows, uint8_t cols, int8_t *row_col);
+
+#endif

@@ -1,0 +1,451 @@
+/* tracker.c -- constant-velocity Kalman tracks, gated Hungarian assignment, M-of-N confirmation; O(detections^2 x (tracks + detections)) per sweep, no heap. */
+#include "sonar/tracker.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "sonar/frame.h"
+
+#define STR2(x) #x
+#define STR(x) STR2(x)
+
+SONAR_STATIC_ASSERT(SONAR_ASSIGN_MAX <= 127, assignment_columns_fit_int8);
+SONAR_STATIC_ASSERT(SONAR_TRK_WINDOW_MAX <= 8, history_fits_a_byte);
+
+/* A pair outside the gate: finite, so the assignment's arithmetic stays exact and branch-free. */
+#define BIG 1.0e9
+
+#define TURN ((int)SONAR_GRAD_TURN)
+
+/* a modulo one turn, 0..399, for any sign. */
+static int wrap(int a)
+{
+    return ((a % TURN) + TURN) % TURN;
+}
+
+/* Position variance beyond which a coasting prediction says nothing: (10 m)^2. */
+#define LOST_M2 100.0f
+
+void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
+{
+    memset(cfg, 0, sizeof(*cfg));
+    cfg->accel_mps2 = 0.05f;
+    cfg->meas_m = 0.15f;
+    cfg->speed0_mps = 1.0f;
+    cfg->gate = 9.21f;
+    cfg->confirm_m = 2;
+    cfg->confirm_n = 3;
+    cfg->max_misses = 3;
+    cfg->max_dt_s = 120.0f;
+}
+
+const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
+{
+    if (!(c->accel_mps2 >= 0.001f && c->accel_mps2 <= (float)SONAR_TRK_ACCEL_MAX))
+        return "accel_mps2: 0.001.." STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
+    if (!(c->meas_m >= 0.01f && c->meas_m <= (float)SONAR_TRK_MEAS_MAX))
+        return "meas_m: 0.01.." STR(SONAR_TRK_MEAS_MAX) " metres";
+    if (!(c->speed0_mps >= 0.01f && c->speed0_mps <= (float)SONAR_TRK_SPEED_MAX))
+        return "speed0_mps: 0.01.." STR(SONAR_TRK_SPEED_MAX) " m/s";
+    if (!(c->gate >= 1.0f && c->gate <= (float)SONAR_TRK_GATE_MAX))
+        return "gate: 1.." STR(SONAR_TRK_GATE_MAX) " (squared Mahalanobis distance)";
+    if (c->confirm_n < 1 || c->confirm_n > SONAR_TRK_WINDOW_MAX)
+        return "confirm_n: 1.." STR(SONAR_TRK_WINDOW_MAX) " sweeps";
+    if (c->confirm_m < 1 || c->confirm_m > c->confirm_n)
+        return "confirm_m: 1..confirm_n hits";
+    if (c->max_misses < 1)
+        return "max_misses: 1..255 sweeps";
+    if (!(c->max_dt_s >= 1.0f && c->max_dt_s <= (float)SONAR_TRK_MAX_DT_MAX))
+        return "max_dt_s: 1.." STR(SONAR_TRK_MAX_DT_MAX) " seconds";
+    return NULL;
+}
+
+int sonar_tracker_init(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg)
+{
+    if (tk == NULL || cfg == NULL || sonar_tracker_config_check(cfg) != NULL)
+        return SONAR_ERR_ARG;
+    memset(tk, 0, sizeof(*tk));
+    tk->cfg = *cfg;
+    tk->next_id = 1;
+    return SONAR_OK;
+}
+
+int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg)
+{
+    if (tk == NULL || cfg == NULL || sonar_tracker_config_check(cfg) != NULL)
+        return SONAR_ERR_ARG;
+    tk->cfg = *cfg;
+    return SONAR_OK;
+}
+
+const char *sonar_track_state_str(int state)
+{
+    switch (state) {
+    case SONAR_TRACK_TENTATIVE: return "tentative";
+    case SONAR_TRACK_CONFIRMED: return "confirmed";
+    case SONAR_TRACK_COASTING: return "coasting";
+    default: return "?";
+    }
+}
+
+/* Seconds from t's state to utime: never negative (no prediction backwards), clipped at max_dt_s. */
+static float step_s(const struct sonar_tracker *tk, const struct sonar_track *t, int64_t utime, int *clipped)
+{
+    float dt;
+    if (utime <= t->utime)
+        return 0.0f;
+    dt = (float)((double)(utime - t->utime) * 1e-6);
+    if (dt > tk->cfg.max_dt_s) {
+        *clipped = 1;
+        return tk->cfg.max_dt_s;
+    }
+    return dt;
+}
+
+/* The covariance after dt of white acceleration noise q = accel^2 (the standard discretisation). */
+static void predict_cov(float q, float dt, float *pa, float *pb, float *pc)
+{
+    float a = *pa, b = *pb, c = *pc, dt2 = dt * dt;
+    *pa = a + 2.0f * b * dt + c * dt2 + q * dt2 * dt / 3.0f;
+    *pb = b + c * dt + q * dt2 / 2.0f;
+    *pc = c + q * dt;
+}
+
+void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_m, float *y_m)
+{
+    float dt = utime > t->utime ? (float)((double)(utime - t->utime) * 1e-6) : 0.0f;
+    *x_m = t->px + t->vx * dt;
+    *y_m = t->py + t->vy * dt;
+}
+
+void sonar_tracker_cover(uint8_t *cover, const uint16_t *angles, uint16_t n, uint16_t max_gap, int offset)
+{
+    uint16_t i;
+    int o = wrap(offset);
+    memset(cover, 0, SONAR_GRAD_TURN / 8);
+    for (i = 0; i < n; i++) {
+        int a = wrap((int)angles[i]), g, span = 0, dir = 1;
+        if (i + 1u < n) {
+            int d = sonar_frame_delta(angles[i], angles[i + 1]);
+            /* The shorter way round from this beam to the next, if it is a step and not a jump. */
+            if (d != 0 && (d < 0 ? -d : d) <= (int)max_gap) {
+                span = d < 0 ? -d : d;
+                dir = d < 0 ? -1 : 1;
+            }
+        }
+        for (g = 0; g <= span; g++) {
+            int m = wrap(a + dir * g + o);
+            cover[m / 8] = (uint8_t)(cover[m / 8] | (1u << (m % 8)));
+        }
+    }
+}
+
+/* The columns of an assignment: either a plain matrix, or the tracker's cost plus one "new track" column a row. */
+struct costs {
+    const float *m; /* rows x stride */
+    unsigned stride, real; /* columns 0 .. real) come from m */
+    float fresh;           /* cost of row i's own extra column real + i; other extra columns are BIG */
+};
+
+static double cost_at(const struct costs *c, unsigned i, unsigned j)
+{
+    if (j < c->real)
+        return (double)c->m[i * c->stride + j];
+    return j - c->real == i ? (double)c->fresh : BIG;
+}
+
+/*
+ * Shortest augmenting paths with row and column potentials (Kuhn-Munkres as in Jonker and
+ * Volgenant), 1-based inside: p[j] = the row on column j, way[] the path back. Strict < on
+ * every minimum, so ties go to the lowest column on any platform.
+ */
+static void hungarian(const struct costs *c, unsigned rows, unsigned cols, int8_t *row_col)
+{
+    double u[SONAR_ASSIGN_MAX + 1], v[SONAR_ASSIGN_MAX + 1], minv[SONAR_ASSIGN_MAX + 1];
+    uint8_t p[SONAR_ASSIGN_MAX + 1], way[SONAR_ASSIGN_MAX + 1], used[SONAR_ASSIGN_MAX + 1];
+    unsigned i, j;
+    for (j = 0; j <= cols; j++) {
+        v[j] = 0.0;
+        p[j] = 0;
+        way[j] = 0;
+    }
+    for (i = 0; i <= rows; i++)
+        u[i] = 0.0;
+    for (i = 1; i <= rows; i++) {
+        unsigned j0 = 0;
+        p[0] = (uint8_t)i;
+        for (j = 0; j <= cols; j++) {
+            minv[j] = 1e300;
+            used[j] = 0;
+        }
+        do {
+            unsigned i0 = p[j0], j1 = 0;
+            double delta = 1e300;
+            used[j0] = 1;
+            for (j = 1; j <= cols; j++) {
+                double cur;
+                if (used[j])
+                    continue;
+                cur = cost_at(c, i0 - 1u, j - 1u) - u[i0] - v[j];
+                if (cur < minv[j]) {
+                    minv[j] = cur;
+                    way[j] = (uint8_t)j0;
+                }
+                if (minv[j] < delta) {
+                    delta = minv[j];
+                    j1 = j;
+                }
+            }
+            for (j = 0; j <= cols; j++) {
+                if (used[j]) {
+                    u[p[j]] += delta;
+                    v[j] -= delta;
+                } else {
+                    minv[j] -= delta;
+                }
+            }
+            j0 = j1;
+        } while (p[j0] != 0);
+        do {
+            unsigned j1 = way[j0];
+            p[j0] = p[j1];
+            j0 = j1;
+        } while (j0 != 0);
+    }
+    for (j = 1; j <= cols; j++)
+        if (p[j] != 0)
+            row_col[p[j] - 1u] = (int8_t)(j - 1u);
+}
+
+int sonar_tracker_assign(const float *cost, uint8_t rows, uint8_t cols, int8_t *row_col)
+{
+    struct costs c;
+    unsigned i;
+    if (cost == NULL || row_col == NULL || rows < 1 || rows > cols || cols > SONAR_ASSIGN_MAX)
+        return SONAR_ERR_ARG;
+    for (i = 0; i < (unsigned)rows * cols; i++)
+        if (!(cost[i] == cost[i]) || cost[i] > (float)BIG || cost[i] < -(float)BIG)
+            return SONAR_ERR_ARG; /* NaN or beyond the range the potentials stay exact in */
+    c.m = cost;
+    c.stride = cols;
+    c.real = cols;
+    c.fresh = 0.0f;
+    hungarian(&c, rows, cols, row_col);
+    return SONAR_OK;
+}
+
+static int usable(const struct sonar_tracker_obs *o)
+{
+    return isfinite(o->x_m) && isfinite(o->y_m) && fabsf(o->x_m) <= (float)SONAR_TRK_COORD_MAX &&
+           fabsf(o->y_m) <= (float)SONAR_TRK_COORD_MAX;
+}
+
+/*
+ * Would the sweep have seen t? Only the gradians decide: a prediction beyond the range scanned
+ * is a target leaving, which should coast out like any other miss; one inside min_range (the
+ * ring-down, where detections are dropped) cannot be seen.
+ */
+static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep *sw)
+{
+    float x, y, r;
+    int a;
+    sonar_tracker_predict(t, sw->utime, &x, &y);
+    r = sqrtf(x * x + y * y);
+    if (r < sw->min_range_m)
+        return 0;
+    (void)r;
+    if (sw->cover == NULL)
+        return 1;
+    /* Bearing in gradians, nearest whole gradian. */
+    a = (int)floorf(atan2f(y, x) * (float)SONAR_GRAD_HALF / (float)SONAR_PI + 0.5f);
+    a = wrap(a);
+    return (sw->cover[a / 8] >> (a % 8)) & 1u;
+}
+
+static unsigned popcount8(unsigned v)
+{
+    unsigned n = 0;
+    for (; v != 0; v &= v - 1u)
+        n++;
+    return n;
+}
+
+static uint16_t sat_inc(uint16_t v)
+{
+    return v == UINT16_MAX ? v : (uint16_t)(v + 1u);
+}
+
+/* Kalman update of both axes with a detection at the track's (already predicted) time. */
+static void correct(struct sonar_track *t, float r2, float zx, float zy)
+{
+    float s = t->pa + r2, ka = t->pa / s, kb = t->pb / s, ex = zx - t->px, ey = zy - t->py;
+    float a = t->pa, b = t->pb;
+    t->px += ka * ex;
+    t->vx += kb * ex;
+    t->py += ka * ey;
+    t->vy += kb * ey;
+    t->pa = a - ka * a;
+    t->pb = b - ka * b;
+    t->pc = t->pc - kb * b;
+}
+
+int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
+                         const struct sonar_tracker_sweep *sw)
+{
+    int8_t row_col[SONAR_MAX_CLUSTERS];
+    uint8_t rows[SONAR_MAX_CLUSTERS], nr = 0, i, j, k;
+    const float r2 = tk != NULL ? tk->cfg.meas_m * tk->cfg.meas_m : 0.0f;
+    const float q = tk != NULL ? tk->cfg.accel_mps2 * tk->cfg.accel_mps2 : 0.0f;
+    const unsigned window = tk != NULL ? (1u << tk->cfg.confirm_n) - 1u : 0u;
+    int clipped = 0;
+    struct costs c;
+    if (tk == NULL || sw == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
+        return SONAR_ERR_ARG;
+    if (sw->beams == 0) {
+        tk->empty_sweeps++;
+        return SONAR_OK;
+    }
+    tk->sweeps++;
+    for (i = 0; i < n; i++) {
+        if (usable(&obs[i]))
+            rows[nr++] = i;
+        else
+            tk->bad_detections++;
+    }
+    /*
+     * A clock that ran backwards (a replay restarted, a host clock stepped): nothing is predicted
+     * backwards, so every track is re-timed to the earliest time of this sweep.
+     */
+    {
+        int64_t earliest = sw->utime;
+        for (i = 0; i < nr; i++)
+            earliest = obs[rows[i]].utime < earliest ? obs[rows[i]].utime : earliest;
+        if (tk->n > 0 && earliest < tk->last_utime - 1000000) {
+            tk->clock_back++;
+            for (k = 0; k < tk->n; k++)
+                if (tk->t[k].utime > earliest)
+                    tk->t[k].utime = earliest;
+        }
+    }
+    for (k = 0; k < tk->n; k++) {
+        tk->t[k].det = -1;
+        tk->t[k].age = sat_inc(tk->t[k].age);
+    }
+    /* Each pair: the track predicted to the moment the detection was seen. */
+    for (i = 0; i < nr; i++) {
+        const struct sonar_tracker_obs *o = &obs[rows[i]];
+        for (k = 0; k < tk->n; k++) {
+            const struct sonar_track *t = &tk->t[k];
+            float dt = step_s(tk, t, o->utime, &clipped), pa = t->pa, pb = t->pb, pc = t->pc, s, ex, ey, d2;
+            predict_cov(q, dt, &pa, &pb, &pc);
+            s = pa + r2;
+            ex = o->x_m - (t->px + t->vx * dt);
+            ey = o->y_m - (t->py + t->vy * dt);
+            d2 = (ex * ex + ey * ey) / s;
+            tk->cost[i][k] = d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
+        }
+    }
+    if (nr > 0) {
+        c.m = &tk->cost[0][0];
+        c.stride = SONAR_MAX_TRACKS;
+        c.real = tk->n;
+        /*
+         * Starting a track costs more than any gated pair of a track still alive (S <= LOST_M2 + r2):
+         * a detection inside a live track's gate continues it; the 2 ln S term only settles which.
+         */
+        c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + LOST_M2 / r2);
+        hungarian(&c, nr, (unsigned)tk->n + nr, row_col);
+    }
+    /* Hits: predict to the detection's time, then correct. */
+    for (i = 0; i < nr; i++) {
+        struct sonar_track *t;
+        float dt;
+        k = (uint8_t)row_col[i];
+        if (k >= tk->n || tk->cost[i][k] >= (float)BIG)
+            continue;
+        t = &tk->t[k];
+        dt = step_s(tk, t, obs[rows[i]].utime, &clipped);
+        t->px += t->vx * dt;
+        t->py += t->vy * dt;
+        predict_cov(q, dt, &t->pa, &t->pb, &t->pc);
+        if (obs[rows[i]].utime > t->utime)
+            t->utime = obs[rows[i]].utime;
+        correct(t, r2, obs[rows[i]].x_m, obs[rows[i]].y_m);
+        t->det = (int8_t)rows[i];
+    }
+    /* Confirmation, coasting and deletion; the array stays in birth order. */
+    for (k = 0, j = 0; k < tk->n; k++) {
+        struct sonar_track *t = &tk->t[k];
+        int keep = 1;
+        if (t->det >= 0) {
+            t->hits = sat_inc(t->hits);
+            t->misses = 0;
+            t->history = (uint8_t)((((unsigned)t->history << 1) | 1u) & window);
+            t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
+            if (t->state == SONAR_TRACK_COASTING ||
+                (t->state == SONAR_TRACK_TENTATIVE && popcount8(t->history) >= tk->cfg.confirm_m))
+                t->state = SONAR_TRACK_CONFIRMED;
+        } else if (visible(t, sw)) {
+            t->misses = sat_inc(t->misses);
+            t->history = (uint8_t)(((unsigned)t->history << 1) & window);
+            t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
+            if (t->state == SONAR_TRACK_TENTATIVE) {
+                /* Dead once the misses in its window leave fewer than M possible hits. */
+                keep = t->seen - popcount8(t->history) <= (unsigned)(tk->cfg.confirm_n - tk->cfg.confirm_m);
+            } else {
+                t->state = SONAR_TRACK_COASTING;
+                keep = t->misses < tk->cfg.max_misses;
+            }
+        }
+        if (keep) {
+            float pa = t->pa, pb = t->pb, pc = t->pc;
+            predict_cov(q, step_s(tk, t, sw->utime, &clipped), &pa, &pb, &pc);
+            keep = pa <= LOST_M2;
+        }
+        if (!keep) {
+            tk->deleted++;
+            continue;
+        }
+        if (j != k)
+            tk->t[j] = *t;
+        j++;
+    }
+    {
+        /* The cost rows refer to the old slots: record which detections were used before compacting changed them. */
+        uint8_t used[SONAR_MAX_CLUSTERS];
+        memset(used, 0, sizeof(used));
+        for (k = 0; k < j; k++)
+            if (tk->t[k].det >= 0)
+                used[tk->t[k].det] = 1;
+        tk->n = j;
+        /* Births: every usable detection no track took. */
+        for (i = 0; i < nr; i++) {
+            const struct sonar_tracker_obs *o = &obs[rows[i]];
+            struct sonar_track *t;
+            if (used[rows[i]])
+                continue;
+            if (tk->n >= SONAR_MAX_TRACKS) {
+                tk->overflow++;
+                continue;
+            }
+            t = &tk->t[tk->n++];
+            memset(t, 0, sizeof(*t));
+            t->id = tk->next_id++;
+            t->state = tk->cfg.confirm_m <= 1 ? SONAR_TRACK_CONFIRMED : SONAR_TRACK_TENTATIVE;
+            t->history = 1;
+            t->seen = 1;
+            t->det = (int8_t)rows[i];
+            t->hits = 1;
+            t->utime = o->utime;
+            t->px = o->x_m;
+            t->py = o->y_m;
+            t->pa = r2;
+            t->pc = tk->cfg.speed0_mps * tk->cfg.speed0_mps;
+        }
+    }
+    for (i = 0; i < nr; i++)
+        tk->last_utime = obs[rows[i]].utime > tk->last_utime ? obs[rows[i]].utime : tk->last_utime;
+    tk->last_utime = sw->utime > tk->last_utime ? sw->utime : tk->last_utime;
+    tk->clock_gaps += (uint32_t)clipped;
+    return SONAR_OK;
+}

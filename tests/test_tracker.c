@@ -1,0 +1,358 @@
+/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, bad input, determinism. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+
+#include <cmocka.h>
+
+#include "sonar/tracker.h"
+
+/* Least total over every injective map of rows into columns, by recursion over the rows. */
+static double brute(const float *cost, int rows, int cols, int row, unsigned used)
+{
+    double best = 1e300;
+    int j;
+    if (row == rows)
+        return 0.0;
+    for (j = 0; j < cols; j++) {
+        double v;
+        if (used & (1u << j))
+            continue;
+        v = cost[row * cols + j] + brute(cost, rows, cols, row + 1, used | (1u << j));
+        best = v < best ? v : best;
+    }
+    return best;
+}
+
+static void test_assignment_is_optimal(void **state)
+{
+    float cost[7 * 7];
+    int8_t rc[7];
+    int trial;
+    (void)state;
+    srand(3);
+    for (trial = 0; trial < 3000; trial++) {
+        int rows = 1 + rand() % 6, cols = rows + rand() % (8 - rows), i, j;
+        double total = 0.0, want;
+        unsigned seen = 0;
+        for (i = 0; i < rows * cols; i++) {
+            /* coarse values make many ties; some pairs are "gated out" */
+            cost[i] = trial % 2 ? (float)(rand() % 5) : (float)(rand() % 1000) / 37.0f;
+            if (rand() % 6 == 0)
+                cost[i] = 1.0e9f;
+        }
+        assert_int_equal(sonar_tracker_assign(cost, (uint8_t)rows, (uint8_t)cols, rc), SONAR_OK);
+        for (i = 0; i < rows; i++) {
+            j = rc[i];
+            assert_true(j >= 0 && j < cols);
+            assert_false(seen & (1u << j)); /* distinct columns */
+            seen |= 1u << j;
+            total += cost[i * cols + j];
+        }
+        want = brute(cost, rows, cols, 0, 0);
+        assert_true(fabs(total - want) <= 1e-3 * (1.0 + fabs(want)));
+    }
+    assert_int_equal(sonar_tracker_assign(cost, 3, 2, rc), SONAR_ERR_ARG);
+    assert_int_equal(sonar_tracker_assign(cost, 0, 2, rc), SONAR_ERR_ARG);
+    cost[0] = NAN;
+    assert_int_equal(sonar_tracker_assign(cost, 1, 2, rc), SONAR_ERR_ARG);
+}
+
+static struct sonar_tracker tk;
+
+static void init(void)
+{
+    struct sonar_tracker_config c;
+    sonar_tracker_defaults(&c);
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
+}
+
+static struct sonar_tracker_sweep everywhere(int64_t t)
+{
+    struct sonar_tracker_sweep sw;
+    sw.utime = t;
+    sw.beams = 400;
+    sw.cover = NULL;
+    sw.min_range_m = 0.0f;
+    sw.max_range_m = 50.0f;
+    return sw;
+}
+
+static const struct sonar_track *by_id(uint32_t id)
+{
+    int k;
+    for (k = 0; k < tk.n; k++)
+        if (tk.t[k].id == id)
+            return &tk.t[k];
+    return NULL;
+}
+
+/* A target at 0.5 m/s seen once a 10 s sweep, each detection timed by its own beam. */
+static void test_confirm_velocity_and_one_id(void **state)
+{
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 12; s++) {
+        struct sonar_tracker_obs o;
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 10000000);
+        int64_t t = (int64_t)s * 10000000 + 3000000 + (s % 3) * 1000000; /* the beam is not at the sweep's end */
+        o.utime = t;
+        o.x_m = 2.0f + 0.5f * (float)((double)t * 1e-6);
+        o.y_m = 1.0f;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        assert_int_equal(tk.t[0].id, 1);
+        assert_int_equal(tk.t[0].det, 0);
+        assert_int_equal(tk.t[0].state, s == 0 ? SONAR_TRACK_TENTATIVE : SONAR_TRACK_CONFIRMED);
+    }
+    assert_true(fabsf(tk.t[0].vx - 0.5f) < 0.02f);
+    assert_true(fabsf(tk.t[0].vy) < 0.02f);
+    assert_int_equal(tk.t[0].hits, 12);
+    assert_int_equal(tk.deleted, 0);
+}
+
+/* Gone: coasting, then deleted after max_misses; a new object later gets a new ID. */
+static void test_coast_delete_and_ids_never_reused(void **state)
+{
+    struct sonar_tracker_obs o = {3.0f, 3.0f, 0};
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 3; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 10000000);
+        o.utime = (int64_t)s * 10000000 + 5000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+    for (s = 3; s < 6; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 10000000);
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+        if (s < 5) {
+            assert_int_equal(tk.n, 1);
+            assert_int_equal(tk.t[0].state, SONAR_TRACK_COASTING);
+            assert_int_equal(tk.t[0].det, -1);
+        }
+    }
+    assert_int_equal(tk.n, 0); /* the third visible miss ends it */
+    {
+        struct sonar_tracker_sweep sw = everywhere(70000000);
+        o.utime = 65000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        assert_int_equal(tk.t[0].id, 2);
+    }
+    /* a tentative track that misses twice of three is dropped (sweeps 2 s apart: its position is still known) */
+    {
+        struct sonar_tracker_sweep sw = everywhere(67000000);
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        sw.utime = 69000000;
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 0);
+        /* and one whose prediction has spread past 10 m is dropped at once */
+        o.utime = 70000000;
+        sw.utime = 71000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.t[0].id, 3);
+        sw.utime = 90000000;
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 0);
+    }
+}
+
+/* Two targets crossing at 1 m/s, passing 0.4 m apart: each keeps its ID. */
+static void test_crossing_targets_keep_ids(void **state)
+{
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 20; s++) {
+        struct sonar_tracker_obs o[2];
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 4000000);
+        double t = s * 4.0 + 2.0;
+        /* A moves +x, B moves -x; they meet near s = 10 */
+        o[s % 2].x_m = (float)(-20.0 + 1.0 * t);
+        o[s % 2].y_m = 0.2f;
+        o[s % 2].utime = (int64_t)(t * 1e6);
+        o[1 - s % 2].x_m = (float)(22.0 - 1.0 * t);
+        o[1 - s % 2].y_m = -0.2f;
+        o[1 - s % 2].utime = (int64_t)(t * 1e6) + 100000;
+        assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 2);
+        if (s >= 1) {
+            const struct sonar_track *a = by_id(1), *b = by_id(2);
+            assert_non_null(a);
+            assert_non_null(b);
+            assert_true(a->vx > 0.5f); /* still the +x mover */
+            assert_true(b->vx < -0.5f);
+            assert_int_equal(a->det, s % 2);
+            assert_int_equal(b->det, 1 - s % 2);
+        }
+    }
+}
+
+/* A back-and-forth sector: a track outside what this sweep scanned is not missed. */
+static void test_sector_out_of_view_is_not_a_miss(void **state)
+{
+    uint8_t cover[50];
+    uint16_t beams[34];
+    struct sonar_tracker_obs o = {0.0f, 5.0f, 0}; /* bearing 100 gradians */
+    struct sonar_tracker_sweep sw;
+    int s, i;
+    (void)state;
+    init();
+    for (s = 0; s < 3; s++) {
+        sw = everywhere((int64_t)(s + 1) * 10000000);
+        o.utime = (int64_t)s * 10000000 + 5000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    /* sweeps over 200..299 only, 3 gradians a step */
+    for (i = 0; i < 34; i++)
+        beams[i] = (uint16_t)(200 + 3 * i);
+    sonar_tracker_cover(cover, beams, 34, 20, 0);
+    assert_true(cover[250 / 8] & (1u << (250 % 8)));
+    assert_true(cover[201 / 8] & (1u << (201 % 8))); /* between beams */
+    assert_false(cover[100 / 8] & (1u << (100 % 8)));
+    for (s = 3; s < 6; s++) {
+        sw = everywhere((int64_t)(s + 1) * 10000000);
+        sw.cover = cover;
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 1);
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+    assert_int_equal(tk.t[0].misses, 0);
+    /* a wrap: 390 -> 5 covers 390..399 and 0..5, not the long way round */
+    beams[0] = 390;
+    beams[1] = 5;
+    sonar_tracker_cover(cover, beams, 2, 20, 0);
+    assert_true(cover[0] & 1u);
+    assert_true(cover[395 / 8] & (1u << (395 % 8)));
+    assert_false(cover[200 / 8] & (1u << (200 % 8)));
+    /* with an output offset of 100 gradians */
+    sonar_tracker_cover(cover, beams, 2, 20, 100);
+    assert_true(cover[100 / 8] & (1u << (100 % 8)));
+    assert_false(cover[0] & 1u);
+}
+
+static void test_bad_input_is_counted(void **state)
+{
+    struct sonar_tracker_obs o[SONAR_MAX_CLUSTERS];
+    struct sonar_tracker_sweep sw = everywhere(10000000);
+    uint32_t ids = 0;
+    int s, i;
+    (void)state;
+    init();
+    o[0].x_m = NAN;
+    o[0].y_m = 1.0f;
+    o[0].utime = 1;
+    o[1].x_m = 1e7f;
+    o[1].y_m = 1.0f;
+    o[1].utime = 1;
+    o[2].x_m = INFINITY;
+    o[2].y_m = 0.0f;
+    o[2].utime = 1;
+    assert_int_equal(sonar_tracker_update(&tk, o, 3, &sw), SONAR_OK);
+    assert_int_equal(tk.bad_detections, 3);
+    assert_int_equal(tk.n, 0);
+    /* an empty sweep: counted, nothing else */
+    sw.beams = 0;
+    assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+    assert_int_equal(tk.empty_sweeps, 1);
+    assert_int_equal(tk.sweeps, 1);
+    sw.beams = 400;
+    /* more detections than tracks: 16 new each sweep, 1 s apart, never within a gate, for 3 sweeps */
+    for (s = 0; s < 3; s++) {
+        for (i = 0; i < SONAR_MAX_CLUSTERS; i++) {
+            o[i].x_m = (float)(10 * i) - 80.0f;
+            o[i].y_m = (float)(40 * s) - 40.0f;
+            o[i].utime = (int64_t)(s + 10) * 1000000;
+        }
+        sw.utime = (int64_t)(s + 10) * 1000000 + 1;
+        assert_int_equal(sonar_tracker_update(&tk, o, SONAR_MAX_CLUSTERS, &sw), SONAR_OK);
+        assert_true(tk.n <= SONAR_MAX_TRACKS);
+    }
+    assert_true(tk.overflow > 0);
+    /* a clock that jumps back: counted, no prediction backwards, IDs keep rising */
+    for (i = 0; i < tk.n; i++)
+        ids = tk.t[i].id > ids ? tk.t[i].id : ids;
+    o[0].x_m = 100.0f;
+    o[0].y_m = 100.0f;
+    o[0].utime = 5000000;
+    sw.utime = 5000001;
+    assert_int_equal(sonar_tracker_update(&tk, o, 1, &sw), SONAR_OK);
+    assert_int_equal(tk.clock_back, 1);
+    for (i = 0; i < tk.n; i++) {
+        assert_true(tk.t[i].utime <= 5000001);
+        assert_true(isfinite(tk.t[i].px) && isfinite(tk.t[i].pa));
+    }
+    assert_int_equal(sonar_tracker_update(NULL, o, 1, &sw), SONAR_ERR_ARG);
+    assert_int_equal(sonar_tracker_update(&tk, o, SONAR_MAX_CLUSTERS + 1, &sw), SONAR_ERR_ARG);
+    assert_int_equal(sonar_tracker_update(&tk, NULL, 1, &sw), SONAR_ERR_ARG);
+    (void)ids;
+}
+
+static void test_deterministic(void **state)
+{
+    static struct sonar_tracker a;
+    struct sonar_tracker_obs o[4];
+    int run, s, i;
+    (void)state;
+    for (run = 0; run < 2; run++) {
+        srand(9);
+        init();
+        for (s = 0; s < 30; s++) {
+            struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 5000000);
+            int n = rand() % 5;
+            for (i = 0; i < n; i++) {
+                o[i].x_m = (float)(rand() % 2000) / 100.0f - 10.0f;
+                o[i].y_m = (float)(rand() % 2000) / 100.0f - 10.0f;
+                o[i].utime = (int64_t)s * 5000000 + rand() % 5000000;
+            }
+            assert_int_equal(sonar_tracker_update(&tk, o, (uint8_t)n, &sw), SONAR_OK);
+        }
+        if (run == 0)
+            memcpy(&a, &tk, sizeof(a));
+    }
+    assert_int_equal(a.n, tk.n);
+    assert_memory_equal(a.t, tk.t, sizeof(tk.t[0]) * tk.n);
+    assert_int_equal(a.next_id, tk.next_id);
+}
+
+static void test_config_check_names_fields(void **state)
+{
+    struct sonar_tracker_config c;
+    (void)state;
+    sonar_tracker_defaults(&c);
+    assert_null(sonar_tracker_config_check(&c));
+    c.gate = 0.5f;
+    assert_string_equal(sonar_tracker_config_check(&c), "gate: 1..100 (squared Mahalanobis distance)");
+    sonar_tracker_defaults(&c);
+    c.confirm_m = 4;
+    c.confirm_n = 3;
+    assert_non_null(strstr(sonar_tracker_config_check(&c), "confirm_m"));
+    sonar_tracker_defaults(&c);
+    c.meas_m = NAN;
+    assert_non_null(strstr(sonar_tracker_config_check(&c), "meas_m"));
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_ERR_ARG);
+    assert_string_equal(sonar_track_state_str(SONAR_TRACK_COASTING), "coasting");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_assignment_is_optimal),
+        cmocka_unit_test(test_confirm_velocity_and_one_id),
+        cmocka_unit_test(test_coast_delete_and_ids_never_reused),
+        cmocka_unit_test(test_crossing_targets_keep_ids),
+        cmocka_unit_test(test_sector_out_of_view_is_not_a_miss),
+        cmocka_unit_test(test_bad_input_is_counted),
+        cmocka_unit_test(test_deterministic),
+        cmocka_unit_test(test_config_check_names_fields),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
