@@ -265,7 +265,15 @@ static void test_bad_input_is_counted(void **state)
     assert_int_equal(tk.empty_sweeps, 1);
     assert_int_equal(tk.sweeps, 1);
     sw.beams = 400;
-    /* more detections than tracks: 16 new each sweep, 1 s apart, never within a gate, for 3 sweeps */
+    /* more detections than tracks: 16 new each sweep, 1 s apart, never within a gate, for 3 sweeps;
+       confirmed at once and kept through 5 misses, so the first two sweeps' tracks fill the table */
+    {
+        struct sonar_tracker_config c;
+        sonar_tracker_defaults(&c);
+        c.confirm_m = 1;
+        c.max_misses = 5;
+        assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_OK);
+    }
     for (s = 0; s < 3; s++) {
         for (i = 0; i < SONAR_MAX_CLUSTERS; i++) {
             o[i].x_m = (float)(10 * i) - 80.0f;
