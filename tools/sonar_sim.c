@@ -108,7 +108,9 @@ int main(int argc, char **argv)
                 if (v->present && d >= v->d)
                     continue;
                 v->present = 1;
-                v->visible = !(timed && hypot(x, y) > s.range_m) && !(sweep < 64 && (s.obj[k].fade >> sweep) & 1u);
+                /* Visible only if a beam really crossed it: an object that arrived after the beam
+                   passed its bearing is not seen until the next sweep. */
+                v->visible = !(timed && (hypot(x, y) > s.range_m || d > s.step)) && !(sweep < 64 && (s.obj[k].fade >> sweep) & 1u);
                 v->t = ts;
                 v->x = x;
                 v->y = y;
