@@ -156,6 +156,8 @@ static void test_lcm_detections_and_status(void **state)
     st.rows_bad = 6;
     st.sink_errors = 8;
     st.beams_rejected = 9;
+    st.tracker.live = 3;
+    st.tracker.overflow = 11;
     assert_int_equal(s.sink.status(s.sink.self, &st), HOST_OK);
     assert_string_equal(out.channel[2], "SONAR_STATUS");
     assert_true(sonar_status_t_decode(out.buf[2], 0, (int)out.len[2], &ms) > 0);
@@ -167,6 +169,8 @@ static void test_lcm_detections_and_status(void **state)
     assert_int_equal(ms.rows_bad, 6);
     assert_int_equal(ms.sink_errors, 8);
     assert_int_equal(ms.beams_rejected, 9);
+    assert_int_equal(ms.tracks, 3);
+    assert_int_equal(ms.track_overflow, 11);
     sonar_status_t_decode_cleanup(&ms);
 }
 

@@ -259,7 +259,7 @@ static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep
     /* Bearing in gradians, nearest whole gradian. */
     a = (int)floorf(atan2f(y, x) * (float)SONAR_GRAD_HALF / (float)SONAR_PI + 0.5f);
     a = wrap(a);
-    return (sw->cover[a / 8] >> (a % 8)) & 1u;
+    return (int)(((unsigned)sw->cover[a / 8] >> (unsigned)(a % 8)) & 1u);
 }
 
 static unsigned popcount8(unsigned v)

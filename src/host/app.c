@@ -346,6 +346,13 @@ void app_status(struct app *a, int link_state, struct app_status *s)
     s->last_sweep_s = a->last_sweep_s;
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
+    if (a->pipe.cfg->track) {
+        s->tracker.live = a->pipe.trk.n;
+        s->tracker.ended = a->pipe.trk.deleted;
+        s->tracker.bad_detections = a->pipe.trk.bad_detections;
+        s->tracker.clock_back = a->pipe.trk.clock_back;
+        s->tracker.overflow = a->pipe.trk.overflow;
+    }
     app_emit_status(a, s);
 }
 

@@ -45,6 +45,9 @@ struct app_status {
     float last_sweep_s;                    /* seconds the last sweep took */
     float beam_us_p50, beam_us_p99;        /* per-beam processing time */
     uint32_t stack_used;                   /* co-processor: stack high-water mark, bytes; 0 on the host */
+    struct {
+        uint32_t live, ended, bad_detections, clock_back, overflow;
+    } tracker;                             /* all 0 with tracking off */
 };
 
 /* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */

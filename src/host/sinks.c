@@ -83,6 +83,11 @@ static int lcm_status(void *self, const struct app_status *st)
     m.beam_us_p50 = st->beam_us_p50;
     m.beam_us_p99 = st->beam_us_p99;
     m.stack_used = (int32_t)st->stack_used;
+    m.tracks = (int16_t)st->tracker.live;
+    m.tracks_ended = st->tracker.ended;
+    m.track_bad_detections = st->tracker.bad_detections;
+    m.track_clock_back = st->tracker.clock_back;
+    m.track_overflow = st->tracker.overflow;
     return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 

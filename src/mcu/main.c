@@ -143,6 +143,13 @@ static void status(struct fw *f, int64_t now)
     m.sink_errors = f->frames_dropped;        /* frames the host link could not take */
     m.beams_rejected = f->rejected;
     m.stack_used = (int32_t)board_stack_used();
+    if (f->pipe.cfg != NULL && f->pipe.cfg->track) {
+        m.tracks = (int16_t)f->pipe.trk.n;
+        m.tracks_ended = f->pipe.trk.deleted;
+        m.track_bad_detections = f->pipe.trk.bad_detections;
+        m.track_clock_back = f->pipe.trk.clock_back;
+        m.track_overflow = f->pipe.trk.overflow;
+    }
     m.nacks += f->config_errors; /* configurations refused count as NACKs of the host's requests */
     host_send(f, SONAR_CPF_STATUS, sonar_status_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
