@@ -59,12 +59,12 @@
 
 /* Points the incremental hull holds before it folds them into the hull so far. RAM: 24 bytes each. */
 #ifndef SONAR_HULL_WORK
-#define SONAR_HULL_WORK 128
+#define SONAR_HULL_WORK 64
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: 56 bytes each, plus a SONAR_MAX_CLUSTERS x
- * SONAR_MAX_TRACKS float cost matrix (1 792 + 2 048 B at 32).
+ * Tracks the tracker keeps (tracker.h). RAM: 56 bytes each (1 792 B at 32); an update's
+ * SONAR_MAX_CLUSTERS x SONAR_MAX_TRACKS float cost matrix is on the stack (2 048 B).
  */
 #ifndef SONAR_MAX_TRACKS
 #define SONAR_MAX_TRACKS 32

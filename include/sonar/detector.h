@@ -106,7 +106,7 @@ struct sonar_detector {
     float range_m;
     int64_t utime;
     int64_t t0;                                 /* utime of the sweep's first beam */
-    uint32_t dt_us[SONAR_MAX_SWEEP_BEAMS];      /* each beam's time after t0, us (saturating) */
+    uint16_t dt_ms[SONAR_MAX_SWEEP_BEAMS];      /* each beam's time after t0, ms (saturating at 65.5 s) */
     uint32_t sweep;
     uint32_t runs_dropped;
     uint16_t nruns, beams, n;

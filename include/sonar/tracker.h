@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker = 64 B per track (SONAR_MAX_TRACKS) + 2 KB cost matrix. */
+/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker = 56 B per track (SONAR_MAX_TRACKS) + 48 B; stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -72,7 +72,6 @@ struct sonar_tracker_sweep {
 struct sonar_tracker {
     struct sonar_tracker_config cfg;
     struct sonar_track t[SONAR_MAX_TRACKS];
-    float cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS]; /* scratch of one update */
     uint8_t n;               /* live tracks, t[0 .. n) in birth order */
     uint32_t next_id;
     int64_t last_utime;      /* latest detection or sweep time seen */

@@ -79,7 +79,7 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
             continue;
         w += d->pts[i].w;
         s += r->sum;
-        st += (uint64_t)d->dt_us[r->beam] * d->pts[i].w;
+        st += (uint64_t)d->dt_ms[r->beam] * d->pts[i].w;
         sx += (int64_t)d->pts[i].x * d->pts[i].w;
         sy += (int64_t)d->pts[i].y * d->pts[i].w;
         end = (uint32_t)r->start + d->pts[i].w - 1u;
@@ -123,7 +123,7 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
             }
     }
     memset(o, 0, sizeof(*o));
-    o->utime = d->t0 + (int64_t)(st / w);
+    o->utime = d->t0 + (int64_t)(st * 1000u / w);
     o->points = (uint32_t)w;
     o->mean_intensity = (float)((double)s / (double)w);
     o->x_m = (float)((double)sx / (double)w / 1000.0);

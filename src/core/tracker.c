@@ -292,6 +292,8 @@ static void correct(struct sonar_track *t, float r2, float zx, float zy)
 int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
                          const struct sonar_tracker_sweep *sw)
 {
+    /* On the stack (2 KB at 16 x 32): it lives for one update, and static RAM is the co-processor's limit. */
+    float cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS];
     int8_t row_col[SONAR_MAX_CLUSTERS];
     uint8_t rows[SONAR_MAX_CLUSTERS], nr = 0, i, j, k;
     const float r2 = tk != NULL ? tk->cfg.meas_m * tk->cfg.meas_m : 0.0f;
@@ -342,11 +344,11 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             ex = o->x_m - (t->px + t->vx * dt);
             ey = o->y_m - (t->py + t->vy * dt);
             d2 = (ex * ex + ey * ey) / s;
-            tk->cost[i][k] = d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
+            cost[i][k] = d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
         }
     }
     if (nr > 0) {
-        c.m = &tk->cost[0][0];
+        c.m = &cost[0][0];
         c.stride = SONAR_MAX_TRACKS;
         c.real = tk->n;
         /*
@@ -361,7 +363,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         struct sonar_track *t;
         float dt;
         k = (uint8_t)row_col[i];
-        if (k >= tk->n || tk->cost[i][k] >= (float)BIG)
+        if (k >= tk->n || cost[i][k] >= (float)BIG)
             continue;
         t = &tk->t[k];
         dt = step_s(tk, t, obs[rows[i]].utime, &clipped);
