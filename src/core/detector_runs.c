@@ -158,7 +158,7 @@ int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *
         d->t0 = utime;
     /* Milliseconds are plenty (a beam takes 28 ms or more) and halve the log. A clock that steps
        back inside a sweep counts as no time; a sweep longer than 65.5 s saturates. */
-    d->dt_ms[beam] = utime <= d->t0 ? 0u : ((utime - d->t0) / 1000 > 65535 ? 65535u : (uint16_t)((utime - d->t0) / 1000));
+    d->dt_ms[beam] = (uint16_t)(utime <= d->t0 ? 0 : ((utime - d->t0) / 1000 > 65535 ? 65535 : (utime - d->t0) / 1000));
     beam_stats(fg, n, &s, &q, blockmax);
     d->sum += s;
     d->sumsq += q;
