@@ -247,18 +247,15 @@ static int usable(const struct sonar_tracker_obs *o)
  */
 static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep *sw)
 {
-    float x, y, r;
+    float x, y;
     int a;
     sonar_tracker_predict(t, sw->utime, &x, &y);
-    r = sqrtf(x * x + y * y);
-    if (r < sw->min_range_m)
+    if (sqrtf(x * x + y * y) < sw->min_range_m)
         return 0;
-    (void)r;
     if (sw->cover == NULL)
         return 1;
-    /* Bearing in gradians, nearest whole gradian. */
-    a = (int)floorf(atan2f(y, x) * (float)SONAR_GRAD_HALF / (float)SONAR_PI + 0.5f);
-    a = wrap(a);
+    /* The nearest whole gradian of its bearing (0.9 degrees a gradian). */
+    a = wrap((int)floor(sonar_frame_bearing_deg((double)x, (double)y) / 0.9 + 0.5));
     return (int)(((unsigned)sw->cover[a / 8] >> (unsigned)(a % 8)) & 1u);
 }
 

@@ -54,14 +54,6 @@ static void on_stage(void *user, int stage, const struct sonar_beam *b)
     sinks_beam(a, &r);
 }
 
-static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk);
-
-static void on_sweep(void *user, const struct sonar_detections *d)
-{
-    struct app *a = user;
-    to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
-}
-
 static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
 {
     int64_t now = a->clock.mono_ns(a->clock.user);
@@ -78,6 +70,12 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     }
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
+}
+
+static void on_sweep(void *user, const struct sonar_detections *d)
+{
+    struct app *a = user;
+    to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
 int app_init(struct app *a, const struct sonar_pipeline_config *pcfg, const struct sonar_ping360_config *dcfg,
