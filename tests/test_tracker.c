@@ -1,4 +1,4 @@
-/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, bad input, determinism. */
+/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, manoeuvres, the assignment cascade, bad input, determinism. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -224,8 +224,22 @@ static void test_sector_out_of_view_is_not_a_miss(void **state)
         assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
     }
     assert_int_equal(tk.n, 1);
-    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_COASTING); /* not hit, so not confirmed this sweep */
     assert_int_equal(tk.t[0].misses, 0);
+    assert_int_equal(tk.t[0].unseen, 3);
+    /* out of view for good: twice max_misses sweeps without a hit end it (a steady target, so its
+       covariance, the other end of a coast, stays small) */
+    {
+        struct sonar_tracker_config c = tk.cfg;
+        c.accel_mps2 = 0.001f;
+        assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_OK);
+    }
+    for (s = 6; s < 9; s++) {
+        sw = everywhere((int64_t)(s + 1) * 10000000);
+        sw.cover = cover;
+        assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+        assert_int_equal(tk.n, s < 8 ? 1 : 0);
+    }
     /* a wrap: 390 -> 5 covers 390..399 and 0..5, not the long way round */
     beams[0] = 390;
     beams[1] = 5;
@@ -237,6 +251,84 @@ static void test_sector_out_of_view_is_not_a_miss(void **state)
     sonar_tracker_cover(cover, beams, 2, 20, 100);
     assert_true(cover[100 / 8] & (1u << (100 % 8)));
     assert_false(cover[0] & 1u);
+}
+
+/*
+ * A target at 1 m/s turns 90 degrees between two 6 s sweeps. Without the manoeuvre pass its
+ * track is lost and a new ID starts; with it the same track takes the turn and its velocity
+ * swings round.
+ */
+static void run_turn(float manoeuvre, uint32_t *last_id, float *vy)
+{
+    struct sonar_tracker_config c;
+    int s;
+    sonar_tracker_defaults(&c);
+    c.manoeuvre_mps2 = manoeuvre;
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
+    for (s = 0; s < 10; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 6000000);
+        double t = s * 6.0 + 3.0;
+        struct sonar_tracker_obs o;
+        o.utime = (int64_t)(t * 1e6);
+        /* east at 1 m/s until 27 s, then north */
+        o.x_m = (float)(t < 27.0 ? t : 27.0);
+        o.y_m = (float)(t < 27.0 ? 0.0 : t - 27.0);
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    *last_id = tk.t[tk.n - 1].id;
+    *vy = tk.t[tk.n - 1].vy;
+}
+
+static void test_manoeuvre_pass_keeps_a_turning_track(void **state)
+{
+    uint32_t id;
+    float vy;
+    (void)state;
+    run_turn(0.0f, &id, &vy);
+    assert_true(id > 1); /* lost at the turn */
+    run_turn(0.5f, &id, &vy);
+    assert_int_equal(id, 1);
+    assert_int_equal(tk.n, 1);
+    assert_true(tk.manoeuvres >= 1);
+    assert_true(vy > 0.7f);
+    assert_true(fabsf(tk.t[0].vx) < 0.3f);
+}
+
+/*
+ * An established track goes first, manoeuvre pass included: a tentative track born near where a
+ * turning target comes out of its turn (wide gate: its velocity is unknown) does not take the
+ * detection the turning track needs.
+ */
+static void test_established_tracks_assign_first(void **state)
+{
+    struct sonar_tracker_obs o[2];
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 5; s++) {
+        /* east at 1 m/s, as in run_turn, up to (27, 0) at 27 s; a blip at (27, 5) beside it */
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 6000000);
+        o[0].utime = (int64_t)s * 6000000 + 3000000;
+        o[0].x_m = (float)(s * 6 + 3);
+        o[0].y_m = 0.0f;
+        o[1].utime = o[0].utime + 500000;
+        o[1].x_m = 27.0f;
+        o[1].y_m = 5.0f;
+        assert_int_equal(sonar_tracker_update(&tk, o, s == 4 ? 2 : 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 2);
+    assert_int_equal(by_id(2)->state, SONAR_TRACK_TENTATIVE);
+    {
+        /* after the turn north: (27, 6) at 33 s, 1 m from the blip, 8.5 m from the straight-on prediction */
+        struct sonar_tracker_sweep sw = everywhere(36000000);
+        o[0].utime = 33000000;
+        o[0].x_m = 27.0f;
+        o[0].y_m = 6.0f;
+        assert_int_equal(sonar_tracker_update(&tk, o, 1, &sw), SONAR_OK);
+        assert_int_equal(by_id(1)->det, 0);
+        assert_int_equal(by_id(1)->state, SONAR_TRACK_CONFIRMED);
+        assert_int_equal(tk.manoeuvres, 1);
+    }
 }
 
 static void test_bad_input_is_counted(void **state)
@@ -358,6 +450,8 @@ int main(void)
         cmocka_unit_test(test_coast_delete_and_ids_never_reused),
         cmocka_unit_test(test_crossing_targets_keep_ids),
         cmocka_unit_test(test_sector_out_of_view_is_not_a_miss),
+        cmocka_unit_test(test_manoeuvre_pass_keeps_a_turning_track),
+        cmocka_unit_test(test_established_tracks_assign_first),
         cmocka_unit_test(test_bad_input_is_counted),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_config_check_names_fields),

@@ -395,10 +395,13 @@ def main():
              "`tools/score.py --tracks`: confirmed and coasting tracks, each predicted to the moment its truth object was "
              "seen, matched within 1 m. MOTA = 1 − (FN + FP + ID switches) / objects; IDF1 from one global truth-ID to "
              "track-ID assignment; OSPA with cut-off 2 m, p = 2, mean over sweeps; velocity error = mean |v_track − v_true| "
-             "of matched tracks with 3 or more hits on objects moving at 0.5–1.5 m/s. Simulated: `moving` (full turns at "
-             "4 gradians, 6.3 s a turn: two swimmers crossing 0.5 m apart at 0.5 m/s, a diver at 1 m/s who turns, a target "
-             "circling at 1.5 m/s, a buoy that fades for two turns, arrivals and departures) and `sector` (a 180° sector "
-             "back and forth at 2 gradians, 5 s a pass: walkers crossing at 0.3 m/s, one leaving at 0.8 m/s). AquaScan: "
+             "of matched tracks with 3 or more hits on objects moving at 0.5–1.5 m/s. Simulated: `moving` (24 full turns at "
+             "4 gradians, 6.3 s a turn: two swimmers going to and fro 0.5 m apart at 0.5 m/s and crossing three times, a "
+             "diver at 1 m/s who turns four times, a target going twice round the sonar at 1.5 m/s on an octagon, a buoy "
+             "that fades for three turns, arrivals and departures) and `sector` (26 passes of a 180° sector back and forth "
+             "at 2 gradians, 5 s a pass: walkers crossing at 0.3 m/s who turn back, one leaving the sector at 0.8 m/s, a "
+             "runner at 1.2 m/s). A track next to an object that is there but unseen that sweep (faded, or no beam crossed "
+             "it: the truth's `hidden` list) is don't-care, neither TP nor FP. AquaScan: "
              "the person IDs of the labels; its per-beam times are not recorded, so tracks are compared at their own "
              "times.\n")
     L.append("| data | configuration | detection | tracking |")

@@ -47,43 +47,49 @@ int scene_make(struct scene *s, const char *name)
         s->nobj = 3;
     } else if (strcmp(name, "moving") == 0) {
         /*
-         * Open water, full turns at 4 gradians a step (6.3 s a turn at 15 m): two swimmers crossing
-         * 0.5 m apart at 0.5 m/s, a diver at 1 m/s who turns, a fast one at 1.5 m/s going round the
-         * sonar, a drifting buoy that fades for two turns, arrivals and departures. The first turn
-         * and the second are the background's warm-up: objects arrive from 16 s on.
+         * Open water, full turns at 4 gradians a step (6.3 s a turn at 15 m), 24 turns: two swimmers
+         * at 0.5 m/s going to and fro 0.5 m apart (they cross three times), a diver at 1 m/s who turns
+         * four times and leaves, a fast one at 1.5 m/s going twice round the sonar (an octagon: 45
+         * degrees every 5.6 s), a drifting buoy that fades for two turns and then one, and a late one
+         * at 1 m/s who arrives, turns and leaves. The first two turns are the background's warm-up.
          */
         static const struct scene_object o[] = {
-            {"swimmer_a", 0, 0, 0.25, 0, 0, 160, 0, 2, {16, 52}, {-9, 9}, {6.25, 6.25}, 0},
-            {"swimmer_b", 0, 0, 0.25, 0, 0, 160, 0, 2, {16, 52}, {9, -9}, {5.75, 5.75}, 0},
-            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 3, {18, 38, 68}, {4, 4, -11}, {-10, 10, 10}, 0},
-            {"fast", 0, 0, 0.25, 0, 0, 170, 0, 5, {22, 33.3, 44.6, 55.9, 67.2}, {0, 12, 0, -12, 0}, {-12, 0, 12, 0, -12}, 0},
-            {"buoy", 0, 0, 0.25, 0, 0, 190, 0, 2, {20, 83}, {-5, -2.5}, {-5, -6.5}, (1ull << 6) | (1ull << 7)},
-            {"late", 0, 0, 0.25, 0, 0, 160, 0, 2, {48, 88}, {10, 3}, {6, 6}, 0},
+            {"swimmer_a", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {-9, 9, -9, 9}, {6.25, 6.25, 6.25, 6.25}, 0},
+            {"swimmer_b", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {9, -9, 9, -9}, {5.75, 5.75, 5.75, 5.75}, 0},
+            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 6, {18, 38, 50, 64, 76, 82}, {4, 4, -8, -8, 4, 4}, {-10, 10, 10, -4, -4, -10}, 0},
+            {"fast", 0, 0, 0.25, 0, 0, 170, 0, 17,
+             {22.0, 27.61, 33.23, 38.84, 44.45, 50.06, 55.68, 61.29, 66.9, 72.51, 78.13, 83.74, 89.35, 94.96, 100.58, 106.19, 111.8},
+             {0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0},
+             {-11.0, -7.78, 0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0}, 0},
+            {"buoy", 0, 0, 0.25, 0, 0, 190, 0, 2, {20, 152}, {-5, -2.5}, {-5, -6.5}, (1ull << 10) | (1ull << 11) | (1ull << 18)},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 4, {100, 114, 124, 136}, {11, 0, -9, -9}, {-3, -11, -8, 0}, 0},
         };
         s->range_m = 15.0;
         s->samples = 600;
         s->step = 4;
-        s->sweeps = 14;
+        s->sweeps = 24;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else if (strcmp(name, "sector") == 0) {
         /*
          * A 180-degree sector (gradians 100..300, the x < 0 half) scanned back and forth at 2
-         * gradians a step (5 s a pass at 15 m): two people crossing at 0.3 m/s, one at 0.8 m/s
-         * who walks out of the sector, one who arrives late; the first two passes are the background's warm-up.
+         * gradians a step (5 s a pass at 15 m), 26 passes: two people crossing at 0.3 m/s who turn
+         * back, one at 0.8 m/s who walks out of the sector, one who arrives late, a runner at 1.2 m/s
+         * crossing the far side; the first two passes are the background's warm-up.
          */
         static const struct scene_object o[] = {
-            {"walker_a", 0, 0, 0.25, 0, 0, 160, 0, 2, {12, 72}, {-4, -4}, {-9, 9}, 0},
-            {"walker_b", 0, 0, 0.25, 0, 0, 160, 0, 2, {12, 72}, {-4.5, -4.5}, {9, -9}, 0},
+            {"walker_a", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4, -4, -4}, {-9, 9, -3}, 0},
+            {"walker_b", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4.5, -4.5, -4.5}, {9, -9, 3}, 0},
             {"leaver", 0, 0, 0.25, 0, 0, 170, 0, 2, {14, 31}, {-8, 5}, {-3, -7}, 0},
-            {"late", 0, 0, 0.25, 0, 0, 160, 0, 2, {36, 72}, {-10, -2}, {4, 4}, 0},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 3, {36, 72, 104}, {-10, -2, -10}, {4, 4, -2}, 0},
+            {"runner", 0, 0, 0.25, 0, 0, 170, 0, 2, {64, 78.8}, {-13, 2}, {3, 12.5}, 0},
         };
         s->range_m = 15.0;
         s->samples = 600;
         s->step = 2;
         s->start = 100;
         s->stop = 300;
-        s->sweeps = 14;
+        s->sweeps = 26;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else {
@@ -226,6 +232,17 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
             fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f,\"t_us\":%lld,\"vx\":%.3f,\"vy\":%.3f}",
                     first ? "" : ",", s->obj[k].id, v->x, v->y, s->obj[k].r, t0_us + (long long)floor(v->t * 1e6 + 0.5),
                     v->vx, v->vy);
+            first = 0;
+        }
+        /* There but not seen (faded, or no beam crossed it): a tracker coasting on it is neither right nor wrong. */
+        fputs("],\"hidden\":[", f);
+        first = 1;
+        for (k = 0; k < s->nobj; k++) {
+            const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
+            if (!v->present || v->visible || hypot(v->x, v->y) > s->range_m)
+                continue;
+            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"t_us\":%lld}", first ? "" : ",", s->obj[k].id, v->x,
+                    v->y, t0_us + (long long)floor(v->t * 1e6 + 0.5));
             first = 0;
         }
         fputs("]}", f);

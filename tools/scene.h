@@ -7,7 +7,7 @@
 
 #define SCENE_MAX_OBJ 8
 #define SCENE_MAX_WALL 4
-#define SCENE_MAX_WP 6
+#define SCENE_MAX_WP 20
 
 struct scene_object {
     const char *id;
@@ -73,8 +73,10 @@ struct scene_seen {
 
 /*
  * The truth file: {"scene","range_m","samples","beams_per_sweep","sweeps":[{"sweep","objects":
- * [{"id","x","y","radius","t_us","vx","vy"}]}]}, objects that are visible (faded ones are left out:
- * nothing can be seen). seen[sweep * SCENE_MAX_OBJ + k]; t0_us: the first beam's time.
+ * [{"id","x","y","radius","t_us","vx","vy"}],"hidden":[{"id","x","y","t_us"}]}]}: "objects" are the
+ * visible ones (what a detector can find); "hidden" are in range but unseen that sweep (faded, or
+ * no beam crossed them), which tracking scores as don't-care. seen[sweep * SCENE_MAX_OBJ + k];
+ * t0_us: the first beam's time.
  */
 int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct scene_seen *seen, long long t0_us);
 

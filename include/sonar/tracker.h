@@ -17,8 +17,8 @@
 
 enum sonar_track_state {
     SONAR_TRACK_TENTATIVE = 0, /* not yet M hits in the last N sweeps it was visible in */
-    SONAR_TRACK_CONFIRMED = 1, /* hit in its last visible sweep */
-    SONAR_TRACK_COASTING = 2   /* confirmed, then missed: running on its prediction */
+    SONAR_TRACK_CONFIRMED = 1, /* hit this sweep */
+    SONAR_TRACK_COASTING = 2   /* confirmed, then not hit (missed, or out of view): running on its prediction */
 };
 
 #define SONAR_TRK_ACCEL_MAX 10   /* accel_mps2: 0.001..10 */
@@ -31,12 +31,14 @@ enum sonar_track_state {
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
+    float manoeuvre_mps2; /* acceleration noise std of the manoeuvre pass, m/s^2, 0..10; not above accel_mps2: no such pass */
     float meas_m;         /* detection position std per axis, m, 0.01..10 */
     float speed0_mps;     /* velocity std of a new track, m/s, 0.01..20 */
     float gate;           /* Mahalanobis d^2 a detection may be from a prediction (chi-square, 2 dof: 9.21 = 99%), 1..100 */
     uint8_t confirm_m;    /* hits ...                                           */
     uint8_t confirm_n;    /* ... in the last N sweeps the track was visible in confirm it; 1 <= M <= N <= 8 */
-    uint8_t max_misses;   /* visible sweeps in a row without a hit that delete a confirmed track, 1..255 */
+    uint8_t max_misses;   /* visible sweeps in a row without a hit that delete a confirmed track, 1..127;
+                             twice as many sweeps without a hit, in view or not, also do */
     float max_dt_s;       /* longest prediction step, s, 1..600; longer gaps are counted and clipped */
 };
 
@@ -49,6 +51,7 @@ struct sonar_track {
     uint16_t age;        /* sweeps since birth (saturating) */
     uint16_t hits;       /* detections used (saturating) */
     uint16_t misses;     /* visible sweeps in a row without a hit */
+    uint8_t unseen;      /* sweeps in a row without a hit, in view or not (saturating) */
     int64_t utime;       /* us since the epoch: the time of the state below */
     float px, py, vx, vy; /* m, m/s */
     float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
@@ -82,6 +85,7 @@ struct sonar_tracker {
     uint32_t empty_sweeps;   /* sweeps with zero beams */
     uint32_t overflow;       /* detections that found no free track */
     uint32_t deleted;        /* tracks ended */
+    uint32_t manoeuvres;     /* hits taken in the manoeuvre pass */
 };
 
 /* Largest assignment sonar_tracker_assign solves: rows <= cols <= this. */
@@ -90,7 +94,7 @@ struct sonar_tracker {
 /* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. */
 const char *sonar_tracker_config_check(const struct sonar_tracker_config *cfg);
 
-/* sonard's defaults: 0.05 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s. */
+/* sonard's defaults: 0.05 m/s^2, manoeuvres 0.5 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s. */
 void sonar_tracker_defaults(struct sonar_tracker_config *cfg);
 
 /* Validates cfg (copied) and empties the tracker; IDs start at 1. Returns SONAR_OK or SONAR_ERR_ARG. */
@@ -102,7 +106,9 @@ SONAR_CHECK int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_
 /*
  * One sweep's detections (n <= SONAR_MAX_CLUSTERS; obs may be NULL when n is 0): predicts every
  * track to each detection's time, gates, assigns at least total cost (d^2 + 2 ln(S / meas^2) a
- * pair, 2 gate to start a new track instead), updates, confirms, coasts, deletes, and starts
+ * pair, more than any gated pair to start a new track instead), offers what is left to the
+ * confirmed tracks that found nothing under the manoeuvre noise (a second assignment), updates,
+ * confirms, coasts, deletes, and starts
  * tentative tracks from the detections left over. A track's det is its detection's index in obs.
  * Bad detections and full tables are counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG
  * (tk or sw NULL, n too large; nothing changed).

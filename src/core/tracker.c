@@ -30,6 +30,7 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
     cfg->accel_mps2 = 0.05f;
+    cfg->manoeuvre_mps2 = 0.5f;
     cfg->meas_m = 0.15f;
     cfg->speed0_mps = 1.0f;
     cfg->gate = 9.21f;
@@ -43,6 +44,8 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
 {
     if (!(c->accel_mps2 >= 0.001f && c->accel_mps2 <= (float)SONAR_TRK_ACCEL_MAX))
         return "accel_mps2: 0.001.." STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
+    if (!(c->manoeuvre_mps2 >= 0.0f && c->manoeuvre_mps2 <= (float)SONAR_TRK_ACCEL_MAX))
+        return "manoeuvre_mps2: 0.." STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
     if (!(c->meas_m >= 0.01f && c->meas_m <= (float)SONAR_TRK_MEAS_MAX))
         return "meas_m: 0.01.." STR(SONAR_TRK_MEAS_MAX) " metres";
     if (!(c->speed0_mps >= 0.01f && c->speed0_mps <= (float)SONAR_TRK_SPEED_MAX))
@@ -53,8 +56,8 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
         return "confirm_n: 1.." STR(SONAR_TRK_WINDOW_MAX) " sweeps";
     if (c->confirm_m < 1 || c->confirm_m > c->confirm_n)
         return "confirm_m: 1..confirm_n hits";
-    if (c->max_misses < 1)
-        return "max_misses: 1..255 sweeps";
+    if (c->max_misses < 1 || c->max_misses > 127)
+        return "max_misses: 1..127 sweeps";
     if (!(c->max_dt_s >= 1.0f && c->max_dt_s <= (float)SONAR_TRK_MAX_DT_MAX))
         return "max_dt_s: 1.." STR(SONAR_TRK_MAX_DT_MAX) " seconds";
     return NULL;
@@ -286,18 +289,77 @@ static void correct(struct sonar_track *t, float r2, float zx, float zy)
     t->pc = t->pc - kb * b;
 }
 
+/* The cost of continuing t with o under acceleration noise q: d^2 + 2 ln(S / r2), or BIG outside the gate. */
+static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                       float q, float r2, int *clipped)
+{
+    float dt = step_s(tk, t, o->utime, clipped), pa = t->pa, pb = t->pb, pc = t->pc, s, ex, ey, d2;
+    predict_cov(q, dt, &pa, &pb, &pc);
+    s = pa + r2;
+    ex = o->x_m - (t->px + t->vx * dt);
+    ey = o->y_m - (t->py + t->vy * dt);
+    d2 = (ex * ex + ey * ey) / s;
+    return d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
+}
+
+/* A hit: t predicted to o's time under noise q, then corrected by it; det is o's index. */
+static void hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
+                float q, float r2, int *clipped)
+{
+    float dt = step_s(tk, t, o->utime, clipped);
+    t->px += t->vx * dt;
+    t->py += t->vy * dt;
+    predict_cov(q, dt, &t->pa, &t->pb, &t->pc);
+    if (o->utime > t->utime)
+        t->utime = o->utime;
+    correct(t, r2, o->x_m, o->y_m);
+    t->det = (int8_t)det;
+}
+
+/*
+ * One assignment of detections left[0 .. nl) to tracks cand[0 .. nc) under noise q; each pair
+ * gated, each detection free to start a track instead at more than any gated pair costs (S <=
+ * LOST_M2 + r2 for a track still alive: a detection inside a live track's gate continues it, and
+ * the 2 ln S term only settles which). Hits are applied; returns how many detections are left,
+ * compacted in left[] in their order.
+ */
+static uint8_t pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
+                    const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int *clipped)
+{
+    int8_t row_col[SONAR_MAX_CLUSTERS];
+    struct costs c;
+    uint8_t i, k, m = 0;
+    if (nl == 0 || nc == 0)
+        return nl;
+    for (i = 0; i < nl; i++)
+        for (k = 0; k < nc; k++)
+            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], q, r2, clipped);
+    c.m = &cost[0][0];
+    c.stride = SONAR_MAX_TRACKS;
+    c.real = nc;
+    c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + LOST_M2 / r2);
+    hungarian(&c, nl, (unsigned)nc + nl, row_col);
+    for (i = 0; i < nl; i++) {
+        k = (uint8_t)row_col[i];
+        if (k < nc && cost[i][k] < (float)BIG)
+            hit(tk, &tk->t[cand[k]], &obs[left[i]], left[i], q, r2, clipped);
+        else
+            left[m++] = left[i];
+    }
+    return m;
+}
+
 int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
                          const struct sonar_tracker_sweep *sw)
 {
     /* On the stack (2 KB at 16 x 32): it lives for one update, and static RAM is the co-processor's limit. */
     float cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS];
-    int8_t row_col[SONAR_MAX_CLUSTERS];
-    uint8_t rows[SONAR_MAX_CLUSTERS], nr = 0, i, j, k;
+    uint8_t rows[SONAR_MAX_CLUSTERS], nr = 0, left[SONAR_MAX_CLUSTERS], nl = 0, cand[SONAR_MAX_TRACKS], nc = 0, i, j, k;
     const float r2 = tk != NULL ? tk->cfg.meas_m * tk->cfg.meas_m : 0.0f;
     const float q = tk != NULL ? tk->cfg.accel_mps2 * tk->cfg.accel_mps2 : 0.0f;
+    const float qm = tk != NULL ? tk->cfg.manoeuvre_mps2 * tk->cfg.manoeuvre_mps2 : 0.0f;
     const unsigned window = tk != NULL ? (1u << tk->cfg.confirm_n) - 1u : 0u;
     int clipped = 0;
-    struct costs c;
     if (tk == NULL || sw == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
         return SONAR_ERR_ARG;
     if (sw->beams == 0) {
@@ -330,48 +392,32 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         tk->t[k].det = -1;
         tk->t[k].age = sat_inc(tk->t[k].age);
     }
-    /* Each pair: the track predicted to the moment the detection was seen. */
-    for (i = 0; i < nr; i++) {
-        const struct sonar_tracker_obs *o = &obs[rows[i]];
-        for (k = 0; k < tk->n; k++) {
-            const struct sonar_track *t = &tk->t[k];
-            float dt = step_s(tk, t, o->utime, &clipped), pa = t->pa, pb = t->pb, pc = t->pc, s, ex, ey, d2;
-            predict_cov(q, dt, &pa, &pb, &pc);
-            s = pa + r2;
-            ex = o->x_m - (t->px + t->vx * dt);
-            ey = o->y_m - (t->py + t->vy * dt);
-            d2 = (ex * ex + ey * ey) / s;
-            cost[i][k] = d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
-        }
+    for (i = 0; i < nr; i++)
+        left[nl++] = rows[i];
+    /*
+     * A cascade of assignments, each over the detections the ones before it left: established
+     * tracks first (a tentative one, whose velocity is not known, has a wide gate and would take
+     * detections that belong to them); then a second chance for manoeuvres, in which a track hit
+     * in its last visible sweep that found nothing is gated with the larger manoeuvre noise and
+     * adapts its velocity with it (not coasting ones: over two revisits that noise would gate half
+     * the scene); then the tentative tracks. What is left starts new tracks.
+     */
+    for (k = 0; k < tk->n; k++)
+        if (tk->t[k].state != SONAR_TRACK_TENTATIVE)
+            cand[nc++] = k;
+    nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, &clipped);
+    if (qm > q) {
+        for (k = 0, nc = 0; k < tk->n; k++)
+            if (tk->t[k].det < 0 && tk->t[k].state == SONAR_TRACK_CONFIRMED)
+                cand[nc++] = k;
+        j = nl;
+        nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, &clipped);
+        tk->manoeuvres += (uint32_t)(j - nl);
     }
-    if (nr > 0) {
-        c.m = &cost[0][0];
-        c.stride = SONAR_MAX_TRACKS;
-        c.real = tk->n;
-        /*
-         * Starting a track costs more than any gated pair of a track still alive (S <= LOST_M2 + r2):
-         * a detection inside a live track's gate continues it; the 2 ln S term only settles which.
-         */
-        c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + LOST_M2 / r2);
-        hungarian(&c, nr, (unsigned)tk->n + nr, row_col);
-    }
-    /* Hits: predict to the detection's time, then correct. */
-    for (i = 0; i < nr; i++) {
-        struct sonar_track *t;
-        float dt;
-        k = (uint8_t)row_col[i];
-        if (k >= tk->n || cost[i][k] >= (float)BIG)
-            continue;
-        t = &tk->t[k];
-        dt = step_s(tk, t, obs[rows[i]].utime, &clipped);
-        t->px += t->vx * dt;
-        t->py += t->vy * dt;
-        predict_cov(q, dt, &t->pa, &t->pb, &t->pc);
-        if (obs[rows[i]].utime > t->utime)
-            t->utime = obs[rows[i]].utime;
-        correct(t, r2, obs[rows[i]].x_m, obs[rows[i]].y_m);
-        t->det = (int8_t)rows[i];
-    }
+    for (k = 0, nc = 0; k < tk->n; k++)
+        if (tk->t[k].state == SONAR_TRACK_TENTATIVE)
+            cand[nc++] = k;
+    (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, &clipped);
     /* Confirmation, coasting and deletion; the array stays in birth order. */
     for (k = 0, j = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
@@ -379,6 +425,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         if (t->det >= 0) {
             t->hits = sat_inc(t->hits);
             t->misses = 0;
+            t->unseen = 0;
             t->history = (uint8_t)((((unsigned)t->history << 1) | 1u) & window);
             t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
             if (t->state == SONAR_TRACK_COASTING ||
@@ -395,6 +442,18 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
                 t->state = SONAR_TRACK_COASTING;
                 keep = t->misses < tk->cfg.max_misses;
             }
+        }
+        if (t->det < 0) {
+            /*
+             * Out of view (gone round the edge of a sector, say) a track can be neither hit nor
+             * missed: it coasts, and a bound on its sweeps without a hit ends it, so one that left for
+             * good is not published for as long as its covariance takes to grow.
+             */
+            t->unseen = (uint8_t)(t->unseen < UINT8_MAX ? t->unseen + 1u : t->unseen);
+            if (t->state == SONAR_TRACK_CONFIRMED)
+                t->state = SONAR_TRACK_COASTING;
+            if (t->unseen >= 2u * tk->cfg.max_misses)
+                keep = 0;
         }
         if (keep) {
             float pa = t->pa, pb = t->pb, pc = t->pc;

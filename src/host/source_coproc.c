@@ -57,6 +57,7 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
     c.track_points = p->detector.track_points;
     c.track = p->track != 0;
     c.track_accel_mps2 = p->tracker.accel_mps2;
+    c.track_manoeuvre_mps2 = p->tracker.manoeuvre_mps2;
     c.track_meas_m = p->tracker.meas_m;
     c.track_speed0_mps = p->tracker.speed0_mps;
     c.track_gate = p->tracker.gate;

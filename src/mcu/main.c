@@ -217,6 +217,7 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     next->detector.track_points = to_u16(c.track_points, 0);
     next->track = c.track ? 1u : 0u;
     next->tracker.accel_mps2 = c.track_accel_mps2;
+    next->tracker.manoeuvre_mps2 = c.track_manoeuvre_mps2;
     next->tracker.meas_m = c.track_meas_m;
     next->tracker.speed0_mps = c.track_speed0_mps;
     next->tracker.gate = c.track_gate;
