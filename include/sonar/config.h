@@ -70,6 +70,14 @@
 #define SONAR_MAX_TRACKS 32
 #endif
 
+/*
+ * Vehicle poses kept for interpolation (pose.h). RAM: 24 bytes each (6 144 B at 256); at one
+ * stored every 200 ms they span 51 s, so a detection from early in a 40 s turn still finds its pose.
+ */
+#ifndef SONAR_MAX_POSES
+#define SONAR_MAX_POSES 256
+#endif
+
 /* C99 has no _Static_assert: a negative array size stops the build when a relation fails. */
 #define SONAR_STATIC_ASSERT(cond, name) typedef char sonar_static_assert_##name[(cond) ? 1 : -1]
 
@@ -83,6 +91,7 @@ SONAR_STATIC_ASSERT(SONAR_MAX_CLUSTERS >= 1 && SONAR_MAX_CLUSTERS <= 64, cluster
 SONAR_STATIC_ASSERT(SONAR_MAX_HULL >= 3, hull_at_least_triangle);
 SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_hull);
 SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
+SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);
 SONAR_STATIC_ASSERT(SONAR_MAX_SWEEP_BEAMS >= 8 && SONAR_MAX_SWEEP_BEAMS < 65535, sweep_beams);
 
 #endif
