@@ -143,10 +143,10 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
                 was_matched[oid] = False
         # Don't-care: an unmatched track within the gate of an object that is there but unseen this
         # sweep (faded, or no beam crossed it) is coasting on something real: neither TP nor FP.
-        dc = set()
+        dc, taken = set(), set(match.values())
         for o in hidden.get(k, []):
             for j, h in enumerate(hyps):
-                if j not in used_h and j not in match.values() and j not in dc and \
+                if j not in taken and j not in dc and \
                         math.hypot(*(a - b for a, b in zip(track_at(h, o), (o["x"], o["y"])))) <= gate:
                     dc.add(j)
                     break
