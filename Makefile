@@ -23,7 +23,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
-            src/host/pvbin.c
+            src/host/posefile.c src/host/pvbin.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
             $(BUILD)/host/source_coproc.o
@@ -31,7 +31,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose pipeline csv options
+UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose pipeline csv posefile options
 UNIT_LIVE = app sinks
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)

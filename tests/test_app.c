@@ -46,9 +46,10 @@ static int cap_beam(void *self, const struct app_beam *b)
     return c->fail ? -1 : 0;
 }
 
-static int cap_det(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk)
+static int cap_det(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v)
 {
     (void)tk;
+    (void)v;
     struct capture *c = self;
     if (c->sweeps < 16)
         c->dets[c->sweeps] = d->count;

@@ -1,9 +1,10 @@
-/* test_background.c -- seeding, convergence to the median, clamping, contrast margin, range mode, resets. */
+/* test_background.c -- seeding, convergence to the median, clamping, contrast margin, range mode, resets, and the world grid of a moving sonar. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <math.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -176,6 +177,81 @@ static void test_off_and_reset(void **state)
     assert_int_equal(sonar_background_apply(&bg, 0, x, fg, SONAR_MAX_SAMPLES + 1), SONAR_ERR_ARG);
 }
 
+/* A 10 m beam of n samples from (north, east) along bearing: water 10, a wall 150 where the ray meets north = 8. */
+static void wall_beam(double north, double east, double bearing, uint8_t *s, uint16_t n)
+{
+    double c = cos(bearing * 3.14159265358979323846 / 180.0);
+    uint16_t i;
+    (void)east;
+    for (i = 0; i < n; i++)
+        s[i] = 10;
+    if (c > 0.1) {
+        int k = (int)((8.0 - north) / c / 10.0 * n), j;
+        for (j = k - 1; j <= k + 1; j++)
+            if (j >= 0 && j < (int)n)
+                s[j] = 150;
+    }
+}
+
+static void test_world_grid(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+    struct sonar_bg_ray r = {0.0, 0.0, 0.0, 2.0, 10.0f, 0.5f};
+    uint8_t s[200], fg[200];
+    int k, i, sum;
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    /* Bad rays change nothing. */
+    r.north_m = NAN;
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_ERR_ARG);
+    r.north_m = 2e6;
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_ERR_ARG);
+    r.north_m = 0.0;
+    r.range_m = 0.0f;
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_ERR_ARG);
+    r.range_m = 10.0f;
+    assert_int_equal(bg.world, 0);
+    /* The sonar moves north 1 cm a beam and sweeps +-20 degrees: the wall at north = 8 comes nearer. */
+    for (k = 0; k < 200; k++) {
+        r.north_m = 0.01 * k;
+        r.bearing_deg = -20.0 + (double)(k % 21) * 2.0;
+        wall_beam(r.north_m, r.east_m, r.bearing_deg, s, 200);
+        assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_OK);
+        if (k == 0)
+            for (i = 0; i < 200; i++)
+                assert_int_equal(fg[i], 0); /* nothing seen yet */
+    }
+    assert_int_equal(bg.world, 1);
+    assert_true(bg.cell_m > 0.06f && bg.cell_m < 0.07f); /* 3 x 10 m over 489 - 4 cells at 400 x 1200 */
+    /* The wall, seen from where the sonar is now (6 m from it at 2 m north), is background. */
+    r.north_m = 2.0;
+    r.bearing_deg = 4.0;
+    wall_beam(r.north_m, r.east_m, r.bearing_deg, s, 200);
+    s[60] = s[61] = s[62] = 200; /* and something new at 3 m */
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_OK);
+    for (sum = 0, i = 100; i < 140; i++)
+        sum += fg[i];
+    assert_int_equal(sum, 0);
+    assert_true(fg[61] > 150);
+    for (i = 0; i < 5; i++)
+        assert_int_equal(fg[i], 0); /* inside near_m: never foreground */
+    /* A jump beyond the window clears it: nothing there is known. */
+    r.north_m = 500.0;
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_OK);
+    for (sum = 0, i = 0; i < 200; i++)
+        sum += fg[i];
+    assert_int_equal(sum, 0);
+    /* Back to the per-angle model: a fresh start, counted. */
+    assert_int_equal(sonar_background_apply(&bg, 0, s, fg, 200), SONAR_OK);
+    assert_int_equal(bg.world, 0);
+    assert_int_equal(bg.reframes, 1);
+    /* Other modes ignore the ray. */
+    c.mode = SONAR_BACKGROUND_OFF;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    assert_int_equal(sonar_background_apply_world(&bg, &r, s, fg, 200), SONAR_OK);
+    assert_memory_equal(fg, s, 200);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -187,6 +263,7 @@ int main(void)
         cmocka_unit_test(test_margin_scales_with_background),
         cmocka_unit_test(test_range_mode_shares_bins_across_angles),
         cmocka_unit_test(test_off_and_reset),
+        cmocka_unit_test(test_world_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -204,6 +204,42 @@ static void test_writer_round_trip(void **state)
     assert_true(row.sample_period == 888.0);
     assert_true(row.speed_of_sound == 1480.0);
     assert_true(row.transmit_duration < 0);
+    assert_int_equal(row.has_pose, 0);
+    done();
+}
+
+/* The vehicle's pose rides on each row: written, read back, and half a pose refused by name. */
+static void test_pose_metadata(void **state)
+{
+    char err[160];
+    uint8_t s[3] = {1, 2, 3};
+    FILE *f;
+    int fd;
+    struct csv_meta m = csv_meta_none();
+    (void)state;
+    strcpy(path, "/tmp/sonard-csv-XXXXXX");
+    fd = mkstemp(path);
+    f = fdopen(fd, "w");
+    m.range_m = 15.0;
+    m.has_pose = 1;
+    m.north_m = -12.5;
+    m.east_m = 3.25;
+    m.yaw_deg = 359.5;
+    assert_int_equal(csv_write(f, 1728153122, 0, 7, s, 3, &m), 0);
+    fputs("1728153122,100000000,8,\"1 2 3\",north_m=1,east_m=2\n", f);
+    fputs("1728153122,200000000,9,\"1 2 3\",north_m=1,east_m=2,yaw_deg=400\n", f);
+    fputs("1728153122,300000000,10,\"1 2 3\",yaw_deg=-90,north_m=0,east_m=0\n", f);
+    fclose(f);
+    assert_int_equal(csv_open(&rd, path), 0);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_true(row.has_pose && row.north_m == -12.5 && row.east_m == 3.25 && row.yaw_deg == 359.5);
+    assert_true(row.range_m == 15.0);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), HOST_ERR_ROW);
+    assert_non_null(strstr(err, "north_m, east_m and yaw_deg come together (yaw_deg missing)"));
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), HOST_ERR_ROW);
+    assert_non_null(strstr(err, "metadata yaw_deg=400 is not a number in -360..360"));
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_true(row.has_pose && row.yaw_deg == -90.0);
     done();
 }
 
@@ -215,6 +251,7 @@ int main(void)
         cmocka_unit_test(test_overlong_line),
         cmocka_unit_test(test_random_rows_match_reference),
         cmocka_unit_test(test_writer_round_trip),
+        cmocka_unit_test(test_pose_metadata),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -205,6 +205,11 @@ static void test_whole_config_checks_name_the_field(void **state)
         assert_int_equal(o.pipeline.background.warmup, 8); /* a beam per bin in range mode */
     }
     {
+        const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--pose", "p.csv"};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--pose FILE.csv goes with --replay"));
+    }
+    {
         const char *argv[] = {"sonard", "--replay", "x", "--json=1"};
         assert_int_equal(parse(4, argv), HOST_ERR_CONFIG);
         assert_non_null(strstr(err, "--json: takes no value"));

@@ -1,8 +1,9 @@
-/* test_pipeline.c -- stage order, sweep cuts and flushes, geometry changes, and an object appearing over a static scene. */
+/* test_pipeline.c -- stage order, sweep cuts and flushes, geometry changes, an object appearing over a static scene, and the same seen from a moving, turning vehicle. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <math.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -18,6 +19,9 @@ struct log {
     int sweeps;
     uint8_t last_count[16];
     float x[16], y[16];
+    uint8_t world[16], det_world[16];
+    float north[16], east[16], speed[16]; /* the first detection in the world; the fastest confirmed track */
+    uint8_t confirmed[16];
 };
 
 static struct sonar_pipeline pipe_;
@@ -39,6 +43,23 @@ static void on_sweep(void *user, const struct sonar_detections *d)
         l->last_count[l->sweeps] = d->count;
         l->x[l->sweeps] = d->count ? d->det[0].x_m : 0.0f;
         l->y[l->sweeps] = d->count ? d->det[0].y_m : 0.0f;
+        if (pipe_.poses != NULL) {
+            static struct sonar_view v;
+            uint8_t k;
+            sonar_pipeline_view(&pipe_, &v);
+            l->world[l->sweeps] = v.world;
+            l->det_world[l->sweeps] = d->count ? v.det_world[0] : 0;
+            l->north[l->sweeps] = v.det_north[0];
+            l->east[l->sweeps] = v.det_east[0];
+            l->speed[l->sweeps] = 0.0f;
+            for (k = 0; k < pipe_.trk.n; k++)
+                if (pipe_.trk.t[k].state == SONAR_TRACK_CONFIRMED) {
+                    float sp;
+                    l->confirmed[l->sweeps]++;
+                    sp = sqrtf(pipe_.trk.t[k].vx * pipe_.trk.t[k].vx + pipe_.trk.t[k].vy * pipe_.trk.t[k].vy);
+                    l->speed[l->sweeps] = sp > l->speed[l->sweeps] ? sp : l->speed[l->sweeps];
+                }
+        }
     }
     l->sweeps++;
 }
@@ -164,6 +185,112 @@ static void test_object_over_static_scene(void **state)
     }
 }
 
+/*
+ * A vehicle sways north and south by 2 m and yaws by +-30 degrees while the head turns (1 gradian a
+ * beam, 50 ms a beam, 20 s a turn). The world holds a wall along east = 6 m and, from the fourth
+ * turn, a post at north 3, east -2. In the body frame both move; in the world neither does.
+ */
+static struct sonar_pose_ring ring_;
+
+static void vehicle(double t, struct sonar_pose *p)
+{
+    const double pi = 3.14159265358979323846;
+    p->utime = (int64_t)(t * 1e6) + 1000000000000;
+    p->north_m = (float)(2.0 * sin(2.0 * pi * t / 60.0));
+    p->east_m = 0.0f;
+    p->yaw_deg = (float)fmod(360.0 + 30.0 * sin(2.0 * pi * t / 40.0), 360.0);
+}
+
+static void world_beam(const struct sonar_pose *p, uint16_t angle, int post, uint8_t *s)
+{
+    const double pi = 3.14159265358979323846, range = 10.0;
+    double th = ((double)angle * 0.9 + (double)p->yaw_deg) * pi / 180.0, un = cos(th), ue = sin(th);
+    int i;
+    for (i = 0; i < N; i++)
+        s[i] = (uint8_t)(10 + (i * 31 + angle * 17) % 9);
+    if (ue > 0.05) { /* the wall, east = 6 */
+        double t = (6.0 - (double)p->east_m) / ue;
+        int k = (int)(t / range * N);
+        for (i = k - 2; i <= k + 2; i++)
+            if (i >= 0 && i < N)
+                s[i] = 150;
+    }
+    if (post) { /* the post, 0.2 m across */
+        double dn = 3.0 - (double)p->north_m, de = -2.0 - (double)p->east_m, along = dn * un + de * ue;
+        if (along > 0 && fabs(-dn * ue + de * un) < 0.25) {
+            int k = (int)(along / range * N);
+            for (i = k - 3; i <= k + 3; i++)
+                if (i >= 0 && i < N)
+                    s[i] = 200;
+        }
+    }
+}
+
+static void run_vehicle(int with_poses)
+{
+    struct sonar_pipeline_config c;
+    struct sonar_pose_limits lim;
+    uint8_t s[N];
+    int turn, a;
+    memset(&lg, 0, sizeof(lg));
+    cfg_init(&c);
+    c.detector.min_points = 10;
+    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    sonar_pose_limits_default(&lim);
+    assert_int_equal(sonar_pose_init(&ring_, &lim), SONAR_OK);
+    if (with_poses)
+        sonar_pipeline_set_poses(&pipe_, &ring_);
+    for (turn = 0; turn < 6; turn++)
+        for (a = 0; a < 400; a++) {
+            double t = (turn * 400 + a) * 0.05;
+            struct sonar_pose p;
+            struct sonar_beam b;
+            vehicle(t, &p);
+            assert_int_equal(sonar_pose_push(&ring_, &p), SONAR_OK);
+            world_beam(&p, (uint16_t)a, turn >= 3, s);
+            b.utime = p.utime;
+            b.angle = (uint16_t)a;
+            b.n = N;
+            b.range_m = 10.0f;
+            b.samples = s;
+            assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+        }
+    assert_int_equal(sonar_pipeline_finish(&pipe_), SONAR_OK);
+    assert_int_equal(lg.sweeps, 6);
+}
+
+static void test_moving_vehicle_world_frame(void **state)
+{
+    int turn;
+    (void)state;
+    run_vehicle(1);
+    assert_int_equal(pipe_.world_sweeps, 6);
+    assert_true(pipe_.world_beams == 2400u && pipe_.bg.world);
+    /* The wall is background once the grid has seen it; the post is found where it stands. */
+    for (turn = 1; turn < 3; turn++)
+        assert_int_equal(lg.last_count[turn], 0);
+    for (turn = 3; turn < 6; turn++) {
+        assert_int_equal(lg.last_count[turn], 1);
+        assert_true(lg.world[turn] && lg.det_world[turn]);
+        assert_true(fabsf(lg.north[turn] - 3.0f) < 0.3f && fabsf(lg.east[turn] + 2.0f) < 0.3f);
+    }
+    /* Tracked in the world, the post stands still while the vehicle moves at up to 0.2 m/s and turns. */
+    assert_int_equal(lg.confirmed[5], 1);
+    assert_true(lg.speed[5] < 0.05f);
+}
+
+/* The same beams without the poses: the per-angle model sees the wall move, and finds it. */
+static void test_moving_vehicle_body_frame_baseline(void **state)
+{
+    int turn, found = 0;
+    (void)state;
+    run_vehicle(0);
+    assert_int_equal(pipe_.world_beams, 0);
+    for (turn = 2; turn < 6; turn++)
+        found += lg.last_count[turn];
+    assert_true(found > 3); /* with the poses: the post in turns 3 to 5, nothing else */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -171,6 +298,8 @@ int main(void)
         cmocka_unit_test(test_2d_median_flushes_each_sweep),
         cmocka_unit_test(test_geometry_change_cuts_and_resets),
         cmocka_unit_test(test_object_over_static_scene),
+        cmocka_unit_test(test_moving_vehicle_world_frame),
+        cmocka_unit_test(test_moving_vehicle_body_frame_baseline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -84,21 +84,26 @@ static void test_refuses_disorder_jumps_and_bad_values(void **state)
 static void test_thins_and_wraps_the_ring(void **state)
 {
     struct sonar_pose p;
-    int64_t t;
+    /* the default spacing, 50 ms, with samples at 50 Hz: every third is kept, 60 ms apart */
+    const int64_t gap = 50000, step = 20000, kept = 60000;
+    const int total = (SONAR_MAX_POSES + 100) * 3;
+    int64_t t = 0;
     int i;
     (void)state;
     init();
-    /* 50 Hz for 60 s at 0.5 m/s north: one sample in ten is stored, the ring keeps the last 51 s */
-    for (i = 0; i < 3000; i++) {
-        t = 1000000 + (int64_t)i * 20000;
+    /* At 0.5 m/s north: one sample in two or three is kept, the newest always; the ring wraps. */
+    for (i = 0; i < total; i++) {
+        t = 1000000 + (int64_t)i * step;
         assert_int_equal(push(t, 0.5f * (float)i * 0.02f, 0.0f, (float)(i % 360)), SONAR_OK);
+        assert_true(ring.s[(ring.head + ring.n - 1u) % SONAR_MAX_POSES].utime == t);
     }
     assert_int_equal(ring.n, SONAR_MAX_POSES);
-    assert_true(ring.thinned > 2000);
-    t = 1000000 + (int64_t)2999 * 20000;
-    assert_int_equal(sonar_pose_at(&ring, t - 50000000, &p), 1);
-    assert_true(fabsf(p.north_m - 0.5f * (59.98f - 50.0f)) < 0.01f);
-    assert_int_equal(sonar_pose_at(&ring, t - 53000000, &p), 0); /* older than the ring */
+    assert_true(ring.thinned > (uint32_t)total / 2);
+    for (i = 1; i + 1 < (int)ring.n; i++) /* stored ones at least min_gap apart, bar the newest */
+        assert_true(ring.s[(ring.head + i) % SONAR_MAX_POSES].utime - ring.s[(ring.head + i - 1) % SONAR_MAX_POSES].utime >= gap);
+    assert_int_equal(sonar_pose_at(&ring, t - (SONAR_MAX_POSES - 10) * kept, &p), 1);
+    assert_true(fabsf(p.north_m - 0.5f * (float)((double)(t - 1000000 - (SONAR_MAX_POSES - 10) * kept) * 1e-6)) < 0.01f);
+    assert_int_equal(sonar_pose_at(&ring, t - (SONAR_MAX_POSES + 10) * kept - SONAR_POSE_STALE_US, &p), 0); /* older than the ring */
 }
 
 static void test_body_world_round_trip(void **state)

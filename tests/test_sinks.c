@@ -41,6 +41,7 @@ static struct app_beam beam(uint8_t stage)
 {
     struct app_beam b;
     int i;
+    memset(&b, 0, sizeof(b));
     for (i = 0; i < 1200; i++)
         samples[i] = (uint8_t)(i * 7);
     b.utime = 1700000000123456;
@@ -125,7 +126,7 @@ static void test_lcm_detections_and_status(void **state)
     tk.t[1].hits = 9;
     tk.t[1].det = -1;
     tk.t[0].det = 1;
-    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk), HOST_OK);
+    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk, NULL), HOST_OK);
     assert_string_equal(out.channel[0], "SONAR_DETECTIONS");
     assert_string_equal(out.channel[1], "SONAR_TRACKS");
     assert_true(sonar_tracks_t_decode(out.buf[1], 0, (int)out.len[1], &mt) > 0);
@@ -134,6 +135,7 @@ static void test_lcm_detections_and_status(void **state)
     assert_int_equal(mt.tracks[1].id, 17);
     assert_int_equal(mt.tracks[1].state, 2);
     assert_true(mt.tracks[1].x_m == 2.5f && mt.tracks[1].vy_mps == -0.75f);
+    assert_true(mt.tracks[1].world == 0 && mt.tracks[1].north_m == 0.0f);
     assert_true(mt.tracks[1].cov_xx == 0.04f && mt.tracks[1].cov_yy == 0.04f && mt.tracks[1].cov_xy == 0.0f);
     assert_int_equal(mt.tracks[1].hits, 9);
     assert_int_equal(mt.tracks[1].detection, -1);
@@ -221,7 +223,7 @@ static void test_report_sink_json_line(void **state)
     d.det[0].points = 40;
     sink_report_init(&s, f, 1);
     assert_null(s.sink.beam);
-    assert_int_equal(s.sink.detections(s.sink.self, &d, NULL), HOST_OK);
+    assert_int_equal(s.sink.detections(s.sink.self, &d, NULL, NULL), HOST_OK);
     assert_null(strstr(text, "tracks"));
     memset(&tk, 0, sizeof(tk));
     tk.n = 1;
@@ -230,7 +232,7 @@ static void test_report_sink_json_line(void **state)
     tk.t[0].vx = 0.5f;
     tk.t[0].age = 6;
     tk.t[0].hits = 5;
-    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk), HOST_OK);
+    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk, NULL), HOST_OK);
     fclose(f);
     assert_non_null(strstr(text, "{\"sweep\":3,"));
     assert_non_null(strstr(text, "\"tracks\":[{\"id\":4,\"state\":\"confirmed\","));
@@ -238,7 +240,68 @@ static void test_report_sink_json_line(void **state)
     assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0}]}\n"));
     assert_non_null(strstr(text, "\"x_m\":1.000"));
     assert_non_null(strstr(text, "\"points\":40"));
+    assert_non_null(strstr(text, "\"frame\":\"body\""));
+    assert_null(strstr(text, "north_m"));
     assert_true(text[strlen(text) - 1] == '\n');
+}
+
+/* With a pose: the world positions beside the body ones, the frame and the vehicle's pose, in JSON and on LCM. */
+static void test_sinks_world_view(void **state)
+{
+    static struct sink_report s;
+    static struct sink_lcm l;
+    static struct sent out;
+    static struct sonar_detections d;
+    static struct sonar_tracker tk;
+    static struct sonar_view v;
+    sonar_detections_t md;
+    sonar_tracks_t mt;
+    char text[4096];
+    FILE *f = fmemopen(text, sizeof(text), "w");
+    (void)state;
+    memset(&d, 0, sizeof(d));
+    memset(&tk, 0, sizeof(tk));
+    memset(&v, 0, sizeof(v));
+    memset(&out, 0, sizeof(out));
+    d.count = 2;
+    d.world = 1;
+    d.det[0].x_m = 1.0f;
+    d.det[1].x_m = 2.0f; /* seen while the pose was unknown */
+    v.world = 1;
+    v.have_pose = 1;
+    v.pose.north_m = 100.0f;
+    v.pose.east_m = -20.0f;
+    v.pose.yaw_deg = 90.0f;
+    v.det_world[0] = 1;
+    v.det_north[0] = 100.0f;
+    v.det_east[0] = -19.0f;
+    tk.world = 1;
+    tk.n = 1;
+    tk.t[0].id = 2;
+    tk.t[0].px = 100.0f; /* world: north, east */
+    tk.t[0].py = -19.0f;
+    tk.t[0].vx = 0.5f;
+    v.trk_x[0] = 1.0f; /* the same in the body frame */
+    v.trk_vy[0] = -0.5f;
+    sink_report_init(&s, f, 1);
+    assert_int_equal(s.sink.detections(s.sink.self, &d, &tk, &v), HOST_OK);
+    fclose(f);
+    assert_non_null(strstr(text, "\"hull\":[],\"north_m\":100.000,\"east_m\":-19.000}"));
+    assert_non_null(strstr(text, "\"mean_intensity\":0.0,\"hull\":[]}],\"frame\""));
+    assert_non_null(strstr(text, "\"frame\":\"world\",\"pose\":{\"north_m\":100.000,\"east_m\":-20.000,\"yaw_deg\":90.00}"));
+    assert_non_null(strstr(text, "\"x_m\":1.000,\"y_m\":0.000,\"vx_mps\":0.000,\"vy_mps\":-0.500,"));
+    assert_non_null(strstr(text, "\"north_m\":100.000,\"east_m\":-19.000,\"vn_mps\":0.500,\"ve_mps\":0.000}]}"));
+    sink_lcm_init(&l, capture_tx, &out, "", 0);
+    assert_int_equal(l.sink.detections(l.sink.self, &d, &tk, &v), HOST_OK);
+    assert_true(sonar_detections_t_decode(out.buf[0], 0, (int)out.len[0], &md) > 0);
+    assert_true(md.world == 1 && md.north_m == 100.0f && md.yaw_deg == 90.0f);
+    assert_true(md.detections[0].world == 1 && md.detections[0].east_m == -19.0f);
+    assert_true(md.detections[1].world == 0 && md.detections[1].north_m == 0.0f);
+    sonar_detections_t_decode_cleanup(&md);
+    assert_true(sonar_tracks_t_decode(out.buf[1], 0, (int)out.len[1], &mt) > 0);
+    assert_true(mt.tracks[0].world == 1 && mt.tracks[0].x_m == 1.0f && mt.tracks[0].vy_mps == -0.5f);
+    assert_true(mt.tracks[0].north_m == 100.0f && mt.tracks[0].vn_mps == 0.5f);
+    sonar_tracks_t_decode_cleanup(&mt);
 }
 
 int main(void)
@@ -247,6 +310,7 @@ int main(void)
         cmocka_unit_test(test_lcm_beam_round_trip),
         cmocka_unit_test(test_lcm_detections_and_status),
         cmocka_unit_test(test_csv_sink_writes_a_row_that_reads_back),
+        cmocka_unit_test(test_sinks_world_view),
         cmocka_unit_test(test_report_sink_json_line),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -79,6 +79,7 @@ static struct sonar_tracker_sweep everywhere(int64_t t)
     sw.cover = NULL;
     sw.min_range_m = 0.0f;
     sw.max_range_m = 50.0f;
+    sw.origin_x = sw.origin_y = 0.0f;
     return sw;
 }
 
@@ -442,6 +443,60 @@ static void test_config_check_names_fields(void **state)
     assert_string_equal(sonar_track_state_str(SONAR_TRACK_COASTING), "coasting");
 }
 
+/*
+ * Into the world frame and back at a pose: positions through the pose, velocities turned by its
+ * heading, IDs and covariances kept; and in the world frame, visibility is seen from the sonar's
+ * position (origin), not from the world's origin.
+ */
+static void test_reframe_and_origin(void **state)
+{
+    struct sonar_tracker_obs o = {3.0f, 0.0f, 0};
+    struct sonar_pose p = {0, 100.0f, 50.0f, 90.0f};
+    struct sonar_tracker_sweep sw;
+    uint8_t cover[50];
+    uint16_t beams[2];
+    float pa;
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 3; s++) { /* moving forward (+x) at 0.5 m/s in the body frame */
+        sw = everywhere((int64_t)(s + 1) * 10000000);
+        o.x_m = 3.0f + 5.0f * (float)s;
+        o.utime = (int64_t)s * 10000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 1);
+    pa = tk.t[0].pa;
+    sonar_tracker_reframe(&tk, &p, 1);
+    assert_int_equal(tk.world, 1);
+    assert_int_equal(tk.reframes, 1);
+    /* heading east: forward is east, right is south */
+    assert_true(fabsf(tk.t[0].px - 100.0f) < 0.05f && fabsf(tk.t[0].py - 63.0f) < 0.2f);
+    assert_true(fabsf(tk.t[0].vx) < 0.05f && fabsf(tk.t[0].vy - 0.5f) < 0.05f);
+    assert_true(tk.t[0].pa == pa);
+    sonar_tracker_reframe(&tk, &p, 1); /* already there: nothing */
+    assert_int_equal(tk.reframes, 1);
+    /* From the sonar at (100, 50) the track bears 90 degrees (100 gradians), inside a cover of 95..105;
+       from the world's origin it would bear 38 gradians, outside it. */
+    beams[0] = 95;
+    beams[1] = 105;
+    sonar_tracker_cover(cover, beams, 2, 20, 0);
+    sw = everywhere(40000000);
+    sw.cover = cover;
+    sw.origin_x = 100.0f;
+    sw.origin_y = 50.0f;
+    assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+    assert_int_equal(tk.t[0].misses, 1); /* in view, not hit: a miss */
+    sw = everywhere(50000000);
+    sw.cover = cover;                     /* from (0, 0) its bearing is atan2(68, 100): 38 gradians */
+    assert_int_equal(sonar_tracker_update(&tk, NULL, 0, &sw), SONAR_OK);
+    assert_int_equal(tk.t[0].misses, 1); /* out of view: no miss */
+    sonar_tracker_reframe(&tk, &p, 0);
+    assert_int_equal(tk.world, 0);
+    assert_int_equal(tk.t[0].id, 1);
+    assert_true(fabsf(tk.t[0].vx - 0.5f) < 0.05f && fabsf(tk.t[0].vy) < 0.05f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -455,6 +510,7 @@ int main(void)
         cmocka_unit_test(test_bad_input_is_counted),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_config_check_names_fields),
+        cmocka_unit_test(test_reframe_and_origin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

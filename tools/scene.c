@@ -92,10 +92,72 @@ int scene_make(struct scene *s, const char *name)
         s->sweeps = 26;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "vehicle") == 0) {
+        /*
+         * A 30 x 16 m pool seen from a moving vehicle (issue 11): it goes up and down the pool at
+         * 0.5 m/s while its heading swings 180 degrees back and forth at 30 degrees/s; full turns of
+         * the head at 4 gradians a step (6.3 s a turn at 15 m), 18 turns. Two posts and a buoy stand
+         * still in the world from sweeps 3, 5 and 2; a diver swims at 0.5 m/s from 20 s to 100 s.
+         */
+        static const struct scene_wall w[4] = {{-15, -8, 15, -8}, {15, -8, 15, 8}, {15, 8, -15, 8}, {-15, 8, -15, -8}};
+        static const struct scene_object o[] = {
+            {"post_a", 4.0, 5.0, 0.20, 0, 0, 170, 3, 0, {0}, {0}, {0}, 0},
+            {"post_b", -5.0, -6.0, 0.20, 0, 0, 170, 5, 0, {0}, {0}, {0}, 0},
+            {"buoy", 0.5, 5.5, 0.25, 0, 0, 190, 2, 0, {0}, {0}, {0}, 0},
+            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 4, {20, 60, 82, 100}, {10, -10, -10, 0}, {-6, -6, 5, 5}, 0},
+        };
+        static const struct scene_vehicle v = {6, {0, 32, 40, 72, 80, 120}, {-8, 8, 8, -8, -8, 8}, {-3, -3, 1, 1, -3, -3},
+                                               0.0, 30.0, 6.0};
+        memcpy(s->wall, w, sizeof(w));
+        s->nwall = 4;
+        s->range_m = 15.0;
+        s->samples = 600;
+        s->step = 4;
+        s->sweeps = 18;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+        s->veh = v;
     } else {
         return -1;
     }
     return 0;
+}
+
+void scene_vehicle_at(const struct scene *s, double t, double *n, double *e, double *yaw_deg)
+{
+    const struct scene_vehicle *v = &s->veh;
+    double y;
+    int w;
+    *n = *e = *yaw_deg = 0.0;
+    if (v->nwp == 0)
+        return;
+    for (w = 0; w + 2 < v->nwp && t > v->wp_t[w + 1]; w++)
+        ;
+    {
+        double dt = v->wp_t[w + 1] - v->wp_t[w], f = dt > 0 ? (t - v->wp_t[w]) / dt : 0.0;
+        f = f < 0 ? 0 : f > 1 ? 1 : f;
+        *n = v->wp_n[w] + f * (v->wp_n[w + 1] - v->wp_n[w]);
+        *e = v->wp_e[w] + f * (v->wp_e[w + 1] - v->wp_e[w]);
+    }
+    if (v->yaw_period_s > 0) {
+        double ph = fmod(t, 2.0 * v->yaw_period_s);
+        y = v->yaw0_deg + v->yaw_rate_dps * (ph < v->yaw_period_s ? ph : 2.0 * v->yaw_period_s - ph);
+    } else {
+        y = v->yaw0_deg + v->yaw_rate_dps * t;
+    }
+    y = fmod(y, 360.0);
+    *yaw_deg = y < 0 ? y + 360.0 : y;
+}
+
+void scene_to_body(const struct scene *s, double t, double n, double e, double *x, double *y)
+{
+    double vn, ve, yaw, c, sn;
+    scene_vehicle_at(s, t, &vn, &ve, &yaw);
+    c = cos(yaw * PI / 180.0);
+    sn = sin(yaw * PI / 180.0);
+    /* body = R(-yaw) (world - position) */
+    *x = c * (n - vn) + sn * (e - ve);
+    *y = -sn * (n - vn) + c * (e - ve);
 }
 
 int scene_object_at(const struct scene *s, int k, int sweep, double t, double *x, double *y, double *vx, double *vy)
@@ -158,15 +220,26 @@ static double ray_wall(const struct scene_wall *w, double ux, double uy, double 
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
                 uint8_t *out)
 {
-    double th = angle * PI / 200.0, ux = cos(th), uy = sin(th);
+    double vn, ve, yaw, th, ux, uy;
     double sig_beam = 0.85 * PI / 180.0; /* 2 degree beam: Gaussian sigma of the two-way pattern */
     double wall_d = -1.0, wall_cos = 1.0;
     double buf[1200];
     int i, k;
+    /* The ray in the scene's frame: from the vehicle, along the beam turned by its heading. */
+    scene_vehicle_at(s, t, &vn, &ve, &yaw);
+    th = angle * PI / 200.0 + yaw * PI / 180.0;
+    ux = cos(th);
+    uy = sin(th);
     if (n > 1200)
         n = 1200;
     for (k = 0; k < s->nwall; k++) {
-        double c, d = ray_wall(&s->wall[k], ux, uy, &c);
+        struct scene_wall rel = s->wall[k];
+        double c, d;
+        rel.x0 -= vn;
+        rel.x1 -= vn;
+        rel.y0 -= ve;
+        rel.y1 -= ve;
+        d = ray_wall(&rel, ux, uy, &c);
         if (d > 0.0 && (wall_d < 0.0 || d < wall_d)) {
             wall_d = d;
             wall_cos = c;
@@ -191,6 +264,8 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
         double ox, oy, ovx, ovy, d, phi, delta, alpha, e, gain, near, far;
         if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
             continue;
+        ox -= vn;
+        oy -= ve;
         d = sqrt(ox * ox + oy * oy);
         phi = atan2(oy, ox);
         delta = fabs(remainder(th - phi, 2.0 * PI));
@@ -229,9 +304,12 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
             const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
             if (!v->visible)
                 continue;
-            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f,\"t_us\":%lld,\"vx\":%.3f,\"vy\":%.3f}",
+            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f,\"t_us\":%lld,\"vx\":%.3f,\"vy\":%.3f",
                     first ? "" : ",", s->obj[k].id, v->x, v->y, s->obj[k].r, t0_us + (long long)floor(v->t * 1e6 + 0.5),
                     v->vx, v->vy);
+            if (s->veh.nwp > 0)
+                fprintf(f, ",\"bx\":%.3f,\"by\":%.3f", v->bx, v->by);
+            fputc('}', f);
             first = 0;
         }
         /* There but not seen (faded, or no beam crossed it): a tracker coasting on it is neither right nor wrong. */
@@ -239,10 +317,13 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
         first = 1;
         for (k = 0; k < s->nobj; k++) {
             const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
-            if (!v->present || v->visible || hypot(v->x, v->y) > s->range_m)
+            if (!v->present || v->visible || hypot(v->bx, v->by) > s->range_m)
                 continue;
-            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"t_us\":%lld}", first ? "" : ",", s->obj[k].id, v->x,
+            fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"t_us\":%lld", first ? "" : ",", s->obj[k].id, v->x,
                     v->y, t0_us + (long long)floor(v->t * 1e6 + 0.5));
+            if (s->veh.nwp > 0)
+                fprintf(f, ",\"bx\":%.3f,\"by\":%.3f", v->bx, v->by);
+            fputc('}', f);
             first = 0;
         }
         fputs("]}", f);

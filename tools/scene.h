@@ -28,6 +28,18 @@ struct scene_wall {
     double x0, y0, x1, y1;
 };
 
+/*
+ * The vehicle carrying the sonar (nwp > 0; else it sits at the origin heading north and the scene's
+ * frame is the sonar's): straight legs between waypoints in the world frame (local NED: x north, y
+ * east, metres, at seconds since the first beam), and a heading (degrees clockwise from north)
+ * turning at yaw_rate_dps, back and forth every yaw_period_s (0: always the same way).
+ */
+struct scene_vehicle {
+    int nwp;
+    double wp_t[SCENE_MAX_WP], wp_n[SCENE_MAX_WP], wp_e[SCENE_MAX_WP];
+    double yaw0_deg, yaw_rate_dps, yaw_period_s;
+};
+
 struct scene {
     const char *name;
     double range_m; /* the recording's range */
@@ -37,14 +49,21 @@ struct scene {
     struct scene_object obj[SCENE_MAX_OBJ];
     int nobj;
     int start, stop; /* a sector scanned back and forth, gradians; start == stop: full turns */
+    struct scene_vehicle veh;
 };
+
+/* The vehicle's pose at t seconds since the first beam: north, east (m), yaw (degrees, [0, 360)). */
+void scene_vehicle_at(const struct scene *s, double t, double *n, double *e, double *yaw_deg);
+
+/* World (north, east) to the sonar frame at t (identity when the vehicle does not move). */
+void scene_to_body(const struct scene *s, double t, double n, double e, double *x, double *y);
 
 /* xorshift64*: the same stream on every machine. */
 struct scene_rng {
     uint64_t s;
 };
 
-/* Fills s for "pool", "open", "moving" or "sector"; returns 0, or -1 for an unknown name. */
+/* Fills s for "pool", "open", "moving", "sector" or "vehicle"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);
 
 /*
@@ -67,13 +86,15 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
 struct scene_seen {
     int present;            /* there and inside the range */
     int visible;            /* present and not faded */
-    double t, x, y, vx, vy; /* seconds since the first beam; metres; m/s */
+    double t, x, y, vx, vy; /* seconds since the first beam; metres; m/s (the scene's frame) */
+    double bx, by;          /* metres in the sonar frame then */
     double d;               /* gradians between that beam and the object's bearing */
 };
 
 /*
  * The truth file: {"scene","range_m","samples","beams_per_sweep","sweeps":[{"sweep","objects":
- * [{"id","x","y","radius","t_us","vx","vy"}],"hidden":[{"id","x","y","t_us"}]}]}: "objects" are the
+ * [{"id","x","y","radius","t_us","vx","vy"[,"bx","by"]}],"hidden":[{"id","x","y","t_us"}]}]}: x, y, vx,
+ * vy in the scene's frame (the world when the vehicle moves, with bx, by in the sonar's); "objects" are the
  * visible ones (what a detector can find); "hidden" are in range but unseen that sweep (faded, or
  * no beam crossed them), which tracking scores as don't-care. seen[sweep * SCENE_MAX_OBJ + k];
  * t0_us: the first beam's time.

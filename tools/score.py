@@ -11,10 +11,16 @@ to the time its truth object was seen, "t_us", when the truth has it) against th
 (CLEAR MOT: a match kept while it stays within the gate, the rest assigned at least total
 distance), IDF1 (one global truth-ID to track-ID assignment), ID switches (also per 100
 track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the mean velocity
-error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s. --min-idf1, --min-mota,
+error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s, and their mean speed on
+objects that stand still (static speed, --max-static-speed). --min-idf1, --min-mota,
 --max-idsw-per-100 and --max-vel-error then also decide the exit status. A track left unmatched
 within the gate of a "hidden" truth object (there but unseen that sweep: faded, or no beam crossed
 it) is don't-care, as MOTChallenge treats ignored regions: not a false positive, not counted.
+
+--frame picks the frame scored when the sonar moves (truth with "bx", "by"): body (default) compares
+the sonar-frame positions (x_m, y_m) with the truth's bx, by, and leaves velocity out; world compares
+north_m, east_m (and vn_mps, ve_mps) with the truth's x, y, vx, vy; a detection or track without them
+(no pose then) cannot match.
 """
 import argparse
 import json
@@ -93,7 +99,7 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
     last = {}          # truth id -> track id it was last matched to
     was_matched = {}   # truth id -> matched in its previous present sweep
     ever = set()
-    ospa, verr = [], []
+    ospa, verr, still = [], [], []
     pair_count = {}    # (truth id, track id) -> sweeps within the gate, for IDF1
     truth_total = 0
     for k in sorted(truth):
@@ -138,6 +144,8 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
                 sp = math.hypot(o.get("vx", 0.0), o.get("vy", 0.0))
                 if 0.5 <= sp <= 1.5 and h.get("hits", 0) >= 3 and "vx" in o:
                     verr.append(math.hypot(h["vx_mps"] - o["vx"], h["vy_mps"] - o["vy"]))
+                if "vx" in o and sp < 0.05 and h.get("hits", 0) >= 3:
+                    still.append(math.hypot(h["vx_mps"], h["vy_mps"]))
             else:
                 fn += 1
                 was_matched[oid] = False
@@ -176,6 +184,7 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
     return {"mota": mota, "idf1": idf1, "idsw": idsw, "idsw_per_100": 100.0 * idsw / max(1, hyp_total),
             "frag": frag, "ospa": sum(ospa) / len(ospa) if ospa else 0.0,
             "vel_err": sum(verr) / len(verr) if verr else float("nan"), "vel_n": len(verr),
+            "still": sum(still) / len(still) if still else float("nan"), "still_n": len(still),
             "tp": tp, "fp": fp, "fn": fn, "gt": gt, "track_sweeps": hyp_total}
 
 
@@ -194,12 +203,23 @@ def main():
     ap.add_argument("--min-mota", type=float)
     ap.add_argument("--max-idsw-per-100", type=float)
     ap.add_argument("--max-vel-error", type=float, help="m/s")
+    ap.add_argument("--max-static-speed", type=float,
+                    help="m/s: mean speed of matched tracks (3+ hits) on objects that stand still")
+    ap.add_argument("--frame", choices=("body", "world"), default="body", help="frame to score a moving sonar in")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
     # sweeps marked "labelled": false have unknown truth: neither their detections nor their objects count
     tj = json.load(open(a.truth))["sweeps"]
     truth = {s["sweep"]: s["objects"] for s in tj if s.get("labelled", True)}
     hidden = {s["sweep"]: s.get("hidden", []) for s in tj if s.get("labelled", True)}
+    if a.frame == "body":
+        # A moving sonar's truth: its own frame, where velocities over ground do not apply.
+        for objs in list(truth.values()) + list(hidden.values()):
+            for o in objs:
+                if "bx" in o:
+                    o["x"], o["y"] = o["bx"], o["by"]
+                    o.pop("vx", None)
+                    o.pop("vy", None)
     sweeps, lines = {}, {}
     for n, line in enumerate(open(a.detections), 1):
         line = line.strip()
@@ -209,6 +229,13 @@ def main():
             d = json.loads(line)
         except json.JSONDecodeError as e:
             sys.exit(f"{a.detections}:{n}: not JSON: {e}")
+        if a.frame == "world":
+            nan = float("nan")
+            for o in d["detections"]:
+                o["x_m"], o["y_m"] = o.get("north_m", nan), o.get("east_m", nan)
+            for h in d.get("tracks", []):
+                h["x_m"], h["y_m"] = h.get("north_m", nan), h.get("east_m", nan)
+                h["vx_mps"], h["vy_mps"] = h.get("vn_mps", nan), h.get("ve_mps", nan)
         sweeps[d["sweep"]] = d["detections"]
         lines[d["sweep"]] = d
     tp = fp = fn = 0
@@ -246,11 +273,13 @@ def main():
         t = score_tracks(truth, lines, a.gate, hidden=hidden)
         print(f"{a.label}tracking: MOTA {t['mota']:.3f}  IDF1 {t['idf1']:.3f}  ID switches {t['idsw']} "
               f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
-              f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  (TP {t['tp']} FP {t['fp']} FN {t['fn']}, "
+              f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  static speed {t['still']:.3f} m/s "
+              f"(n={t['still_n']})  (TP {t['tp']} FP {t['fp']} FN {t['fn']}, "
               f"{t['track_sweeps']} track-sweeps)")
         for key, lim, worse in (("idf1", a.min_idf1, lambda v, l: v < l), ("mota", a.min_mota, lambda v, l: v < l),
                                 ("idsw_per_100", a.max_idsw_per_100, lambda v, l: v > l),
-                                ("vel_err", a.max_vel_error, lambda v, l: not (v <= l))):
+                                ("vel_err", a.max_vel_error, lambda v, l: not (v <= l)),
+                                ("still", a.max_static_speed, lambda v, l: not (v <= l))):
             if lim is not None and worse(t[key], lim):
                 print(f"FAIL: {key} {t[key]:.3f} misses {lim}")
                 ok = False

@@ -13,7 +13,7 @@
 #include "scene.h"
 
 struct sim_opts {
-    const char *scene, *out, *truth;
+    const char *scene, *out, *truth, *pose_out;
     long sweeps;
     unsigned long long seed;
 };
@@ -36,9 +36,13 @@ static const struct opt_spec sim_spec[] = {
      "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
      "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps);\n"
      "moving: 6 targets at 0.05..1.5 m/s crossing, turning, fading, arriving, leaving (14 turns);\n"
-     "sector: 4 walkers in a 180-degree sector scanned back and forth (14 passes)", NULL, NULL},
+     "sector: 5 walkers in a 180-degree sector scanned back and forth (26 passes);\n"
+     "vehicle: a 30 x 16 m pool from a vehicle moving at 0.5 m/s and turning at 30 deg/s,\n"
+     "posts, a buoy and a diver (18 turns; --pose-out writes its path)", NULL, NULL},
     {"out", "FILE", OPT_STR, 0, 0, SO(out), 0, 0, "file", NULL, "the study's CSV (12 m, 1200 samples, 400 beams a sweep)", NULL, NULL},
     {"truth", "FILE", OPT_STR, 0, 0, SO(truth), 0, 0, "file", NULL, "ground-truth JSON", NULL, NULL},
+    {"pose-out", "FILE", OPT_STR, 0, 0, SO(pose_out), 0, 0, "file", NULL,
+     "the vehicle's poses at 10 Hz, utime_us,north_m,east_m,yaw_deg (sonard --pose)", NULL, NULL},
     {"sweeps", "N", OPT_LONG, 0, 0, SO(sweeps), 1, 100000, "sweeps", "the scene's", "sweeps to write", NULL, NULL},
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "speckle random seed", NULL, parse_seed},
     {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
@@ -47,7 +51,7 @@ static const struct opt_spec sim_spec[] = {
 int main(int argc, char **argv)
 {
     const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim"};
-    struct sim_opts o = {"pool", NULL, NULL, -1, 0};
+    struct sim_opts o = {"pool", NULL, NULL, NULL, -1, 0};
     const char *scene_name, *csv_path, *truth_path;
     struct scene s;
     struct scene_rng g = {0x9E3779B97F4A7C15ull};
@@ -61,7 +65,8 @@ int main(int argc, char **argv)
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector --out FILE.csv --truth FILE.json [--sweeps N] [--seed S]\n");
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle --out FILE.csv --truth FILE.json "
+                        "[--pose-out FILE.csv] [--sweeps N] [--seed S]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
     }
@@ -71,7 +76,7 @@ int main(int argc, char **argv)
     sweeps = (int)o.sweeps;
     g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
-        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving or sector\n", scene_name);
+        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector or vehicle\n", scene_name);
         return 2;
     }
     if (csv_path == NULL || truth_path == NULL) {
@@ -100,26 +105,48 @@ int main(int argc, char **argv)
             /* Truth: each object where it was when the beam nearest its bearing passed. */
             for (k = 0; k < s.nobj; k++) {
                 struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
-                double x, y, vx, vy, d;
-                int timed = s.obj[k].nwp > 0;
+                double x, y, vx, vy, bx, by, d;
+                int timed = s.obj[k].nwp > 0 || s.veh.nwp > 0; /* a moving sonar may pass a still object by */
                 if (!scene_object_at(&s, k, sweep, ts, &x, &y, &vx, &vy))
                     continue;
-                d = fabs(remainder(atan2(y, x) * 200.0 / 3.14159265358979323846 - a, 400.0));
+                scene_to_body(&s, ts, x, y, &bx, &by);
+                d = fabs(remainder(atan2(by, bx) * 200.0 / 3.14159265358979323846 - a, 400.0));
                 if (v->present && d >= v->d)
                     continue;
                 v->present = 1;
                 /* Visible only if a beam really crossed it: an object that arrived after the beam
                    passed its bearing is not seen until the next sweep. */
-                v->visible = !(timed && (hypot(x, y) > s.range_m || d > s.step)) && !(sweep < 64 && (s.obj[k].fade >> sweep) & 1u);
+                v->visible = !(timed && (hypot(bx, by) > s.range_m || d > s.step)) && !(sweep < 64 && (s.obj[k].fade >> sweep) & 1u);
                 v->t = ts;
                 v->x = x;
                 v->y = y;
                 v->vx = vx;
                 v->vy = vy;
+                v->bx = bx;
+                v->by = by;
                 v->d = d;
             }
             /* Device timing model (ping.md section 3): 19.4 ms + 6 ms per gradian + 2R/c. */
             t += 0.0194 + 0.006 * s.step + 2.0 * s.range_m / 1500.0;
+        }
+    }
+    if (o.pose_out != NULL) {
+        /* 10 Hz from the first beam to a second past the last, as an autopilot would send it. */
+        FILE *pf = fopen(o.pose_out, "w");
+        double ts;
+        if (pf == NULL) {
+            perror("sonar_sim: --pose-out");
+            return 2;
+        }
+        fputs("utime_us,north_m,east_m,yaw_deg\n", pf);
+        for (ts = 0.0; ts <= t - t0 + 1.0; ts += 0.1) {
+            double n, e, yaw;
+            scene_vehicle_at(&s, ts, &n, &e, &yaw);
+            fprintf(pf, "%lld,%.4f,%.4f,%.3f\n", (long long)floor((t0 + ts) * 1e6 + 0.5), n, e, yaw);
+        }
+        if (fclose(pf) != 0) {
+            perror("sonar_sim: --pose-out");
+            return 1;
         }
     }
     if (scene_write_truth(truth, &s, s.sweeps, seen, (long long)(t0 * 1e6)) != 0) {

@@ -36,6 +36,34 @@ struct sonar_background_config {
     uint8_t margin; /* contrast margin in 16ths of b, 0..64: fg = max(0, x - b - b * margin / 16) */
 };
 
+/*
+ * The world frame (a moving sonar, per-angle mode with a pose): the same bytes become a square
+ * grid fixed in the world (local NED) of SONAR_BG_GRID two-byte cells a side (the model, 0 =
+ * never seen, and its observations), centred on the sonar and scrolling with it as a torus
+ * (cells that scroll in are cleared), spanning SONAR_BG_WINDOW ranges: what the vehicle saw
+ * half a range behind it is still there when it comes back. A cell is seeded and then follows
+ * the same warm-up and step rules as a per-angle one, once per beam whose footprint covers it
+ * (the wedge back to the beam before, width_deg), at the range sample over it. A sample is
+ * compared with the largest model on the arc of SONAR_BG_LOOK_DEG about its beam, +-
+ * SONAR_BG_SLACK_M in range, and with a range profile that every beam updates (the ring-down's
+ * tail and the gain curve move with the sonar); it has no foreground while the cell under it
+ * was seen fewer than SONAR_BG_MIN_SEEN times. At 400 x 1200: 489 x 489 cells, 9.3 cm at 15 m,
+ * 31 cm at 50 m.
+ */
+#define SONAR_BG_WINDOW 3        /* the grid's side, in ranges */
+#define SONAR_BG_LOOK_DEG 4.0    /* the arc a sample is compared over, degrees (the beam is ~2) */
+#define SONAR_BG_SLACK_M 0.45f   /* +- range slack of that comparison, metres (at least one cell) */
+#define SONAR_BG_MIN_SEEN 3      /* observations before a cell can report foreground */
+#define SONAR_BG_GRID_CELLS ((uint32_t)SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES) /* bytes shared with the per-angle model */
+
+struct sonar_bg_ray {
+    double north_m, east_m; /* the sonar's position at the beam, local NED, metres (|x| <= 10^6) */
+    double bearing_deg;     /* the beam's heading in the world, degrees clockwise from north */
+    double width_deg;       /* the beam's share of the scan, degrees (clamped to 0.5..90) */
+    float range_m;          /* metres covered by the n samples, (0, 1000] */
+    float near_m;           /* samples nearer (ring-down, the mount) are neither modelled nor foreground, >= 0 */
+};
+
 struct sonar_background {
     uint8_t cell[SONAR_MAX_ANGLES][SONAR_MAX_SAMPLES];
     uint8_t visits[SONAR_MAX_ANGLES]; /* observations so far per row, saturating at 255 */
@@ -44,6 +72,12 @@ struct sonar_background {
     uint8_t warmup;
     uint8_t step;
     uint8_t margin;
+    uint8_t world;                    /* 1: cell holds the world grid (sonar_background_apply_world) */
+    uint16_t grid;                    /* cells a side */
+    float cell_m;                     /* grid cell size, metres */
+    float grid_range_m;               /* the range the grid was sized for */
+    int32_t wi0, wj0;                 /* world cell index (north, east) of the window's first row, column */
+    uint32_t reframes;                /* switches between the per-angle model and the grid (each starts afresh) */
 };
 
 /* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. cfg must not be NULL. */
@@ -66,5 +100,16 @@ void sonar_background_reset(struct sonar_background *bg);
  */
 SONAR_CHECK int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
                                        uint16_t n);
+
+/*
+ * The world-frame form of sonar_background_apply for per-angle mode (other modes: as
+ * sonar_background_apply, the ray's angle being unused): fg[i] from the grid cell under sample i
+ * (0 while that cell was never seen, and inside near_m), then the beam's footprint updates the
+ * grid. The first call after per-angle use (or the reverse) starts a fresh model, counted in
+ * reframes; so does a new n or range. Returns SONAR_OK or SONAR_ERR_ARG (NULL, n outside
+ * 1..SONAR_MAX_SAMPLES, a non-finite or out-of-range field of ray; nothing changed).
+ */
+SONAR_CHECK int sonar_background_apply_world(struct sonar_background *bg, const struct sonar_bg_ray *ray,
+                                             const uint8_t *in, uint8_t *fg, uint16_t n);
 
 #endif

@@ -82,6 +82,7 @@ struct sonar_detections {
     uint16_t groups;       /* groups big enough to seed a centre, before clustering */
     uint8_t threshold;     /* T used for the sweep's last beam */
     uint8_t count;         /* detections, largest first */
+    uint8_t world;         /* 1: every detection had a pose and the sweep was tracked in the world frame */
     struct sonar_detection det[SONAR_MAX_CLUSTERS];
 };
 

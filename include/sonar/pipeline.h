@@ -43,6 +43,9 @@ struct sonar_pipeline_config {
 };
 
 #define SONAR_PIPE_MAX_STEP_MAX 200 /* max_step 1..200 gradians */
+#define SONAR_PIPE_DUP_M 1.0f      /* world frame: one object seen twice in a sweep is within this, metres ... */
+#define SONAR_PIPE_DUP_US 1000000   /* ... and more than this apart in time, us */
+#define SONAR_PIPE_NEAR_M 0.5f /* world grid: the ring-down moves with the sonar, so it is not modelled there */
 #define SONAR_PIPE_MAX_RANGE_M 1000 /* a beam's range_m must be in (0, 1000] metres: the detector's mm arithmetic */
 
 struct sonar_pipeline {
@@ -61,6 +64,14 @@ struct sonar_pipeline {
     uint8_t open;      /* a sweep holds beams */
     uint32_t beams;    /* beams pushed in all */
     uint32_t sweeps;   /* sweeps ended */
+    const struct sonar_pose_ring *poses; /* the vehicle's, or NULL (sonar_pipeline_set_poses) */
+    struct sonar_pose last_pose;         /* of the last sweep in the world frame */
+    uint32_t world_sweeps, body_sweeps;  /* sweeps tracked in each frame */
+    uint32_t world_beams;                /* beams whose background was the world grid */
+    uint32_t repeats;                    /* detections dropped as an object seen twice in a sweep */
+    float prev_bearing;                  /* world heading of the last such beam, degrees */
+    float prev_width;                    /* the footprint it had, degrees */
+    uint8_t have_prev_bearing;
 };
 
 /*
@@ -92,6 +103,46 @@ SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar
  * nothing scheduled, the running config stays).
  */
 SONAR_CHECK int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
+
+/*
+ * Where the vehicle was (kept by pointer, read at each sweep's end; NULL: no pose, everything in
+ * the body frame). With poses, each detection whose time has a pose gains its north_m, east_m;
+ * a sweep in which every detection and the last beam have one is tracked in the world frame (the
+ * tracks move into it, keeping their IDs, and back to the body frame at the last known pose when
+ * the pose goes stale); the track_m gate follows the tracks into each beam's body frame. In
+ * per-angle mode a beam with a pose is compared with and learnt into the world grid
+ * (sonar_background_apply_world; inside max(min_range, SONAR_PIPE_NEAR_M) it has no foreground),
+ * one without with the per-angle model; each change between the two starts the model afresh.
+ */
+void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_ring *poses);
+
+/*
+ * Detections made elsewhere (a co-processor) through the same last steps: located with the poses
+ * and tracked (when cfg->track; every track counts as in view, the beams being unknown). The result
+ * is p->out, and p->trk. Returns SONAR_OK or SONAR_ERR_ARG (NULL, count too large).
+ */
+SONAR_CHECK int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections *d);
+
+/*
+ * A sweep's detections and tracks in both frames, for outputs (filled by sonar_pipeline_view;
+ * a host-side struct: the pipeline itself keeps only the tracks' own frame). RAM: ~0.8 KB.
+ */
+struct sonar_view {
+    uint8_t world;                          /* the tracks are in the world frame (north_m .. ve_mps = px .. vy) */
+    uint8_t have_pose;                      /* pose holds the vehicle at the sweep's last beam */
+    struct sonar_pose pose;
+    uint8_t det_world[SONAR_MAX_CLUSTERS];  /* detection i had a pose at its time ... */
+    float det_north[SONAR_MAX_CLUSTERS], det_east[SONAR_MAX_CLUSTERS]; /* ... and was there, metres */
+    /* Track i in the body frame at its own time: metres, and its velocity over ground in body axes, m/s. */
+    float trk_x[SONAR_MAX_TRACKS], trk_y[SONAR_MAX_TRACKS], trk_vx[SONAR_MAX_TRACKS], trk_vy[SONAR_MAX_TRACKS];
+};
+
+/*
+ * Fills v for the sweep in p->out and the tracks in p->trk (call from on_sweep, or after
+ * sonar_pipeline_track). A world track last seen before the oldest pose kept is put in the body
+ * frame at the last sweep's pose.
+ */
+void sonar_pipeline_view(const struct sonar_pipeline *p, struct sonar_view *v);
 
 /* Ends the open sweep (end of a recording, or shutdown): flushes the 2-D median, calls on_sweep. */
 SONAR_CHECK int sonar_pipeline_finish(struct sonar_pipeline *p);

@@ -26,7 +26,8 @@ struct sonar_pose {
 struct sonar_pose_limits {
     float max_speed_mps;    /* a sample implying a faster move than this from the newest is a jump, 0.1..1000 */
     float max_yaw_rate_dps; /* ... or a faster turn, 1..100000 degrees/s */
-    int64_t min_gap_us;     /* samples closer than this to the newest are thinned out (not stored), 0..10^7 us */
+    int64_t min_gap_us;     /* stored samples are this far apart, 0..10^7 us; a new sample replaces a newest one
+                               closer than this to the one before it (thinned) */
 };
 
 struct sonar_pose_ring {
@@ -37,10 +38,10 @@ struct sonar_pose_ring {
     uint32_t out_of_order; /* not later than the newest sample: refused */
     uint32_t jumps;        /* too fast a move or turn from the newest sample: refused */
     uint32_t bad;          /* NaN, infinite or beyond SONAR_POSE_COORD_MAX: refused */
-    uint32_t thinned;      /* good, but within min_gap_us of the newest: not stored */
+    uint32_t thinned;      /* good, and took the place of a newest one within min_gap_us of the one before */
 };
 
-/* sonard's limits: 50 m/s, 720 degrees/s, 200 ms between stored samples (the ring then spans 51 s, longer than a 40 s turn). */
+/* sonard's limits: 50 m/s, 720 degrees/s, 50 ms between stored samples (the ring then spans 51 s, longer than a 40 s turn). */
 void sonar_pose_limits_default(struct sonar_pose_limits *lim);
 
 /* Empties the ring. Returns SONAR_OK, or SONAR_ERR_ARG (NULL, or a limit out of range). */
@@ -50,7 +51,9 @@ SONAR_CHECK int sonar_pose_init(struct sonar_pose_ring *r, const struct sonar_po
  * Adds one sample (yaw taken modulo 360). Samples must come in time order: one not later than
  * the newest, one that jumps, or one with a non-finite or absurd field is refused and counted.
  * A sample more than SONAR_POSE_STALE_US after the newest is never a jump (the vehicle may have
- * moved while nothing was heard). A good sample within min_gap_us of the newest is thinned out.
+ * moved while nothing was heard). A good sample replaces the newest when that one is less than
+ * min_gap_us after the one before it (thinned): the ring keeps its spacing and always ends at the
+ * latest sample.
  * The oldest sample goes when the ring is full. Returns SONAR_OK (stored or thinned), SONAR_ERR_ARG
  * (NULL), or SONAR_ERR_RANGE (refused, counted).
  */

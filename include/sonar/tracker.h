@@ -6,6 +6,7 @@
 
 #include "sonar/config.h"
 #include "sonar/err.h"
+#include "sonar/pose.h"
 
 /*
  * Each track is x = (px, vx, py, vy) in metres and m/s in the frame of its detections (the sonar
@@ -53,7 +54,7 @@ struct sonar_track {
     uint16_t misses;     /* visible sweeps in a row without a hit */
     uint8_t unseen;      /* sweeps in a row without a hit, in view or not (saturating) */
     int64_t utime;       /* us since the epoch: the time of the state below */
-    float px, py, vx, vy; /* m, m/s */
+    float px, py, vx, vy; /* m, m/s, in the tracker's frame (world: north, east) */
     float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
 };
 
@@ -70,6 +71,7 @@ struct sonar_tracker_sweep {
     const uint8_t *cover; /* 400-bit map (50 bytes, bit a % 8 of byte a / 8) of the gradians scanned, in
                              the tracks' frame; NULL: everywhere */
     float min_range_m, max_range_m; /* the ranges scanned (a track predicted inside min_range is out of view) */
+    float origin_x, origin_y; /* the sonar's position at utime in the tracks' frame (0, 0 in the body frame) */
 };
 
 struct sonar_tracker {
@@ -86,6 +88,8 @@ struct sonar_tracker {
     uint32_t overflow;       /* detections that found no free track */
     uint32_t deleted;        /* tracks ended */
     uint32_t manoeuvres;     /* hits taken in the manoeuvre pass */
+    uint8_t world;           /* the tracks' frame: 1 world (north, east), 0 body; see sonar_tracker_reframe */
+    uint32_t reframes;       /* changes of frame */
 };
 
 /* Largest assignment sonar_tracker_assign solves: rows <= cols <= this. */
@@ -118,6 +122,14 @@ SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sona
 
 /* Position of t predicted to utime (us; earlier than t->utime gives t's own), metres. */
 void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_m, float *y_m);
+
+/*
+ * Moves every track into the other frame at pose p (to_world 1: body -> world, 0: world -> body):
+ * positions through sonar_pose_to_world / _to_body, velocities turned by p's yaw; the per-axis
+ * covariances do not change under a rotation. Sets tk->world to to_world and counts a reframe
+ * when it changed (nothing happens when the tracks are already in that frame).
+ */
+void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p, int to_world);
 
 /* "tentative", "confirmed", "coasting", or "?" for anything else. */
 const char *sonar_track_state_str(int state);

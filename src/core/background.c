@@ -1,6 +1,7 @@
 /* background.c -- uint8 running-median background, subtract and clamp; one pass of saturating byte ops per beam, no heap. */
 #include "sonar/background.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "sonar/frame.h"
@@ -47,6 +48,7 @@ void sonar_background_reset(struct sonar_background *bg)
     /* Only the visit counters matter: a row with 0 visits is reseeded before it is read. */
     memset(bg->visits, 0, sizeof(bg->visits));
     bg->n = 0;
+    bg->world = 0;
 }
 
 #define BLOCK 64
@@ -178,6 +180,11 @@ int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const ui
         memcpy(fg, in, n);
         return SONAR_OK;
     }
+    if (bg->world) {
+        /* The grid's bytes mean nothing per angle: start afresh. */
+        sonar_background_reset(bg);
+        bg->reframes++;
+    }
     if (n != bg->n) {
         sonar_background_reset(bg);
         bg->n = n;
@@ -189,5 +196,212 @@ int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const ui
         seed(bg->cell[row], in, fg, n, v);
     else
         track(bg->cell[row], in, fg, n, bg->step, bg->margin);
+    return SONAR_OK;
+}
+
+/* ---- the world grid ---- */
+
+/* Cells a side: the largest square of two-byte cells that the per-angle bytes hold beside the range profile. */
+static uint16_t grid_side(void)
+{
+    uint32_t g = 1;
+    while (2u * (g + 1u) * (g + 1u) <= SONAR_BG_GRID_CELLS - SONAR_MAX_SAMPLES)
+        g++;
+    return (uint16_t)g;
+}
+
+/* a modulo m, 0..m-1, for any sign. */
+static uint32_t mod(int32_t a, uint16_t m)
+{
+    int32_t r = a % (int32_t)m;
+    return (uint32_t)(r < 0 ? r + (int32_t)m : r);
+}
+
+/* A cell: its model (0 = never seen) and, next to it, its observations so far (saturating). */
+static uint8_t *grid_at(struct sonar_background *bg, int32_t i, int32_t j)
+{
+    return &bg->cell[0][0] + 2u * (mod(i, bg->grid) * bg->grid + mod(j, bg->grid));
+}
+
+/* The world cell index holding coordinate v (metres). */
+static int32_t cell_index(const struct sonar_background *bg, double v)
+{
+    return (int32_t)floor(v / (double)bg->cell_m);
+}
+
+/* The range profile: the last SONAR_MAX_SAMPLES bytes, after the grid. */
+static uint8_t *profile(struct sonar_background *bg)
+{
+    return &bg->cell[0][0] + SONAR_BG_GRID_CELLS - SONAR_MAX_SAMPLES;
+}
+
+/*
+ * Keeps the window [wi0, wi0 + grid) x [wj0, wj0 + grid) centred on cell (ci, cj): rows and
+ * columns that scroll in were last used for cells that scrolled out, so they are cleared.
+ */
+static void scroll(struct sonar_background *bg, int32_t ci, int32_t cj)
+{
+    const int32_t g = (int32_t)bg->grid;
+    int32_t ni = ci - g / 2, nj = cj - g / 2, k, r;
+    if (ni - bg->wi0 >= g || bg->wi0 - ni >= g || nj - bg->wj0 >= g || bg->wj0 - nj >= g) {
+        memset(&bg->cell[0][0], 0, 2u * (size_t)g * (size_t)g);
+    } else {
+        /* Entering rows: [wi0 + g, ni + g) moving north, [ni, wi0) moving south; columns alike. */
+        for (k = ni > bg->wi0 ? bg->wi0 + g : ni; k < (ni > bg->wi0 ? ni + g : bg->wi0); k++)
+            memset(grid_at(bg, k, 0), 0, 2u * (size_t)g);
+        for (k = nj > bg->wj0 ? bg->wj0 + g : nj; k < (nj > bg->wj0 ? nj + g : bg->wj0); k++)
+            for (r = 0; r < g; r++) {
+                uint8_t *c = grid_at(bg, r, k);
+                c[0] = c[1] = 0;
+            }
+    }
+    bg->wi0 = ni;
+    bg->wj0 = nj;
+}
+
+/* One step of the running median toward x, 0 being "never seen" (seeded by x). */
+static uint8_t follow(uint8_t b, uint8_t x, unsigned st)
+{
+    unsigned m = b, up, dn;
+    if (b == 0)
+        return x > 0 ? x : 1u;
+    up = x > m ? x - m : 0u;
+    dn = x < m ? m - x : 0u;
+    m = m + (up < st ? up : st) - (dn < st ? dn : st);
+    return (uint8_t)(m > 0u ? m : 1u);
+}
+
+/* One observation of a grid cell: averaged in over the first warmup ones, then the step rule. */
+static void learn(uint8_t *c, uint8_t x, unsigned warmup, unsigned st)
+{
+    unsigned v = c[1] < 255u ? c[1] + 1u : 255u;
+    c[1] = (uint8_t)v;
+    if (v <= warmup) {
+        /* b += (x - b) / v, rounded; kept >= 1 since 0 means never seen */
+        int b = v == 1u ? (int)x : (int)c[0] + ((int)x - (int)c[0] + (x >= c[0] ? (int)v / 2 : -(int)v / 2)) / (int)v;
+        c[0] = (uint8_t)(b < 1 ? 1 : b > 255 ? 255 : b);
+    } else {
+        c[0] = follow(c[0], x, st);
+    }
+}
+
+static int ray_ok(const struct sonar_bg_ray *r)
+{
+    return isfinite(r->north_m) && isfinite(r->east_m) && fabs(r->north_m) <= 1e6 && fabs(r->east_m) <= 1e6 &&
+           isfinite(r->bearing_deg) && fabs(r->bearing_deg) <= 1e6 && isfinite(r->width_deg) &&
+           r->range_m > 0.0f && r->range_m <= 1000.0f && r->near_m >= 0.0f && isfinite(r->near_m);
+}
+
+/*
+ * What static structure can return at range r along the beam: the largest model on the arc of
+ * SONAR_BG_LOOK_DEG about the beam at r +- slack cells. A wall's echo depends on where it is seen
+ * from (strong head-on, weak and spread out in range at a glance), and the pose and the beam's
+ * width place it only so well; comparing with the cell under the sample alone made walls the
+ * detections on the simulated vehicle scene. 0 when none of them was ever seen.
+ */
+static uint8_t look(struct sonar_background *bg, const struct sonar_bg_ray *ray, double th, double r, int32_t slack)
+{
+    const double deg = 3.14159265358979323846 / 180.0, span = SONAR_BG_LOOK_DEG * deg, cs = (double)bg->cell_m;
+    int32_t pts = (int32_t)ceil(r * span / cs), j, a;
+    uint8_t m = 0;
+    pts = pts < 1 ? 1 : pts;
+    for (j = 0; j <= pts; j++) {
+        double ph = th - span / 2.0 + (double)j * span / (double)pts, cu = cos(ph), su = sin(ph);
+        for (a = -slack; a <= slack; a++) {
+            double rr = r + (double)a * cs;
+            uint8_t v = *grid_at(bg, cell_index(bg, ray->north_m + rr * cu), cell_index(bg, ray->east_m + rr * su));
+            m = v > m ? v : m;
+        }
+    }
+    return m;
+}
+
+int sonar_background_apply_world(struct sonar_background *bg, const struct sonar_bg_ray *ray, const uint8_t *in,
+                                 uint8_t *fg, uint16_t n)
+{
+    const double deg = 3.14159265358979323846 / 180.0;
+    double th, w, c0, s0, cs, rmax;
+    int32_t k, k0, kmax, slack;
+    uint16_t i;
+    if (bg == NULL || ray == NULL || in == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || !ray_ok(ray))
+        return SONAR_ERR_ARG;
+    if (bg->mode != SONAR_BACKGROUND_PER_ANGLE)
+        return sonar_background_apply(bg, 0, in, fg, n);
+    if (!bg->world || n != bg->n || ray->range_m != bg->grid_range_m) {
+        if (!bg->world && bg->n != 0)
+            bg->reframes++;
+        sonar_background_reset(bg);
+        bg->world = 1;
+        bg->n = n;
+        bg->grid = grid_side();
+        bg->grid_range_m = ray->range_m;
+        bg->cell_m = (float)SONAR_BG_WINDOW * ray->range_m / (float)(bg->grid - 4u);
+        bg->wi0 = cell_index(bg, ray->north_m) - (int32_t)bg->grid / 2;
+        bg->wj0 = cell_index(bg, ray->east_m) - (int32_t)bg->grid / 2;
+        memset(&bg->cell[0][0], 0, 2u * (size_t)bg->grid * bg->grid);
+        memset(profile(bg), 0, SONAR_MAX_SAMPLES);
+    }
+    cs = (double)bg->cell_m;
+    slack = (int32_t)ceil((double)SONAR_BG_SLACK_M / cs);
+    scroll(bg, cell_index(bg, ray->north_m), cell_index(bg, ray->east_m));
+    th = ray->bearing_deg * deg;
+    c0 = cos(th);
+    s0 = sin(th);
+    rmax = (double)ray->range_m;
+    /* The foreground against the model before this beam. */
+    for (i = 0; i < n; i++) {
+        double r = ((double)i + 0.5) * rmax / (double)n;
+        const uint8_t *under;
+        uint8_t x = in[i], m, pr = profile(bg)[i];
+        fg[i] = 0;
+        if (r < (double)ray->near_m)
+            continue;
+        /* A cell seen fewer than SONAR_BG_MIN_SEEN times (the edge of what the vehicle has explored) says nothing yet. */
+        under = grid_at(bg, cell_index(bg, ray->north_m + r * c0), cell_index(bg, ray->east_m + r * s0));
+        if (under[1] < SONAR_BG_MIN_SEEN)
+            continue;
+        m = look(bg, ray, th, r, slack);
+        /* The level every beam sees at this range (the ring-down's tail, the gain's curve) moves with the sonar. */
+        m = pr > m ? pr : m;
+        if (m != 0) {
+            unsigned gate = ((unsigned)m * bg->margin) >> 4, up = x > m ? (unsigned)(x - m) : 0u;
+            fg[i] = (uint8_t)(up > gate ? up - gate : 0u);
+        }
+    }
+    for (i = 0; i < n; i++)
+        profile(bg)[i] = follow(profile(bg)[i], in[i], bg->step);
+    /*
+     * The footprint: rings one cell apart, each crossed by points at most a cell apart along its
+     * arc (so every cell of the wedge is visited about once), turned by a rotation each step
+     * rather than a sine per point. Each point takes the sample at its ring's range.
+     */
+    w = ray->width_deg < 0.5 ? 0.5 : ray->width_deg > 90.0 ? 90.0 : ray->width_deg;
+    w *= deg;
+    k0 = (int32_t)floor((double)ray->near_m / cs);
+    kmax = (int32_t)floor(rmax / cs);
+    for (k = k0; k < kmax; k++) {
+        double r = ((double)k + 0.5) * cs, a, ca, sa, cd, sd;
+        int32_t pts = (int32_t)ceil(r * w / cs), j;
+        uint8_t x;
+        if (r < (double)ray->near_m)
+            continue;
+        i = (uint16_t)(r / rmax * (double)n);
+        if (i >= n)
+            break;
+        x = in[i];
+        pts = pts < 1 ? 1 : pts;
+        a = th - w / 2.0 + w / (2.0 * (double)pts);
+        ca = cos(a);
+        sa = sin(a);
+        cd = cos(w / (double)pts);
+        sd = sin(w / (double)pts);
+        for (j = 0; j < pts; j++) {
+            double t = ca * cd - sa * sd;
+            learn(grid_at(bg, cell_index(bg, ray->north_m + r * ca), cell_index(bg, ray->east_m + r * sa)), x,
+                  bg->warmup, bg->step);
+            sa = sa * cd + ca * sd;
+            ca = t;
+        }
+    }
     return SONAR_OK;
 }

@@ -98,6 +98,7 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
     out->threshold = d->threshold;
     out->groups = 0;
     out->count = 0;
+    out->world = 0;
     if (d->nruns > 0) {
         sonar_det_link(d);
         k = sonar_det_seed(d, c, part, &out->groups);

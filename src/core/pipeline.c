@@ -1,6 +1,7 @@
 /* pipeline.c -- glue of the per-beam stages and the per-sweep detector; adds O(1) work per beam, no heap. */
 #include "sonar/pipeline.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "sonar/frame.h"
@@ -54,6 +55,7 @@ int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_co
         return SONAR_ERR_ARG;
     memset(p, 0, sizeof(*p));
     p->cfg = cfg;
+    p->prev_width = 1.8f; /* two gradians, until a second beam gives the step */
     if ((r = sonar_sweep_init(&p->sweep, cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
         return r;
     if (cfg->median2d != 0 && (r = sonar_median2d_init(&p->m2d, cfg->median2d)) != SONAR_OK)
@@ -78,12 +80,44 @@ static void emit(const struct sonar_pipeline *p, int stage, int64_t utime, uint1
     p->cfg->on_beam(p->cfg->user, stage, &b);
 }
 
+/*
+ * With a pose at the beam's time (per-angle mode): the background in the world grid, the beam's
+ * footprint reaching back to the heading of the beam before (a jump beyond max_step, or none:
+ * one step's worth).
+ */
+static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t angle, int *done)
+{
+    struct sonar_pose q;
+    struct sonar_bg_ray ray;
+    double d;
+    *done = 0;
+    if (p->poses == NULL || p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE || !sonar_pose_at(p->poses, utime, &q)) {
+        p->have_prev_bearing = 0;
+        return SONAR_OK;
+    }
+    ray.north_m = (double)q.north_m;
+    ray.east_m = (double)q.east_m;
+    ray.bearing_deg = ((double)angle + (double)p->cfg->detector.angle_offset) * 0.9 + (double)q.yaw_deg;
+    d = p->have_prev_bearing ? fabs(remainder(ray.bearing_deg - (double)p->prev_bearing, 360.0)) : 0.0;
+    ray.width_deg = d > 0.0 && d <= 0.9 * (double)p->cfg->max_step ? d : (double)p->prev_width;
+    p->prev_width = (float)ray.width_deg;
+    ray.range_m = p->range_m;
+    ray.near_m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
+    p->prev_bearing = (float)fmod(ray.bearing_deg, 360.0);
+    p->have_prev_bearing = 1;
+    p->world_beams++;
+    *done = 1;
+    return sonar_background_apply_world(&p->bg, &ray, p->filt, p->fg, p->n);
+}
+
 /* Median output -> background -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
-    int r;
+    int r, done;
     emit(p, SONAR_STAGE_MEDIAN, utime, angle, p->filt);
-    if ((r = sonar_background_apply(&p->bg, angle, p->filt, p->fg, p->n)) != SONAR_OK)
+    if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
+        return r;
+    if (!done && (r = sonar_background_apply(&p->bg, angle, p->filt, p->fg, p->n)) != SONAR_OK)
         return r;
     emit(p, SONAR_STAGE_FOREGROUND, utime, angle, p->fg);
     r = sonar_detector_add(&p->det, angle, p->fg, p->n, p->range_m, utime);
@@ -124,41 +158,219 @@ int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipe
     return p->open ? SONAR_OK : switch_config(p);
 }
 
+void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_ring *poses)
+{
+    p->poses = poses;
+}
+
+/* The angle offset in whole gradians, as the cover map takes it. */
+static int offset_grad(const struct sonar_pipeline *p)
+{
+    float off = p->cfg->detector.angle_offset;
+    return (int)(off >= 0.0f ? off + 0.5f : off - 0.5f);
+}
+
+/* Time of the sweep's i-th beam. */
+static int64_t beam_utime(const struct sonar_pipeline *p, uint16_t i)
+{
+    return p->det.t0 + (int64_t)p->det.dt_ms[i] * 1000;
+}
+
+/* The gradian a beam pointed at in the world (from north), offset included: yaw is 400/360 gradians a degree. */
+static int world_grad(const struct sonar_pipeline *p, uint16_t i, const struct sonar_pose *q)
+{
+    int g = (int)p->det.angles[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / 0.9 + 0.5);
+    return ((g % (int)SONAR_GRAD_TURN) + (int)SONAR_GRAD_TURN) % (int)SONAR_GRAD_TURN;
+}
+
 /*
- * The sweep's detections into the tracker, over the gradians and ranges the sweep scanned. Then
- * the track_m gate of the next sweep follows the tracks, predicted one sweep on, instead of this
- * sweep's detections: confirmed and coasting ones, and tentative ones hit this sweep (leaving
- * those out cost AquaScan sonar11 0.013 of F1: a person's second sighting needs the gate).
+ * sonar_tracker_cover in world gradians: each beam at its own heading, and the gradians between
+ * consecutive beams with poses up to max_step apart. A beam without a pose scanned nowhere known.
  */
-static int track(struct sonar_pipeline *p)
+static void world_cover(const struct sonar_pipeline *p, uint8_t *cover)
+{
+    uint16_t i;
+    int prev = -1;
+    memset(cover, 0, SONAR_GRAD_TURN / 8);
+    for (i = 0; i < p->out.beams; i++) {
+        struct sonar_pose q;
+        int g, d, k, step;
+        if (!sonar_pose_at(p->poses, beam_utime(p, i), &q)) {
+            prev = -1;
+            continue;
+        }
+        g = world_grad(p, i, &q);
+        d = prev < 0 ? 0 : sonar_frame_delta((uint16_t)prev, (uint16_t)g);
+        if ((d < 0 ? -d : d) > (int)p->cfg->max_step)
+            d = 0;
+        step = d < 0 ? 1 : -1; /* from g back towards prev */
+        for (k = 0; k <= (d < 0 ? -d : d); k++) {
+            int m = ((g + step * k) % (int)SONAR_GRAD_TURN + (int)SONAR_GRAD_TURN) % (int)SONAR_GRAD_TURN;
+            cover[m / 8] = (uint8_t)(cover[m / 8] | (1u << (m % 8)));
+        }
+        prev = g;
+    }
+}
+
+/* Tracks the track_m gate follows: confirmed and coasting ones, and tentative ones hit last sweep. */
+static int gated(const struct sonar_track *t)
+{
+    return !(t->state == SONAR_TRACK_TENTATIVE && t->det < 0);
+}
+
+/*
+ * The track_m gate for the sweep about to end, with world-frame tracks: each track where the
+ * beam that looked along its predicted bearing saw it, in that beam's body frame (the vehicle
+ * turns and moves under the sweep, so one pose for the sweep would put the gates seconds off).
+ * O(beams x tracks) pose lookups.
+ */
+static int world_gates(struct sonar_pipeline *p)
+{
+    float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS], best[SONAR_MAX_CLUSTERS];
+    uint8_t idx[SONAR_MAX_CLUSTERS], n = 0, j, m = 0;
+    uint16_t i;
+    for (j = 0; j < p->trk.n && n < SONAR_MAX_CLUSTERS; j++)
+        if (gated(&p->trk.t[j])) {
+            best[n] = 1e9f;
+            idx[n++] = j;
+        }
+    for (i = 0; i < p->det.beams; i++) {
+        struct sonar_pose q;
+        int64_t t = beam_utime(p, i);
+        double th = ((double)p->det.angles[i] + (double)p->cfg->detector.angle_offset) * 0.9;
+        if (!sonar_pose_at(p->poses, t, &q))
+            continue;
+        for (j = 0; j < n; j++) {
+            float wx, wy, bx, by, e;
+            sonar_tracker_predict(&p->trk.t[idx[j]], t, &wx, &wy);
+            sonar_pose_to_body(&q, wx, wy, &bx, &by);
+            e = (float)fabs(remainder(sonar_frame_bearing_deg((double)bx, (double)by) - th, 360.0));
+            if (e < best[j]) {
+                best[j] = e;
+                gx[j] = bx;
+                gy[j] = by;
+            }
+        }
+    }
+    /* A track whose bearing no beam came near (outside a sector) expects nothing this sweep. */
+    for (j = 0; j < n; j++)
+        if (best[j] <= 0.9f * (float)p->cfg->max_step) {
+            gx[m] = gx[j];
+            gy[m] = gy[j];
+            m++;
+        }
+    return sonar_detector_set_tracks(&p->det, gx, gy, m);
+}
+
+/* Where a sweep's detections were in the world, when the poses say. */
+struct located {
+    uint8_t world;                 /* every detection and the sweep's last beam have a pose */
+    uint8_t ok[SONAR_MAX_CLUSTERS]; /* this one has */
+    float north[SONAR_MAX_CLUSTERS], east[SONAR_MAX_CLUSTERS];
+    struct sonar_pose pose;        /* the vehicle at the sweep's last beam (world) */
+};
+
+static void locate(const struct sonar_pipeline *p, const struct sonar_detections *d, struct located *w)
+{
+    uint8_t i;
+    memset(w, 0, sizeof(*w));
+    if (p->poses == NULL || !sonar_pose_at(p->poses, d->utime, &w->pose))
+        return;
+    w->world = 1;
+    for (i = 0; i < d->count; i++) {
+        struct sonar_pose q;
+        if (sonar_pose_at(p->poses, d->det[i].utime, &q)) {
+            sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &w->north[i], &w->east[i]);
+            w->ok[i] = 1;
+        } else {
+            w->world = 0;
+        }
+    }
+}
+
+/*
+ * A turning vehicle's sweep can look at the same part of the world twice (the head turns one
+ * way and the heading with it: one turn of the head covers more than one of the world). A
+ * detection within SONAR_PIPE_DUP_M in the world of a larger one seen more than
+ * SONAR_PIPE_DUP_US apart is that object seen again: dropped (counted), so the sweep reports
+ * each object once, as the tracker expects. Objects side by side are seen within a beam or two.
+ */
+static void drop_repeats(struct sonar_pipeline *p, struct sonar_detections *d, struct located *w)
+{
+    uint8_t i, j, k = 0;
+    for (i = 0; i < d->count; i++) {
+        int dup = 0;
+        for (j = 0; j < i && !dup; j++) {
+            float dn = w->north[j] - w->north[i], de = w->east[j] - w->east[i];
+            int64_t dt = d->det[j].utime - d->det[i].utime;
+            dup = w->ok[i] && w->ok[j] && dn * dn + de * de < SONAR_PIPE_DUP_M * SONAR_PIPE_DUP_M &&
+                  (dt < 0 ? -dt : dt) > SONAR_PIPE_DUP_US;
+        }
+        if (dup) {
+            p->repeats++;
+            continue;
+        }
+        if (k != i) {
+            d->det[k] = d->det[i];
+            w->ok[k] = w->ok[i];
+            w->north[k] = w->north[i];
+            w->east[k] = w->east[i];
+        }
+        k++;
+    }
+    d->count = k;
+}
+
+/*
+ * The sweep's detections (p->out) into the tracker, over the gradians and ranges the sweep
+ * scanned (cover 0: unknown, every track in view), in the world frame when the sweep has it.
+ * Then, in the body frame, the track_m gate of the next sweep follows the tracks, predicted one
+ * sweep on, instead of this sweep's detections: confirmed and coasting ones, and tentative ones
+ * hit this sweep (leaving those out cost AquaScan sonar11 0.013 of F1: a person's second sighting
+ * needs the gate). In the world frame world_gates places them when that sweep ends.
+ */
+static int track(struct sonar_pipeline *p, const struct located *w, int have_cover)
 {
     struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
     struct sonar_tracker_sweep sw;
     uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0;
     float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS];
-    float off = p->cfg->detector.angle_offset;
+    const int world = w->world;
     int64_t ahead;
     int r;
+    if (world) {
+        sonar_tracker_reframe(&p->trk, &w->pose, 1);
+        p->last_pose = w->pose;
+        p->world_sweeps++;
+    } else {
+        /* Stale: back to the body frame where the vehicle was last known to be. */
+        sonar_tracker_reframe(&p->trk, &p->last_pose, 0);
+        p->body_sweeps++;
+    }
     for (i = 0; i < p->out.count; i++) {
-        obs[i].x_m = p->out.det[i].x_m;
-        obs[i].y_m = p->out.det[i].y_m;
+        obs[i].x_m = world ? w->north[i] : p->out.det[i].x_m;
+        obs[i].y_m = world ? w->east[i] : p->out.det[i].y_m;
         obs[i].utime = p->out.det[i].utime;
     }
-    sonar_tracker_cover(cover, p->det.angles, p->out.beams, p->cfg->max_step,
-                        (int)(off >= 0.0f ? off + 0.5f : off - 0.5f));
+    if (have_cover && world)
+        world_cover(p, cover);
+    else if (have_cover)
+        sonar_tracker_cover(cover, p->det.angles, p->out.beams, p->cfg->max_step, offset_grad(p));
     sw.utime = p->out.utime;
     sw.beams = p->out.beams;
-    sw.cover = cover;
+    sw.cover = have_cover ? cover : NULL;
     sw.min_range_m = p->cfg->detector.min_range_m;
-    sw.max_range_m = p->range_m;
+    sw.max_range_m = have_cover ? p->range_m : (float)SONAR_PIPE_MAX_RANGE_M;
+    sw.origin_x = world ? w->pose.north_m : 0.0f;
+    sw.origin_y = world ? w->pose.east_m : 0.0f;
     if ((r = sonar_tracker_update(&p->trk, obs, p->out.count, &sw)) != SONAR_OK)
         return r;
-    if (!(p->cfg->detector.track_m > 0.0f))
+    if (!(p->cfg->detector.track_m > 0.0f) || world || !have_cover)
         return SONAR_OK;
     ahead = p->out.utime + (p->out.utime - p->det.t0);
     for (i = 0; i < p->trk.n; i++) {
         const struct sonar_track *t = &p->trk.t[i];
-        if ((t->state == SONAR_TRACK_TENTATIVE && t->det < 0) || n >= SONAR_MAX_CLUSTERS)
+        if (!gated(t) || n >= SONAR_MAX_CLUSTERS)
             continue;
         sonar_tracker_predict(t, ahead, &gx[n], &gy[n]);
         n++;
@@ -166,9 +378,60 @@ static int track(struct sonar_pipeline *p)
     return sonar_detector_set_tracks(&p->det, gx, gy, n);
 }
 
+/* The last steps of a sweep, the pipeline's own or another's: locate, drop repeats, track. */
+static int finish_detections(struct sonar_pipeline *p, int have_cover)
+{
+    struct located w;
+    locate(p, &p->out, &w);
+    drop_repeats(p, &p->out, &w);
+    p->out.world = (uint8_t)(w.world && p->cfg->track);
+    return p->cfg->track ? track(p, &w, have_cover) : SONAR_OK;
+}
+
+int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections *d)
+{
+    if (p == NULL || p->cfg == NULL || d == NULL || d->count > SONAR_MAX_CLUSTERS)
+        return SONAR_ERR_ARG;
+    p->out = *d;
+    return finish_detections(p, 0);
+}
+
+void sonar_pipeline_view(const struct sonar_pipeline *p, struct sonar_view *v)
+{
+    const struct sonar_detections *d = &p->out;
+    uint8_t i;
+    memset(v, 0, sizeof(*v));
+    v->world = p->out.world && p->trk.world;
+    if (p->poses != NULL)
+        v->have_pose = (uint8_t)sonar_pose_at(p->poses, d->utime, &v->pose);
+    for (i = 0; i < d->count; i++) {
+        struct sonar_pose q;
+        if (p->poses != NULL && sonar_pose_at(p->poses, d->det[i].utime, &q)) {
+            sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &v->det_north[i], &v->det_east[i]);
+            v->det_world[i] = 1;
+        }
+    }
+    for (i = 0; i < p->trk.n && p->cfg->track; i++) {
+        const struct sonar_track *t = &p->trk.t[i];
+        struct sonar_pose q;
+        if (!p->trk.world) {
+            v->trk_x[i] = t->px;
+            v->trk_y[i] = t->py;
+            v->trk_vx[i] = t->vx;
+            v->trk_vy[i] = t->vy;
+            continue;
+        }
+        if (!sonar_pose_at(p->poses, t->utime, &q))
+            q = p->last_pose; /* a track last seen before the poses kept: the latest pose */
+        sonar_pose_to_body(&q, t->px, t->py, &v->trk_x[i], &v->trk_y[i]);
+        sonar_pose_rotate(-q.yaw_deg, t->vx, t->vy, &v->trk_vx[i], &v->trk_vy[i]);
+    }
+}
+
 static int end_sweep(struct sonar_pipeline *p)
 {
     struct sonar_median_row meta;
+    struct sonar_pose q;
     int r;
     if (!p->open)
         return SONAR_OK;
@@ -176,9 +439,12 @@ static int end_sweep(struct sonar_pipeline *p)
         while ((r = sonar_median2d_flush(&p->m2d, p->filt, &meta)) == 1)
             if ((r = after_median(p, meta.utime, meta.angle)) != SONAR_OK)
                 return r;
+    if (p->cfg->track && p->trk.world && p->cfg->detector.track_m > 0.0f && p->poses != NULL &&
+        sonar_pose_at(p->poses, p->det.utime, &q) && (r = world_gates(p)) != SONAR_OK)
+        return r;
     if ((r = sonar_detector_end(&p->det, &p->out)) < 0)
         return r;
-    if (p->cfg->track && (r = track(p)) != SONAR_OK)
+    if ((r = finish_detections(p, 1)) != SONAR_OK)
         return r;
     p->open = 0;
     p->sweeps++;

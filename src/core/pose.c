@@ -10,7 +10,7 @@ void sonar_pose_limits_default(struct sonar_pose_limits *lim)
 {
     lim->max_speed_mps = 50.0f;
     lim->max_yaw_rate_dps = 720.0f;
-    lim->min_gap_us = 200000;
+    lim->min_gap_us = 50000;
 }
 
 int sonar_pose_init(struct sonar_pose_ring *r, const struct sonar_pose_limits *lim)
@@ -77,7 +77,13 @@ int sonar_pose_push(struct sonar_pose_ring *r, const struct sonar_pose *p)
                 r->jumps++;
                 return SONAR_ERR_RANGE;
             }
-            if (gap < r->lim.min_gap_us) {
+            /*
+             * Thinning keeps the newest sample: it takes the place of the last one while that one
+             * is less than min_gap after the one before it, so a beam just after a fresh sample
+             * still finds it (dropping it instead left the pose up to min_gap old at the newest beams).
+             */
+            if (r->n >= 2u && last->utime - at(r, r->n - 2u)->utime < r->lim.min_gap_us) {
+                r->s[(r->head + r->n - 1u) % SONAR_MAX_POSES] = q;
                 r->thinned++;
                 return SONAR_OK;
             }

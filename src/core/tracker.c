@@ -81,6 +81,26 @@ int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_conf
     return SONAR_OK;
 }
 
+void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p, int to_world)
+{
+    uint8_t k;
+    if ((tk->world != 0) == (to_world != 0))
+        return;
+    for (k = 0; k < tk->n; k++) {
+        struct sonar_track *t = &tk->t[k];
+        float x = t->px, y = t->py, vx = t->vx, vy = t->vy;
+        if (to_world) {
+            sonar_pose_to_world(p, x, y, &t->px, &t->py);
+            sonar_pose_rotate(p->yaw_deg, vx, vy, &t->vx, &t->vy);
+        } else {
+            sonar_pose_to_body(p, x, y, &t->px, &t->py);
+            sonar_pose_rotate(-p->yaw_deg, vx, vy, &t->vx, &t->vy);
+        }
+    }
+    tk->world = (uint8_t)(to_world != 0);
+    tk->reframes++;
+}
+
 const char *sonar_track_state_str(int state)
 {
     switch (state) {
@@ -253,11 +273,13 @@ static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep
     float x, y;
     int a;
     sonar_tracker_predict(t, sw->utime, &x, &y);
+    x -= sw->origin_x;
+    y -= sw->origin_y;
     if (sqrtf(x * x + y * y) < sw->min_range_m)
         return 0;
     if (sw->cover == NULL)
         return 1;
-    /* The nearest whole gradian of its bearing (0.9 degrees a gradian). */
+    /* The nearest whole gradian of its bearing (0.9 degrees a gradian): from north in the world frame. */
     a = wrap((int)floor(sonar_frame_bearing_deg((double)x, (double)y) / 0.9 + 0.5));
     return (int)(((unsigned)sw->cover[a / 8] >> (unsigned)(a % 8)) & 1u);
 }

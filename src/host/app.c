@@ -59,6 +59,7 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     int64_t now = a->clock.mono_ns(a->clock.user);
     unsigned i;
     a->sweeps++;
+    sonar_pipeline_view(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
     if (a->sweep_t0 != 0)
         a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
     a->sweep_t0 = now;
@@ -66,7 +67,7 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
         struct app_sink *s = a->sinks[i];
         if (s->detections == NULL)
             continue;
-        tally(s, s->detections(s->self, d, tk), &s->n_detections);
+        tally(s, s->detections(s->self, d, tk, &a->view), &s->n_detections);
     }
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
@@ -95,6 +96,15 @@ int app_init(struct app *a, const struct sonar_pipeline_config *pcfg, const stru
     if ((why = sonar_pipeline_config_check(&a->pcfg[0])) != NULL || sonar_pipeline_init(&a->pipe, &a->pcfg[0]) != SONAR_OK) {
         snprintf(err, errlen, "pipeline configuration: %s", why ? why : "invalid");
         return HOST_ERR_CONFIG;
+    }
+    {
+        struct sonar_pose_limits lim;
+        sonar_pose_limits_default(&lim);
+        if (sonar_pose_init(&a->poses, &lim) != SONAR_OK) {
+            snprintf(err, errlen, "pose limits: invalid");
+            return HOST_ERR_CONFIG;
+        }
+        sonar_pipeline_set_poses(&a->pipe, &a->poses);
     }
     if (sonar_ping_parser_init(&a->parser, 0) != SONAR_OK) {
         snprintf(err, errlen, "Ping parser: invalid limit");
@@ -131,6 +141,49 @@ int app_add_sink(struct app *a, struct app_sink *s)
     return HOST_OK;
 }
 
+int app_pose(struct app *a, const struct sonar_pose *p, const char **why)
+{
+    struct sonar_pose_ring *r = &a->poses;
+    uint32_t ooo = r->out_of_order, jumps = r->jumps;
+    if (sonar_pose_push(r, p) == SONAR_OK)
+        return HOST_OK;
+    if (why != NULL)
+        *why = r->out_of_order != ooo ? "not later than the pose before it"
+               : r->jumps != jumps   ? "a jump from the pose before it (faster than 50 m/s or 720 deg/s)"
+                                     : "a value that is not a number or is beyond 10^6 m";
+    return SONAR_ERR_RANGE;
+}
+
+/* The beam's pose: the source's (kept for the detections too), else looked up; says when it goes stale or comes back. */
+static void beam_pose(struct app *a, struct app_beam *b)
+{
+    struct sonar_pose q;
+    int state;
+    if (b->has_pose) {
+        q.utime = b->utime;
+        q.north_m = b->north_m;
+        q.east_m = b->east_m;
+        q.yaw_deg = b->yaw_deg;
+        if (app_pose(a, &q, NULL) != HOST_OK && !sonar_pose_at(&a->poses, b->utime, &q))
+            b->has_pose = 0; /* refused, and nothing else known then: no pose */
+    } else if (sonar_pose_at(&a->poses, b->utime, &q)) {
+        b->has_pose = 1;
+        b->north_m = q.north_m;
+        b->east_m = q.east_m;
+        b->yaw_deg = q.yaw_deg;
+    }
+    state = b->has_pose ? APP_POSE_OK : a->poses.accepted > 0 ? APP_POSE_STALE : APP_POSE_NONE;
+    if (state == APP_POSE_STALE && a->pose_state != APP_POSE_STALE) {
+        a->pose_stale++;
+        app_say(a, "pose: stale (none within 1 s of the beam at %.3f s): body-frame processing until it returns",
+                (double)b->utime * 1e-6);
+    } else if (state == APP_POSE_OK && a->pose_state != APP_POSE_OK) {
+        app_say(a, "pose: %s at %.3f s: detections and tracks in the world frame",
+                a->pose_state == APP_POSE_STALE ? "back" : "known", (double)b->utime * 1e-6);
+    }
+    a->pose_state = state;
+}
+
 int app_push(struct app *a, const struct app_beam *b)
 {
     struct sonar_beam pb;
@@ -140,6 +193,7 @@ int app_push(struct app *a, const struct app_beam *b)
         return HOST_OK; /* after the sweeps asked for, beams still in flight are not a new sweep */
     a->cur = *b;
     a->cur.stage = SONAR_STAGE_RAW;
+    beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
     pb.utime = b->utime;
     pb.angle = b->angle;
@@ -157,39 +211,26 @@ int app_push(struct app *a, const struct app_beam *b)
 
 void app_detections(struct app *a, const struct sonar_detections *d)
 {
-    const struct sonar_pipeline_config *c = a->pipe.cfg;
-    struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
-    struct sonar_tracker_sweep sw;
-    uint8_t i;
     if (a->sweeps_done)
         return;
-    if (!c->track) {
-        to_sinks(a, d, NULL);
-        return;
-    }
     /*
-     * Detections from elsewhere (a co-processor): tracked here. Which gradians its sweep covered is
-     * not sent, so every track counts as in view (a sector scan coasts tracks outside it).
+     * Detections from elsewhere (a co-processor): located and tracked here. Which gradians its
+     * sweep covered is not sent, so every track counts as in view (a sector scan coasts tracks
+     * outside it).
      */
-    for (i = 0; i < d->count; i++) {
-        obs[i].x_m = d->det[i].x_m;
-        obs[i].y_m = d->det[i].y_m;
-        obs[i].utime = d->det[i].utime;
-    }
-    sw.utime = d->utime;
-    sw.beams = d->beams;
-    sw.cover = NULL;
-    sw.min_range_m = c->detector.min_range_m;
-    sw.max_range_m = (float)SONAR_PIPE_MAX_RANGE_M;
-    if (sonar_tracker_update(&a->pipe.trk, obs, d->count, &sw) != SONAR_OK)
+    if (sonar_pipeline_track(&a->pipe, d) != SONAR_OK)
         a->beams_rejected++;
-    to_sinks(a, d, &a->pipe.trk);
+    to_sinks(a, &a->pipe.out, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
 void app_forward(struct app *a, const struct app_beam *b)
 {
-    if (!a->sweeps_done)
-        sinks_beam(a, b);
+    struct app_beam r;
+    if (a->sweeps_done)
+        return;
+    r = *b;
+    beam_pose(a, &r);
+    sinks_beam(a, &r);
 }
 
 void app_emit_status(struct app *a, const struct app_status *s)
@@ -222,6 +263,8 @@ static void device_beam(struct app *a, const struct sonar_ping360_data *d)
     b.speed_of_sound = a->speed_of_sound;
     b.range_m = (float)sonar_geometry_range_m(d->sample_period, d->data_length, a->speed_of_sound);
     b.stage = SONAR_STAGE_RAW;
+    b.has_pose = 0;
+    b.north_m = b.east_m = b.yaw_deg = 0.0f;
     b.samples = d->data;
     if (app_push(a, &b) != HOST_OK)
         return; /* counted in beams_rejected; the sinks still had the raw beam */
@@ -323,6 +366,19 @@ unsigned long app_sink_errors(const struct app *a)
     return e;
 }
 
+void app_pose_status(const struct app *a, struct app_status *s)
+{
+    s->pose.state = a->pose_state;
+    s->pose.accepted = a->poses.accepted;
+    s->pose.out_of_order = a->poses.out_of_order;
+    s->pose.jumps = a->poses.jumps;
+    s->pose.bad = a->poses.bad;
+    s->pose.thinned = a->poses.thinned;
+    s->pose.stale = a->pose_stale;
+    s->pose.world_sweeps = a->pipe.world_sweeps;
+    s->pose.body_sweeps = a->pipe.body_sweeps;
+}
+
 void app_status(struct app *a, int link_state, struct app_status *s)
 {
     unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
@@ -351,6 +407,7 @@ void app_status(struct app *a, int link_state, struct app_status *s)
         s->tracker.clock_back = a->pipe.trk.clock_back;
         s->tracker.overflow = a->pipe.trk.overflow;
     }
+    app_pose_status(a, s);
     app_emit_status(a, s);
 }
 

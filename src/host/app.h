@@ -11,6 +11,7 @@
 #include "sonar/ping.h"
 #include "sonar/ping360.h"
 #include "sonar/pipeline.h"
+#include "sonar/pose.h"
 
 #define APP_MAX_SINKS 8
 #define APP_PROC_RING 1024 /* per-beam processing times kept for the percentiles */
@@ -27,8 +28,13 @@ struct app_beam {
     float speed_of_sound;       /* m/s */
     float range_m;              /* metres covered by the n samples */
     uint8_t stage;              /* enum sonar_stage */
+    uint8_t has_pose;           /* 1: the vehicle's pose at utime below (from the source, or the app's poses) */
+    float north_m, east_m;      /* local NED, metres */
+    float yaw_deg;              /* heading, degrees clockwise from north */
     const uint8_t *samples;     /* n samples, valid during the call only */
 };
+
+enum app_pose_state { APP_POSE_NONE = 0, APP_POSE_OK = 1, APP_POSE_STALE = 2 };
 
 /* Health, once a second and at exit. */
 struct app_status {
@@ -48,6 +54,12 @@ struct app_status {
     struct {
         uint32_t live, ended, bad_detections, clock_back, overflow;
     } tracker;                             /* all 0 with tracking off */
+    struct {
+        int state;                         /* enum app_pose_state, at the latest beam */
+        uint32_t accepted, out_of_order, jumps, bad, thinned; /* the ring's counters */
+        uint32_t stale;                    /* times the pose went stale (none within 1 s of a beam) */
+        uint32_t world_sweeps, body_sweeps; /* sweeps tracked in each frame */
+    } pose;
 };
 
 /* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */
@@ -56,8 +68,9 @@ struct app_sink {
     void *self;
     uint8_t stages; /* bit (1 << stage) for each stage of beams it takes */
     int (*beam)(void *self, const struct app_beam *b);
-    /* d: one sweep; tk: the tracks after it, or NULL when tracking is off */
-    int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk);
+    /* d: one sweep; tk: the tracks after it, or NULL when tracking is off; v: both in both frames */
+    int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
+                      const struct sonar_view *v);
     int (*status)(void *self, const struct app_status *s);
     unsigned long errors; /* failed calls, kept by the app */
     unsigned long n_beams, n_detections, n_statuses; /* calls that succeeded, kept by the app */
@@ -96,6 +109,10 @@ struct app {
     int64_t sweep_t0;
     float last_sweep_s;
     const char *link;
+    struct sonar_pose_ring poses;  /* every pose source's samples (app_pose) */
+    struct sonar_view view;        /* the sweep going to the sinks, in both frames */
+    int pose_state;                /* enum app_pose_state at the latest beam */
+    uint32_t pose_stale;
     float proc_us[APP_PROC_RING];
     float sorted[APP_PROC_RING];
     unsigned long nproc;
@@ -139,6 +156,14 @@ void app_detections(struct app *a, const struct sonar_detections *d);
 void app_forward(struct app *a, const struct app_beam *b);
 void app_emit_status(struct app *a, const struct app_status *s);
 
+/*
+ * One sample of the vehicle's pose from any source (MAVLink, LCM, a pose file, a recording's
+ * rows). Beams look their pose up by time from these (sonar_pose_at), and so do detections.
+ * Returns HOST_OK, or SONAR_ERR_RANGE when the ring refused it (out of order, a jump, a bad
+ * value: counted in the ring, the reason in why when why is not NULL).
+ */
+HOST_CHECK int app_pose(struct app *a, const struct sonar_pose *p, const char **why);
+
 /* Ends the open sweep (end of a recording, shutdown). Returns HOST_OK or a core error. */
 HOST_CHECK int app_finish(struct app *a);
 
@@ -168,6 +193,9 @@ void app_status(struct app *a, int link_state, struct app_status *s);
  * HOST_OK, or HOST_ERR_CONFIG with the failing field in err (the running settings stay).
  */
 HOST_CHECK int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen);
+
+/* Fills s->pose from the app's poses and pipeline. */
+void app_pose_status(const struct app *a, struct app_status *s);
 
 /* Sum of every sink's failed calls. */
 unsigned long app_sink_errors(const struct app *a);

@@ -75,14 +75,15 @@ static int parse_i64(const char *s, int64_t *v)
 }
 
 /* key=value metadata: unknown keys are ignored; a known key must carry a number in its range. */
-static int meta(struct csv_row *row, const char *tok, char *err, size_t errlen)
+static int meta(struct csv_row *row, const char *tok, unsigned *pose_keys, char *err, size_t errlen)
 {
-    static const char *const keys[] = {"range_m", "sample_period", "speed_of_sound", "gain",
-                                       "transmit_duration", "transmit_frequency"};
-    static const double lo[] = {0.0, 0.0, CSV_META_SOS_MIN, 0.0, 0.0, 0.0};
+    static const char *const keys[] = {"range_m", "sample_period", "speed_of_sound", "gain", "transmit_duration",
+                                       "transmit_frequency", "north_m", "east_m", "yaw_deg"};
+    static const double lo[] = {0.0, 0.0, CSV_META_SOS_MIN, 0.0, 0.0, 0.0, -CSV_META_NE_MAX, -CSV_META_NE_MAX,
+                                -CSV_META_YAW_MAX};
     static const double hi[] = {CSV_META_RANGE_MAX, CSV_META_U16_MAX, CSV_META_SOS_MAX, 255.0, CSV_META_U16_MAX,
-                                CSV_META_U16_MAX};
-    double *dst[6];
+                                CSV_META_U16_MAX, CSV_META_NE_MAX, CSV_META_NE_MAX, CSV_META_YAW_MAX};
+    double *dst[9];
     const char *eq = strchr(tok, '=');
     size_t i, klen;
     char *end;
@@ -93,11 +94,14 @@ static int meta(struct csv_row *row, const char *tok, char *err, size_t errlen)
     dst[3] = &row->gain;
     dst[4] = &row->transmit_duration;
     dst[5] = &row->transmit_frequency;
+    dst[6] = &row->north_m;
+    dst[7] = &row->east_m;
+    dst[8] = &row->yaw_deg;
     klen = (size_t)(eq - tok);
-    for (i = 0; i < 6; i++)
+    for (i = 0; i < 9; i++)
         if (strlen(keys[i]) == klen && strncmp(tok, keys[i], klen) == 0)
             break;
-    if (i == 6)
+    if (i == 9)
         return 0;
     v = strtod(eq + 1, &end);
     /* range_m must be > 0; the rest may be 0. NaN fails both comparisons. */
@@ -106,6 +110,8 @@ static int meta(struct csv_row *row, const char *tok, char *err, size_t errlen)
         return -1;
     }
     *dst[i] = v;
+    if (i >= 6)
+        *pose_keys |= 1u << (i - 6);
     return 0;
 }
 
@@ -164,8 +170,8 @@ static const unsigned char char_class[256] = {
     ['4'] = C_DIGIT, ['5'] = C_DIGIT, ['6'] = C_DIGIT, ['7'] = C_DIGIT, ['8'] = C_DIGIT, ['9'] = C_DIGIT};
 
 /* A token that is not a plain number: a stray '...' (skipped), key=value metadata, or an error. */
-static int odd_token(struct csv_row *row, const char *tok, size_t len, unsigned long count, int *in_meta, char *err,
-                     size_t errlen)
+static int odd_token(struct csv_row *row, const char *tok, size_t len, unsigned long count, int *in_meta,
+                     unsigned *pose_keys, char *err, size_t errlen)
 {
     size_t k;
     for (k = 0; k < len && tok[k] == '.'; k++)
@@ -177,7 +183,7 @@ static int odd_token(struct csv_row *row, const char *tok, size_t len, unsigned 
         memcpy(kv, tok, len);
         kv[len] = '\0';
         *in_meta = 1;
-        return meta(row, kv, err, errlen);
+        return meta(row, kv, pose_keys, err, errlen);
     }
     snprintf(err, errlen, "sample %lu '%.*s' is not a number", count + 1, (int)(len > 20 ? 20 : len), tok);
     return -1;
@@ -262,8 +268,11 @@ static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char
     char *rest = line;
     unsigned long count = 0;
     int in_meta = 0;
+    unsigned pose_keys = 0;
     row->range_m = row->sample_period = row->speed_of_sound = -1.0;
     row->gain = row->transmit_duration = row->transmit_frequency = -1.0;
+    row->has_pose = 0;
+    row->north_m = row->east_m = row->yaw_deg = 0.0;
     if (parse_head(&rest, row, err, errlen) != 0)
         return -1;
     if (rest != NULL)
@@ -310,7 +319,7 @@ static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char
         if (cls == C_OTHER) {
             while ((cls = char_class[(unsigned char)*p]) != C_SEP && cls != C_END)
                 p++;
-            if (odd_token(row, tok, (size_t)(p - tok), count, &in_meta, err, errlen) != 0)
+            if (odd_token(row, tok, (size_t)(p - tok), count, &in_meta, &pose_keys, err, errlen) != 0)
                 return -1;
             continue;
         }
@@ -332,6 +341,19 @@ static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char
         snprintf(err, errlen, "no samples");
         return -1;
     }
+    /* Half a pose would put the beam somewhere invented. */
+    if (pose_keys != 0 && pose_keys != 7u) {
+        static const char *const names[3] = {"north_m", "east_m", "yaw_deg"};
+        const char *miss[3];
+        unsigned k, nm = 0;
+        for (k = 0; k < 3; k++)
+            if (!(pose_keys & (1u << k)))
+                miss[nm++] = names[k];
+        snprintf(err, errlen, "metadata north_m, east_m and yaw_deg come together (%s%s%s missing)", miss[0],
+                 nm > 1 ? " and " : "", nm > 1 ? miss[1] : "");
+        return -1;
+    }
+    row->has_pose = pose_keys == 7u;
     if (r->expect_n != 0 && count != r->expect_n) {
         snprintf(err, errlen, "%lu samples, but the file's first row had %u", count, r->expect_n);
         return -1;
@@ -393,6 +415,8 @@ struct csv_meta csv_meta_none(void)
 {
     struct csv_meta m;
     m.range_m = m.gain = m.sample_period = m.transmit_duration = m.transmit_frequency = m.speed_of_sound = -1.0;
+    m.has_pose = 0;
+    m.north_m = m.east_m = m.yaw_deg = 0.0;
     return m;
 }
 
@@ -427,6 +451,9 @@ int csv_write(FILE *f, int64_t sec, uint32_t nsec, uint16_t angle, const uint8_t
             k += (size_t)snprintf(line + k, sizeof(line) - k, ",transmit_frequency=%.0f", meta->transmit_frequency);
         if (meta->speed_of_sound > 0)
             k += (size_t)snprintf(line + k, sizeof(line) - k, ",speed_of_sound=%.1f", meta->speed_of_sound);
+        if (meta->has_pose)
+            k += (size_t)snprintf(line + k, sizeof(line) - k, ",north_m=%.3f,east_m=%.3f,yaw_deg=%.3f", meta->north_m,
+                                  meta->east_m, meta->yaw_deg);
     }
     line[k++] = '\n';
     return fwrite(line, 1, k, f) == k ? HOST_OK : HOST_ERR_IO;

@@ -17,8 +17,9 @@
  *   sec.nsec,angle,...                   timestamp combined
  * An optional header line (first field not a number) is skipped; '...' tokens and '[' ']' are
  * ignored. Fields `key=value` after the samples carry metadata (range_m, sample_period,
- * speed_of_sound, gain, transmit_duration, transmit_frequency); unknown keys are ignored, and a
- * known key with a value outside its range (CSV_META_* below) rejects the row.
+ * speed_of_sound, gain, transmit_duration, transmit_frequency, and the vehicle's pose at the beam:
+ * north_m, east_m, yaw_deg, all three or none); unknown keys are ignored, and a known key with a
+ * value outside its range (CSV_META_* below) rejects the row.
  * Seconds are bounded to +-CSV_MAX_SEC so that sec * 10^6 + nsec / 1000 fits an int64_t.
  * docs/csv-contract.md states the reader's guarantees.
  */
@@ -27,6 +28,8 @@
 #define CSV_META_SOS_MIN 1000.0      /* speed_of_sound, m/s: 1000..2000 */
 #define CSV_META_SOS_MAX 2000.0
 #define CSV_META_U16_MAX 65535.0     /* sample_period, transmit_duration, transmit_frequency: 0..65535 */
+#define CSV_META_NE_MAX 1.0e6        /* north_m, east_m: -10^6..10^6 metres (SONAR_POSE_COORD_MAX) */
+#define CSV_META_YAW_MAX 360.0       /* yaw_deg: -360..360 degrees clockwise from north */
 struct csv_row {
     int64_t sec;
     uint32_t nsec;
@@ -35,6 +38,8 @@ struct csv_row {
     uint8_t samples[SONAR_MAX_SAMPLES];
     /* metadata, < 0 when absent */
     double range_m, sample_period, speed_of_sound, gain, transmit_duration, transmit_frequency;
+    int has_pose; /* north_m, east_m and yaw_deg were all given */
+    double north_m, east_m, yaw_deg;
 };
 
 struct csv_reader {
@@ -66,6 +71,8 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
 /* Metadata written after the study's four columns; a value < 0 is left out. */
 struct csv_meta {
     double range_m, gain, sample_period, transmit_duration, transmit_frequency, speed_of_sound;
+    int has_pose; /* 1: write north_m, east_m, yaw_deg */
+    double north_m, east_m, yaw_deg;
 };
 
 /* A csv_meta with every field absent. */

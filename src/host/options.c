@@ -133,6 +133,8 @@ static const struct opt_spec spec[] = {
     SECTION("replay"),
     {"replay", "FILE", OPT_STR, 0, 0, F(replay), 0, 0, "file, - for stdin", NULL,
      "process a recording in the study's CSV form instead of a live sonar", NULL, NULL},
+    {"pose", "FILE", OPT_STR, 0, 0, F(pose_file), 0, 0, "file", "the rows' north_m= east_m= yaw_deg=",
+     "the vehicle's poses for --replay: a CSV with the header\nutime_us,north_m,east_m,yaw_deg (docs/architecture.md, frames)", NULL, NULL},
     {"stage", "S", OPT_CHOICE, 1, 0, F(stage), 0, 0, "raw, median or foreground", "foreground",
      "replay --csv-out: export after this stage", "raw=0|median=1|foreground=2", NULL},
     SECTION("geometry"),
@@ -206,7 +208,7 @@ static const struct opt_spec spec[] = {
 
 static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "sonard"};
 
-SONAR_STATIC_ASSERT(sizeof(spec) / sizeof(spec[0]) <= 64, given_bits_fit);
+SONAR_STATIC_ASSERT(sizeof(spec) / sizeof(spec[0]) <= OPT_GIVEN_ROWS, given_bits_fit);
 
 const struct opt_schema *options_schema(void) { return &schema; }
 
@@ -240,8 +242,12 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     const char *why;
     int bgw = opt_find(&schema, "bg-warmup");
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
-    if (!(o->given & ((uint64_t)1 << bgw)))
+    if (bgw < 0 || !opt_was_given(&o->given, (size_t)bgw))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
+    if (o->pose_file != NULL && o->replay == NULL) {
+        snprintf(err, errlen, "--pose FILE.csv goes with --replay: a live vehicle's pose comes from its autopilot");
+        return HOST_ERR_CONFIG;
+    }
     if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1) {
         snprintf(err, errlen, "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");
         return HOST_ERR_CONFIG;

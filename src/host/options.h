@@ -14,6 +14,7 @@
 
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
+    const char *pose_file;      /* replay: the vehicle's poses, utime_us,north_m,east_m,yaw_deg */
     const char *sonar;          /* live: serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT */
     const char *coprocessor;    /* the firmware's host link, same URL forms */
     long coproc_beams;          /* ask the firmware for every Nth raw beam; 0 = none */
@@ -31,7 +32,7 @@ struct sonard_options {
     int no_lcm;
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
-    uint64_t given;             /* one bit per schema row applied (file or command line) */
+    struct opt_given given;     /* one bit per schema row applied (file or command line) */
     const char *configs[OPTIONS_MAX_CONFIGS]; /* --config files in order, re-read on SIGHUP */
     int nconfigs;
     char pool[8192];            /* values read from config files; string fields may point into it */

@@ -51,7 +51,12 @@ static int choice(const struct opt_spec *o, const char *v, uint8_t *out, char *e
     return HOST_ERR_CONFIG;
 }
 
-int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, uint64_t *given, char *err, size_t errlen)
+int opt_was_given(const struct opt_given *g, size_t i)
+{
+    return i < OPT_GIVEN_ROWS && ((g->w[i / 64] >> (i % 64)) & 1u) != 0;
+}
+
+int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, struct opt_given *given, char *err, size_t errlen)
 {
     const struct opt_spec *o = &s->spec[i];
     char *field = (char *)base + o->offset, *end;
@@ -86,8 +91,8 @@ int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, u
     case OPT_CUSTOM: r = o->parse(base, v, err, errlen); break;
     default: break;
     }
-    if (r == HOST_OK && given != NULL && i < 64)
-        *given |= (uint64_t)1 << i;
+    if (r == HOST_OK && given != NULL && i < OPT_GIVEN_ROWS)
+        given->w[i / 64] |= (uint64_t)1 << (i % 64);
     return r;
 }
 
@@ -105,7 +110,7 @@ static char *strip(char *s)
 static int is_true(const char *v) { return !strcmp(v, "true") || !strcmp(v, "yes") || !strcmp(v, "1"); }
 static int is_false(const char *v) { return !strcmp(v, "false") || !strcmp(v, "no") || !strcmp(v, "0"); }
 
-int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint64_t *given, char *pool, size_t cap,
+int opt_read_file(const struct opt_schema *s, const char *path, void *base, struct opt_given *given, char *pool, size_t cap,
                   size_t *used, char *err, size_t errlen)
 {
     struct stat st;
@@ -126,7 +131,7 @@ int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint
     return r;
 }
 
-int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, uint64_t *given, char *pool,
+int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, struct opt_given *given, char *pool,
                     size_t cap, size_t *used, char *err, size_t errlen)
 {
     char line[512], msg[256];
@@ -194,7 +199,7 @@ int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void 
     return r;
 }
 
-int opt_parse_argv(const struct opt_schema *s, int argc, char **argv, void *base, uint64_t *given, int *action,
+int opt_parse_argv(const struct opt_schema *s, int argc, char **argv, void *base, struct opt_given *given, int *action,
                    char *err, size_t errlen)
 {
     int a;

@@ -38,7 +38,16 @@ struct opt_spec {
     int (*parse)(void *base, const char *v, char *err, size_t errlen);
 };
 
-/* The table and the struct it fills. given: one bit per table row (rows < 64) set when the option is applied. */
+/* One bit per table row (rows < OPT_GIVEN_ROWS), set when the option is applied. */
+#define OPT_GIVEN_ROWS 128
+struct opt_given {
+    uint64_t w[OPT_GIVEN_ROWS / 64];
+};
+
+/* Whether row i was applied. */
+int opt_was_given(const struct opt_given *g, size_t i);
+
+/* The table and the struct it fills. */
 struct opt_schema {
     const struct opt_spec *spec;
     size_t count;      /* rows, at most 64 */
@@ -49,7 +58,7 @@ struct opt_schema {
  * Applies value v (NULL for a flag given on the command line) of row i to base. Returns HOST_OK or
  * HOST_ERR_CONFIG with err naming the option, the value, the range and its unit.
  */
-HOST_CHECK int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, uint64_t *given, char *err,
+HOST_CHECK int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, struct opt_given *given, char *err,
                          size_t errlen);
 
 /* The row of a name, or -1. */
@@ -60,11 +69,11 @@ int opt_find(const struct opt_schema *s, const char *name);
  * *used carried across files) so string fields can point at them. Returns HOST_OK, HOST_ERR_IO
  * (err: "--config PATH: reason"), or HOST_ERR_CONFIG (err: "PATH:LINE: what is wrong").
  */
-HOST_CHECK int opt_read_file(const struct opt_schema *s, const char *path, void *base, uint64_t *given, char *pool,
+HOST_CHECK int opt_read_file(const struct opt_schema *s, const char *path, void *base, struct opt_given *given, char *pool,
                              size_t cap, size_t *used, char *err, size_t errlen);
 
 /* The same over an open stream (not closed); path names it in messages. */
-HOST_CHECK int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, uint64_t *given,
+HOST_CHECK int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void *base, struct opt_given *given,
                                char *pool, size_t cap, size_t *used, char *err, size_t errlen);
 
 /*
@@ -72,7 +81,7 @@ HOST_CHECK int opt_read_stream(const struct opt_schema *s, FILE *f, const char *
  * reported through *action (the row index; -1 when none) and parsing stops there, except "config"
  * rows, which are skipped (the caller reads files first). Returns HOST_OK or HOST_ERR_CONFIG.
  */
-HOST_CHECK int opt_parse_argv(const struct opt_schema *s, int argc, char **argv, void *base, uint64_t *given,
+HOST_CHECK int opt_parse_argv(const struct opt_schema *s, int argc, char **argv, void *base, struct opt_given *given,
                               int *action, char *err, size_t errlen);
 
 /* --help: sections, options, value, help, range and default, from the table. */

@@ -5,6 +5,7 @@
 #include <stdio.h>
 
 #include "sonar/detector.h"
+#include "sonar/pipeline.h"
 #include "sonar/tracker.h"
 
 /*
@@ -12,9 +13,9 @@
  * "tracks":[{"id","state","x_m","y_m","vx_mps","vy_mps","age","hits","detection"}]} and a newline;
  * "tracks" only when tk is not NULL.
  */
-int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk);
+int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v);
 
 /* One line per sweep, one per detection and one per track (tk may be NULL). */
-int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk);
+int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v);
 
 #endif

@@ -32,13 +32,18 @@ static int lcm_beam(void *self, const struct app_beam *b)
     m.speed_of_sound = b->speed_of_sound;
     m.range_m = b->range_m;
     m.stage = (int8_t)b->stage;
+    m.has_pose = (int8_t)b->has_pose;
+    m.north_m = b->has_pose ? b->north_m : 0.0f;
+    m.east_m = b->has_pose ? b->east_m : 0.0f;
+    m.yaw_deg = b->has_pose ? b->yaw_deg : 0.0f;
     m.number_of_samples = (int16_t)b->n;
     m.samples = (uint8_t *)(uintptr_t)b->samples; /* encode only reads it */
     return lcm_send(s, b->stage == SONAR_STAGE_RAW ? s->beam : s->filtered,
                     sonar_beam_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 
-static int lcm_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk)
+static int lcm_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
+                          const struct sonar_view *v)
 {
     struct sink_lcm *s = self;
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
@@ -46,11 +51,11 @@ static int lcm_detections(void *self, const struct sonar_detections *d, const st
     sonar_track_t trk[SONAR_MAX_TRACKS];
     sonar_tracks_t t;
     int r;
-    msg_detections(d, det, &m);
+    msg_detections(d, v, det, &m);
     r = lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
     if (r != HOST_OK || tk == NULL)
         return r;
-    msg_tracks(tk, d, trk, &t);
+    msg_tracks(tk, d, v, trk, &t);
     return lcm_send(s, s->tracks, sonar_tracks_t_encode(s->buf, 0, (int)sizeof(s->buf), &t));
 }
 
@@ -88,6 +93,14 @@ static int lcm_status(void *self, const struct app_status *st)
     m.track_bad_detections = st->tracker.bad_detections;
     m.track_clock_back = st->tracker.clock_back;
     m.track_overflow = st->tracker.overflow;
+    m.pose_state = (int8_t)st->pose.state;
+    m.pose_accepted = st->pose.accepted;
+    m.pose_out_of_order = st->pose.out_of_order;
+    m.pose_jumps = st->pose.jumps;
+    m.pose_bad = st->pose.bad;
+    m.pose_stale = st->pose.stale;
+    m.world_sweeps = st->pose.world_sweeps;
+    m.body_sweeps = st->pose.body_sweeps;
     return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 
@@ -144,6 +157,10 @@ static int csv_beam(void *self, const struct app_beam *b)
     m.transmit_duration = b->transmit_duration;
     m.transmit_frequency = b->transmit_frequency;
     m.speed_of_sound = (double)b->speed_of_sound;
+    m.has_pose = b->has_pose;
+    m.north_m = (double)b->north_m;
+    m.east_m = (double)b->east_m;
+    m.yaw_deg = (double)b->yaw_deg;
     /* floor division: a timestamp before the epoch still gives nsec in 0..999999999 */
     return csv_write(s->f, b->utime / 1000000 - (b->utime % 1000000 < 0),
                      (uint32_t)((b->utime % 1000000 + 1000000) % 1000000) * 1000u, b->angle, b->samples, b->n, &m) == 0
@@ -161,10 +178,11 @@ void sink_csv_init(struct sink_csv *s, FILE *f, int stage)
     s->sink.beam = csv_beam;
 }
 
-static int report_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk)
+static int report_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
+                             const struct sonar_view *v)
 {
     struct sink_report *s = self;
-    int r = s->json ? report_json(s->f, d, tk) : report_text(s->f, d, tk);
+    int r = s->json ? report_json(s->f, d, tk, v) : report_text(s->f, d, tk, v);
     return r == 0 && fflush(s->f) == 0 ? HOST_OK : HOST_ERR_IO;
 }
 

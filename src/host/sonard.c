@@ -26,6 +26,7 @@ struct sonard {
     struct source_link link;
     struct source_coproc coproc;
     struct source_replay replay;
+    struct posefile pose;
     FILE *csv_out;
     int have_lcm;
 };
@@ -176,6 +177,11 @@ static int run_replay(struct sonard *s)
     else if (s->app.rows_bad)
         fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)s->app.rows_bad);
     source_replay_close(&s->replay);
+    if (s->replay.pose != NULL) {
+        if (s->pose.bad)
+            fprintf(stderr, "sonard: --pose %s: %lu rows skipped\n", s->opt.pose_file, s->pose.bad);
+        posefile_close(&s->pose);
+    }
     return used == 0 ? 1 : 0;
 }
 
@@ -211,6 +217,12 @@ int main(int argc, char **argv)
                HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         return 2;
+    } else if (s.opt.pose_file != NULL) {
+        if (posefile_open(&s.pose, s.opt.pose_file, err, sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: --pose %s\n", err);
+            return 2;
+        }
+        s.replay.pose = &s.pose;
     }
     if (app_init(&s.app, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock, (float)s.opt.speed_of_sound,
                  s.opt.sweeps, err, sizeof(err)) != HOST_OK ||

@@ -145,6 +145,7 @@ static void on_status(struct source_coproc *s, const sonar_status_t *m)
     /* The link's own health, as the host sees it, rides in the counters the firmware leaves free. */
     st.rows_bad = s->parser.counters.crc_errors + s->decode_errors;
     st.sink_errors = (uint32_t)m->sink_errors + (uint32_t)app_sink_errors(s->app);
+    app_pose_status(s->app, &st); /* the pose is the host's own */
     app_emit_status(s->app, &st);
 }
 
@@ -210,6 +211,8 @@ static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int6
         b.speed_of_sound = m.speed_of_sound;
         b.range_m = m.range_m;
         b.stage = SONAR_STAGE_RAW;
+        b.has_pose = 0;
+        b.north_m = b.east_m = b.yaw_deg = 0.0f;
         b.samples = m.samples;
         app_forward(s->app, &b);
         sonar_beam_t_decode_cleanup(&m);

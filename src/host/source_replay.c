@@ -15,6 +15,7 @@ int source_replay_open(struct source_replay *r, const char *path, double range_m
     }
     r->range_m = range_m;
     r->speed_of_sound = speed_of_sound;
+    r->pose = NULL;
     return HOST_OK;
 }
 
@@ -23,6 +24,7 @@ void source_replay_stream(struct source_replay *r, FILE *f, const char *name, do
     csv_open_stream(&r->csv, f, name);
     r->range_m = range_m;
     r->speed_of_sound = speed_of_sound;
+    r->pose = NULL;
 }
 
 /* Range of a row: --range, else the row's range_m or sample_period metadata, else 2 m. */
@@ -68,7 +70,14 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
         b.speed_of_sound = (float)c;
         b.range_m = row_range(r, c);
         b.stage = SONAR_STAGE_RAW;
+        /* A pose file, when given, says where the vehicle was; else the row's own pose, if any. */
+        b.has_pose = (uint8_t)(r->pose == NULL && w->has_pose);
+        b.north_m = (float)w->north_m;
+        b.east_m = (float)w->east_m;
+        b.yaw_deg = (float)w->yaw_deg;
         b.samples = w->samples;
+        if (r->pose != NULL)
+            posefile_feed(r->pose, a, b.utime + SONAR_POSE_STALE_US, errf);
         if ((pr = app_push(a, &b)) != HOST_OK) {
             a->rows_bad++;
             if (errf != NULL)

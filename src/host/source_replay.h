@@ -6,12 +6,14 @@
 
 #include "app.h"
 #include "csv.h"
+#include "posefile.h"
 
 struct source_replay {
     struct csv_reader csv;
     struct csv_row row;
     double range_m;        /* > 0: overrides the rows' metadata */
     double speed_of_sound; /* m/s, when a row does not say */
+    struct posefile *pose; /* --pose FILE, read ahead of each beam, or NULL: the rows' own poses */
 };
 
 /* path: a file or "-". Returns HOST_OK or HOST_ERR_IO with "PATH: reason" in err. */

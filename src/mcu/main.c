@@ -72,7 +72,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
     sonar_detections_t m;
     f->sweeps++;
-    msg_detections(d, det, &m);
+    msg_detections(d, NULL, det, &m); /* the vehicle's pose is the host's */
     host_send(f, SONAR_CPF_DETECTIONS, sonar_detections_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
@@ -88,6 +88,8 @@ static void forward_beam(struct fw *f, const struct sonar_ping360_data *d, float
     m.speed_of_sound = f->dcfg.speed_of_sound;
     m.range_m = range_m;
     m.stage = SONAR_STAGE_RAW;
+    m.has_pose = 0; /* the vehicle's pose is the host's: it fills these in when it records the beam */
+    m.north_m = m.east_m = m.yaw_deg = 0.0f;
     m.number_of_samples = (int16_t)d->data_length;
     m.samples = (uint8_t *)(uintptr_t)d->data;
     host_send(f, SONAR_CPF_BEAM, sonar_beam_t_encode(MSG(f), 0, MSG_CAP, &m));

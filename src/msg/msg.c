@@ -3,7 +3,8 @@
 
 #include <string.h>
 
-void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, sonar_detections_t *m)
+void msg_detections(const struct sonar_detections *d, const struct sonar_view *v, sonar_detection_t *det,
+                    sonar_detections_t *m)
 {
     unsigned i;
     for (i = 0; i < d->count; i++) {
@@ -16,6 +17,9 @@ void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, so
         det[i].area_m2 = o->area_m2;
         det[i].points = (int32_t)o->points;
         det[i].mean_intensity = o->mean_intensity;
+        det[i].world = (int8_t)(v != NULL && v->det_world[i]);
+        det[i].north_m = det[i].world ? v->det_north[i] : 0.0f;
+        det[i].east_m = det[i].world ? v->det_east[i] : 0.0f;
         det[i].hull_count = o->hull_count;
         det[i].hull_x = (float *)(uintptr_t)o->hull_x; /* encode only reads them */
         det[i].hull_y = (float *)(uintptr_t)o->hull_y;
@@ -27,6 +31,10 @@ void msg_detections(const struct sonar_detections *d, sonar_detection_t *det, so
     m->runs = (int16_t)d->runs;
     m->groups = (int16_t)d->groups;
     m->count = d->count;
+    m->world = (int8_t)(v != NULL && v->world);
+    m->north_m = v != NULL && v->have_pose ? v->pose.north_m : 0.0f;
+    m->east_m = v != NULL && v->have_pose ? v->pose.east_m : 0.0f;
+    m->yaw_deg = v != NULL && v->have_pose ? v->pose.yaw_deg : 0.0f;
     m->detections = det;
 }
 
@@ -41,6 +49,7 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
     d->runs = (uint16_t)(m->runs < 0 ? 0 : m->runs);
     d->groups = (uint16_t)(m->groups < 0 ? 0 : m->groups);
     d->count = (uint8_t)(m->count < 0 ? 0 : m->count > SONAR_MAX_CLUSTERS ? SONAR_MAX_CLUSTERS : m->count);
+    /* The sweep's frame and pose are the receiver's to decide (sonar_pipeline_track locates again). */
     for (i = 0; i < d->count; i++) {
         const sonar_detection_t *o = &m->detections[i];
         struct sonar_detection *t = &d->det[i];
@@ -65,7 +74,8 @@ static int16_t to_i16(uint16_t v)
     return (int16_t)(v > 32767u ? 32767u : v);
 }
 
-void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, sonar_track_t *t, sonar_tracks_t *m)
+void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct sonar_view *v,
+                sonar_track_t *t, sonar_tracks_t *m)
 {
     unsigned i;
     for (i = 0; i < tk->n; i++) {
@@ -73,10 +83,15 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].id = (int32_t)(s->id > 2147483647u ? 2147483647u : s->id);
         t[i].state = (int8_t)s->state;
         t[i].utime = s->utime;
-        t[i].x_m = s->px;
-        t[i].y_m = s->py;
-        t[i].vx_mps = s->vx;
-        t[i].vy_mps = s->vy;
+        t[i].world = (int8_t)(v != NULL && v->world);
+        t[i].x_m = t[i].world ? v->trk_x[i] : s->px;
+        t[i].y_m = t[i].world ? v->trk_y[i] : s->py;
+        t[i].vx_mps = t[i].world ? v->trk_vx[i] : s->vx;
+        t[i].vy_mps = t[i].world ? v->trk_vy[i] : s->vy;
+        t[i].north_m = t[i].world ? s->px : 0.0f;
+        t[i].east_m = t[i].world ? s->py : 0.0f;
+        t[i].vn_mps = t[i].world ? s->vx : 0.0f;
+        t[i].ve_mps = t[i].world ? s->vy : 0.0f;
         /* Both axes share one covariance (tracker.h): the 2 x 2 position block is pa I. */
         t[i].cov_xx = s->pa;
         t[i].cov_xy = 0.0f;
