@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const struct opt_spec *p = &s->spec[i];
         const char *field = (const char *)&o + p->offset;
         double v;
-        if (!(o.given & ((uint64_t)1 << i)) || p->type < OPT_LONG || p->type > OPT_F64)
+        if (!opt_was_given(&o.given, i) || p->type < OPT_LONG || p->type > OPT_F64)
             continue;
         v = p->type == OPT_LONG ? (double)*(const long *)(const void *)field
           : p->type == OPT_U8 ? (double)*(const uint8_t *)field
