@@ -210,7 +210,7 @@ int main(int argc, char **argv)
         static struct sonar_tracker tk0, tk;
         struct sonar_tracker_config tc;
         struct sonar_tracker_obs ob[16];
-        struct sonar_tracker_sweep tsw = {0, 400, NULL, 0.0f, 50.0f};
+        struct sonar_tracker_sweep tsw = {0, 400, NULL, 0.0f, 50.0f, 0.0f, 0.0f};
         double t_trk[REPS];
         int s2, k2, rep;
         sonar_tracker_defaults(&tc);
