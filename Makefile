@@ -26,17 +26,17 @@ HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/repo
             src/host/posefile.c src/host/pvbin.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
-            $(BUILD)/host/source_coproc.o
+            $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose pipeline csv posefile options
-UNIT_LIVE = app sinks
+UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options
+UNIT_LIVE = app sinks mav
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
@@ -52,6 +52,23 @@ $(BUILD)/core/%.o: src/core/%.c
 $(BUILD)/host/%.o: src/host/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -c $< -o $@
+
+# MAVLink: C headers generated at build time by a pinned pymavlink's mavgen from its ardupilotmega
+# dialect (header-only; sonard uses the *_pack_status and frame_char_buffer forms, no globals).
+MAVLINK_GEN = $(BUILD)/mavlink/ardupilotmega/mavlink.h
+.venv-mavlink/.done: tools/requirements-mavlink.txt
+	python3 -m venv .venv-mavlink && .venv-mavlink/bin/pip install -q -r tools/requirements-mavlink.txt && touch $@
+$(MAVLINK_GEN): .venv-mavlink/.done
+	rm -rf $(BUILD)/mavlink
+	@mkdir -p $(BUILD)
+	@.venv-mavlink/bin/python -c 'import os, sys, pymavlink; from pymavlink.generator import mavgen; \
+	  xml = os.path.join(os.path.dirname(pymavlink.__file__), "dialects", "v20", "ardupilotmega.xml"); \
+	  o = mavgen.Opts("$(BUILD)/mavlink", wire_protocol="2.0", language="C", validate=True); \
+	  sys.exit(0 if mavgen.mavgen(o, [xml]) else 1)' > $(BUILD)/mavgen.log 2>&1 || { cat $(BUILD)/mavgen.log; exit 1; }
+	@test -f $@ && echo "mavgen: $(BUILD)/mavlink from pymavlink $$(.venv-mavlink/bin/python -c 'import importlib.metadata as m; print(m.version("pymavlink"))') (ardupilotmega, MAVLink 2)"
+$(BUILD)/host/mav.o: src/host/mav.c $(MAVLINK_GEN)
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -c $< -o $@
 
 # LCM types: C (no pubsub: encode only, no heap), Python (log decoding), Java (lcm-spy, `make spy`).
 # lcm-gen 1.3.1 exits 0 when it fails to write, so the outputs are checked.
@@ -87,9 +104,10 @@ $(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a \
+                     $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/pvbin2csv: tools/pvbin2csv.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
@@ -102,7 +120,7 @@ $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 # The app core and the sinks are tested with the live objects and the generated LCM types.
 $(UNIT_LIVE:%=$(BUILD)/tests/test_%): $(BUILD)/tests/test_%: tests/test_%.c $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(TEST_CFLAGS) -I$(BUILD)/lcm/c $(INPUTS) -o $@ -lcmocka -llcm $(LDLIBS)
+	$(CC) $(TEST_CFLAGS) -I$(BUILD)/lcm/c -isystem $(BUILD)/mavlink $(INPUTS) -o $@ -lcmocka -llcm $(LDLIBS)
 
 $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
@@ -110,7 +128,8 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live soak mcu-test realdata crosscheck check-noheap $(BUILD)/bench $(BUILD)/bench_opencv
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink soak mcu-test realdata crosscheck check-noheap \
+	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
 	@set -e; for t in $(UNIT_BIN); do echo "== $$t"; $$t; done
@@ -165,6 +184,10 @@ e2e: all
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all
 	@sh tests/live.sh $(BUILD)
+
+## mavlink: sonard --mavlink live over loopback UDP, decoded by pinned pymavlink (.venv-mavlink): HEARTBEAT, OBSTACLE_DISTANCE against the simulated walls, OBSTACLE_DISTANCE_3D, poses from sonar-feed's autopilot, junk traffic
+mavlink: all .venv-mavlink/.done
+	@sh tests/mavlink.sh $(BUILD)
 
 ## crosscheck: Blue Robotics' own Python client (bluerobotics-ping, in .venv-brping) against sonar-feed over UDP
 crosscheck: all .venv-brping/.done
@@ -255,7 +278,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose pipeline
+MCU_UNIT = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
 	@mkdir -p $(dir $@)
 	$(ARM_CC) -std=c99 -Wall -Wextra -Werror -Wshadow $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/core -Wl,--defsym=STACK_SIZE=0x20000 \
@@ -312,7 +335,7 @@ $(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
 
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev build-mcu-* .venv .venv-brping
+	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev build-mcu-* .venv .venv-brping .venv-mavlink
 
 ## help: this list
 help:

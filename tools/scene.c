@@ -295,8 +295,11 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
     int beams = 0;
     while (scene_angle(s, 1, beams) >= 0)
         beams++;
-    fprintf(f, "{\"scene\":\"%s\",\"range_m\":%.3f,\"samples\":%d,\"beams_per_sweep\":%d,\"sweeps\":[", s->name,
+    fprintf(f, "{\"scene\":\"%s\",\"range_m\":%.3f,\"samples\":%d,\"beams_per_sweep\":%d,\"walls\":[", s->name,
             s->range_m, s->samples, beams);
+    for (k = 0; k < s->nwall; k++)
+        fprintf(f, "%s[%.3f,%.3f,%.3f,%.3f]", k ? "," : "", s->wall[k].x0, s->wall[k].y0, s->wall[k].x1, s->wall[k].y1);
+    fputs("],\"sweeps\":[", f);
     for (sweep = 0; sweep < sweeps; sweep++) {
         int first = 1;
         fprintf(f, "%s{\"sweep\":%d,\"objects\":[", sweep ? "," : "", sweep);

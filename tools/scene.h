@@ -92,7 +92,7 @@ struct scene_seen {
 };
 
 /*
- * The truth file: {"scene","range_m","samples","beams_per_sweep","sweeps":[{"sweep","objects":
+ * The truth file: {"scene","range_m","samples","beams_per_sweep","walls":[[x0,y0,x1,y1]],"sweeps":[{"sweep","objects":
  * [{"id","x","y","radius","t_us","vx","vy"[,"bx","by"]}],"hidden":[{"id","x","y","t_us"}]}]}: x, y, vx,
  * vy in the scene's frame (the world when the vehicle moves, with bx, by in the sonar's); "objects" are the
  * visible ones (what a detector can find); "hidden" are in range but unseen that sweep (faded, or

@@ -1,4 +1,4 @@
-/* sonar_feed.c -- a simulated Ping360: serves a scene or a CSV recording over TCP, UDP or a pty, answers the protocol like the device, injects faults. */
+/* sonar_feed.c -- a simulated Ping360: serves a scene or a CSV recording over TCP, UDP or a pty, answers the protocol like the device, injects faults; with a moving vehicle, sends its autopilot's ATTITUDE and LOCAL_POSITION_NED over MAVLink. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <fcntl.h>
@@ -18,6 +18,7 @@
 
 #include "csv.h"
 #include "optschema.h"
+#include "ardupilotmega/mavlink.h"
 #include "scene.h"
 #include "sonar/geometry.h"
 #include "sonar/ping.h"
@@ -80,6 +81,13 @@ struct feed {
     long beams_intact; /* beam replies sent whole and uncorrupted */
     long last_fault;   /* reply number of the last periodic stall (it is not counted twice) */
     FILE *log;
+    /* the vehicle's autopilot (--mavlink udpout:HOST:PORT): a pose every 50 ms */
+    const char *mavlink;
+    int mfd;
+    mavlink_status_t mstatus;
+    double scene_t0;    /* when the first beam was served: the scene's clock starts then (a vehicle's path is timed) */
+    double next_pose;
+    long poses_sent;
 };
 
 static volatile sig_atomic_t quit;
@@ -160,7 +168,14 @@ static void render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16
         double range = sonar_geometry_range_m(f->sp, f->n, f->c);
         /* The scene's clock: sweeps of 400 beams at the feed's own pace are not modelled; timed
            objects move with the sweep count at a nominal 10 s a sweep. */
-        scene_beam(&f->scene, (int)f->sweep.index, 10.0 * (double)f->sweep.index, a, range, f->n, &f->rng, out);
+        double t = 10.0 * (double)f->sweep.index;
+        if (f->scene.veh.nwp > 0) {
+            /* A moving vehicle: the scene runs on the wall clock from the first beam, as its autopilot's poses do. */
+            if (f->scene_t0 == 0.0)
+                f->scene_t0 = now_s();
+            t = now_s() - f->scene_t0;
+        }
+        scene_beam(&f->scene, (int)f->sweep.index, t, a, range, f->n, &f->rng, out);
         *n = f->n;
         *sp = f->sp;
     } else {
@@ -179,6 +194,50 @@ static void render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16
         if (sonar_geometry_sample_period(r->range_m, r->n, f->c, sp) != SONAR_OK)
             *sp = f->sp; /* a range the device could not do: report the requested period */
     }
+}
+
+/* The autopilot: ATTITUDE and LOCAL_POSITION_NED of the scene's vehicle now, as system 1, component 1. */
+static void send_pose(struct feed *f)
+{
+    mavlink_message_t msg;
+    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
+    double n, e, yaw, t = f->scene_t0 > 0.0 ? now_s() - f->scene_t0 : 0.0;
+    uint32_t ms = (uint32_t)(t * 1000.0);
+    uint16_t len;
+    scene_vehicle_at(&f->scene, t, &n, &e, &yaw);
+    mavlink_msg_attitude_pack_status(1, MAV_COMP_ID_AUTOPILOT1, &f->mstatus, &msg, ms, 0.0f, 0.0f,
+                                     (float)((yaw > 180.0 ? yaw - 360.0 : yaw) * 3.14159265358979323846 / 180.0), 0.0f,
+                                     0.0f, 0.0f);
+    len = mavlink_msg_to_send_buffer(buf, &msg);
+    if (send(f->mfd, buf, len, MSG_DONTWAIT) == (ssize_t)len)
+        f->poses_sent++;
+    mavlink_msg_local_position_ned_pack_status(1, MAV_COMP_ID_AUTOPILOT1, &f->mstatus, &msg, ms, (float)n, (float)e,
+                                               0.0f, 0.0f, 0.0f, 0.0f);
+    len = mavlink_msg_to_send_buffer(buf, &msg);
+    (void)send(f->mfd, buf, len, MSG_DONTWAIT); /* best effort, like a telemetry link */
+}
+
+static int open_mavlink(struct feed *f)
+{
+    struct sockaddr_in a;
+    char host[64];
+    int port;
+    if (sscanf(f->mavlink, "udpout:%63[^:]:%d", host, &port) != 2 || port <= 0 || port > 65535) {
+        fprintf(stderr, "sonar_feed: --mavlink %s: udpout:HOST:PORT\n", f->mavlink);
+        return -1;
+    }
+    memset(&a, 0, sizeof(a));
+    a.sin_family = AF_INET;
+    a.sin_port = htons((uint16_t)port);
+    if (inet_pton(AF_INET, host, &a.sin_addr) != 1 || ntohl(a.sin_addr.s_addr) >> 24 != 127) {
+        fprintf(stderr, "sonar_feed: --mavlink %s: a loopback address (127.x.x.x)\n", f->mavlink);
+        return -1;
+    }
+    if ((f->mfd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0)) < 0 || connect(f->mfd, (struct sockaddr *)&a, sizeof(a)) != 0) {
+        perror("sonar_feed: --mavlink");
+        return -1;
+    }
+    return 0;
 }
 
 static void queue(struct feed *f, uint16_t id, const uint8_t *payload, uint16_t len, double delay)
@@ -549,7 +608,7 @@ static int parse_pace(void *base, const char *v, char *err, size_t n)
 static const struct opt_spec feed_spec[] = {
     {"device", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
     {"listen", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "tcp:HOST:PORT | udp:HOST:PORT | pty:PATH", NULL, "where to act as a Ping360 (loopback only)", NULL, parse_listen},
-    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool or open", NULL, "a simulated scene", NULL, NULL},
+    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool, open, moving, sector or vehicle", NULL, "a simulated scene", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
     {"pace", "device|fast", OPT_CUSTOM, 0, 0, 0, 0, 0, "device or fast", "device", "device: 19.4 ms + 6 ms a gradian + 2R/c a beam", NULL, parse_pace},
@@ -559,6 +618,8 @@ static const struct opt_spec feed_spec[] = {
     {"max-seconds", "T", OPT_F64, 0, 0, FO(max_s), 0.1, 1e7, "seconds", "600", "exit after T", NULL, NULL},
     {"exit-after-motor-off", NULL, OPT_FLAG, 0, 0, FO(exit_after_motor_off), 0, 0, NULL, "off", "exit 0.3 s after motor_off", NULL, NULL},
     {"max-beams", "N", OPT_LONG, 0, 0, FO(max_beams), 1, 1e12, "beams", "no limit", "exit after N beams sent intact (soak)", NULL, NULL},
+    {"mavlink", "URL", OPT_STR, 0, 0, FO(mavlink), 0, 0, "udpout:127.x.x.x:PORT", NULL,
+     "a moving scene's autopilot: ATTITUDE and LOCAL_POSITION_NED at 20 Hz", NULL, NULL},
     {"faults", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
     {"drop", "P", OPT_F64, 0, 0, FO(drop), 0, 1, "probability", "0", "drop a reply", NULL, NULL},
     {"drop-at", "N", OPT_LONG, 0, 0, FO(drop_at), 1, 1e12, "replies", NULL, "drop reply N", NULL, NULL},
@@ -614,13 +675,16 @@ int main(int argc, char **argv)
     }
     if (scene != NULL) {
         if (scene_make(&f.scene, scene) != 0) {
-            fprintf(stderr, "sonar_feed: --scene: '%s' is not pool or open\n", scene);
+            fprintf(stderr, "sonar_feed: --scene: '%s' is not pool, open, moving, sector or vehicle\n", scene);
             return 2;
         }
         f.use_scene = 1;
     } else if (load_csv(&f.rec, csv, range) != 0) {
         return 2;
     }
+    f.mfd = -1;
+    if (f.mavlink != NULL && open_mavlink(&f) != 0)
+        return 2;
     if (f.log_path != NULL && (f.log = fopen(f.log_path, "w")) == NULL) {
         perror(f.log_path);
         return 2;
@@ -642,7 +706,16 @@ int main(int argc, char **argv)
         double now = now_s();
         if (now - t0 > f.max_s || (f.stop_after && now > f.stop_at) || (f.max_beams > 0 && f.beams_intact >= f.max_beams))
             break;
-        if (f.out_len > 0) {
+        if (f.mfd >= 0 && now >= f.next_pose) {
+            send_pose(&f);
+            f.next_pose = now + 0.05;
+        }
+        if (f.mfd >= 0 && f.next_pose - now < 0.2) {
+            double w = f.next_pose - now < 0 ? 0 : f.next_pose - now;
+            ts.tv_sec = 0;
+            ts.tv_nsec = (long)(w * 1e9);
+        }
+        if (f.out_len > 0 && (f.mfd < 0 || f.due - now < f.next_pose - now)) {
             /* nanosecond timeouts: the device pacing must not gain a millisecond a beam */
             double wait = f.due - now;
             if (wait < 0)
@@ -703,6 +776,8 @@ int main(int argc, char **argv)
             "disconnects %ld, stalls %ld, nacks %ld, motor_off %ld\n",
             f.requests, f.beams, f.beams_intact, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
             f.motor_offs);
+    if (f.mfd >= 0)
+        fprintf(stderr, "sonar_feed: mavlink %s: %ld poses sent\n", f.mavlink, f.poses_sent);
     if (f.log != NULL) {
         fprintf(f.log, "summary requests %ld beams %ld replies %ld dropped %ld corrupted %ld garbage %ld disconnects %ld stalls %ld nacks %ld motor_off %ld intact %ld\n",
                 f.requests, f.beams, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,

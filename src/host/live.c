@@ -18,10 +18,12 @@ static int64_t now_us(const struct app *a)
     return a->clock.mono_ns(a->clock.user) / 1000;
 }
 
-int live_run(struct app *a, const struct live_source *src, live_reload_fn reload, void *reload_user)
+int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
+             live_reload_fn reload, void *reload_user)
 {
     struct app_status st;
     sigset_t mask;
+    unsigned k;
     int sigfd, stop = 0, interrupted = 0;
     int64_t next_status, stop_deadline = INT64_MAX;
     /* Signals arrive as readable bytes on a descriptor, so the loop never runs code in a handler. */
@@ -35,12 +37,17 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         fprintf(stderr, "sonard: signalfd: %s\n", strerror(errno));
         return HOST_ERR_IO;
     }
+    if (naux > LIVE_MAX_AUX)
+        naux = LIVE_MAX_AUX;
     next_status = now_us(a) + STATUS_US;
     src->ops->start(src->self, a, now_us(a));
+    for (k = 0; k < naux; k++)
+        aux[k].ops->start(aux[k].self, a, now_us(a));
     for (;;) {
-        struct pollfd pfd[2];
+        struct pollfd pfd[2 + LIVE_MAX_AUX];
+        int slot[2 + LIVE_MAX_AUX]; /* which aux source a descriptor belongs to */
         int64_t now = now_us(a), wake;
-        int np = 1, ms;
+        int np = 1, ms, src_at = -1, i;
         short events;
         if (!stop && a->sweeps_done) {
             stop = 1;
@@ -52,6 +59,10 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         if (src->ops->stopped(src->self))
             break; /* the source gave up by itself (a co-processor refused the configuration) */
         wake = src->ops->timers(src->self, now);
+        for (k = 0; k < naux; k++) {
+            int64_t w = aux[k].ops->timers(aux[k].self, now);
+            wake = w < wake ? w : wake;
+        }
         if (next_status < wake)
             wake = next_status;
         if (stop_deadline < wake)
@@ -64,8 +75,15 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
         if ((pfd[1].fd = src->ops->fd(src->self, &events)) >= 0) {
             pfd[1].events = events;
             pfd[1].revents = 0;
+            src_at = 1;
             np = 2;
         }
+        for (k = 0; k < naux; k++)
+            if ((pfd[np].fd = aux[k].ops->fd(aux[k].self, &events)) >= 0) {
+                pfd[np].events = events;
+                pfd[np].revents = 0;
+                slot[np++] = (int)k;
+            }
         if (poll(pfd, (nfds_t)np, ms) < 0 && errno != EINTR)
             break;
         now = now_us(a);
@@ -82,8 +100,11 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
                 }
             }
         }
-        if (np == 2 && pfd[1].revents != 0)
+        if (src_at == 1 && pfd[1].revents != 0)
             src->ops->ready(src->self, pfd[1].revents, now);
+        for (i = src_at == 1 ? 2 : 1; i < np; i++)
+            if (pfd[i].revents != 0)
+                aux[slot[i]].ops->ready(aux[slot[i]].self, pfd[i].revents, now);
         if (now >= next_status) {
             if (!src->ops->own_status)
                 app_status(a, src->ops->state(src->self), &st);
@@ -96,6 +117,8 @@ int live_run(struct app *a, const struct live_source *src, live_reload_fn reload
     if (!src->ops->own_status)
         app_status(a, src->ops->state(src->self), &st);
     src->ops->close(src->self);
+    for (k = 0; k < naux; k++)
+        aux[k].ops->close(aux[k].self);
     close(sigfd);
     return HOST_OK;
 }

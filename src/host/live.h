@@ -25,10 +25,15 @@ struct live_source {
     void *self;
 };
 
+#define LIVE_MAX_AUX 4
+
 /*
  * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the source
- * (motor_off, at most 1.5 s) and sends a last status. Returns HOST_OK or HOST_ERR_IO (signalfd).
+ * (motor_off, at most 1.5 s) and sends a last status. aux (naux <= LIVE_MAX_AUX, may be NULL when
+ * 0): other sources served alongside (the autopilot's MAVLink), whose stop is never waited for.
+ * Returns HOST_OK or HOST_ERR_IO (signalfd).
  */
-HOST_CHECK int live_run(struct app *a, const struct live_source *src, live_reload_fn reload, void *reload_user);
+HOST_CHECK int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
+                        live_reload_fn reload, void *reload_user);
 
 #endif

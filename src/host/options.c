@@ -130,6 +130,16 @@ static const struct opt_spec spec[] = {
      "the co-processor's host link: push these options to its firmware,\nrepublish its detections and status", NULL, parse_coprocessor},
     {"coprocessor-beams", "N", OPT_LONG, 1, 0, F(coproc_beams), 0, 1000, "beams (0 = none)", "0",
      "ask the firmware for every Nth raw beam (SONAR_BEAM, --csv-out)", NULL, NULL},
+    SECTION("autopilot (MAVLink, docs/mavlink.md)"),
+    {"mavlink", "URL", OPT_STR, 1, 0, F(mavlink), 0, 200, "udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD]", NULL,
+     "live: the autopilot's endpoint: ATTITUDE and LOCAL_POSITION_NED in as the\nvehicle's pose; OBSTACLE_DISTANCE, OBSTACLE_DISTANCE_3D, HEARTBEAT out", NULL, NULL},
+    {"mavlink-sysid", "N", OPT_LONG, 1, 0, F(mav_sysid), 1, 255, "system id", "1", "our MAVLink system id (the vehicle's)", NULL, NULL},
+    {"mavlink-compid", "N", OPT_LONG, 1, 0, F(mav_compid), 1, 255, "component id", "158 (MAV_COMP_ID_PERIPHERAL)",
+     "our MAVLink component id", NULL, NULL},
+    {"mavlink-autopilot", "N", OPT_LONG, 1, 0, F(mav_autopilot), 0, 255, "system id (0 = any)", "0",
+     "take the pose only from this system's autopilot (component 1)", NULL, NULL},
+    {"mavlink-rate", "HZ", OPT_F32, 1, 0, F(mav_rate), 1, 50, "messages a second", "20",
+     "OBSTACLE_DISTANCE rate (ArduPilot drops the sensor after 500 ms without one)", NULL, NULL},
     SECTION("replay"),
     {"replay", "FILE", OPT_STR, 0, 0, F(replay), 0, 0, "file, - for stdin", NULL,
      "process a recording in the study's CSV form instead of a live sonar", NULL, NULL},
@@ -221,6 +231,9 @@ static void defaults(struct sonard_options *o)
     o->channel_prefix = "";
     o->range_m = -1.0;
     o->speed_of_sound = 1500.0;
+    o->mav_sysid = 1;
+    o->mav_compid = 158;
+    o->mav_rate = 20.0f;
     o->stage = SONAR_STAGE_FOREGROUND;
     o->device.gain = 0;
     o->device.frequency = 750;
@@ -244,6 +257,10 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
     if (bgw < 0 || !opt_was_given(&o->given, (size_t)bgw))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
+    if (o->mavlink != NULL && o->sonar == NULL) {
+        snprintf(err, errlen, "--mavlink URL goes with --sonar: the obstacle map is made from a live sonar's beams");
+        return HOST_ERR_CONFIG;
+    }
     if (o->pose_file != NULL && o->replay == NULL) {
         snprintf(err, errlen, "--pose FILE.csv goes with --replay: a live vehicle's pose comes from its autopilot");
         return HOST_ERR_CONFIG;

@@ -18,6 +18,9 @@ struct sonard_options {
     const char *sonar;          /* live: serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT */
     const char *coprocessor;    /* the firmware's host link, same URL forms */
     long coproc_beams;          /* ask the firmware for every Nth raw beam; 0 = none */
+    const char *mavlink;        /* the autopilot: udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD] */
+    long mav_sysid, mav_compid, mav_autopilot;
+    float mav_rate;             /* OBSTACLE_DISTANCE messages a second */
     const char *csv_out;        /* export / recording file */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */

@@ -12,6 +12,7 @@
 #include "sinks.h"
 #include "source_coproc.h"
 #include "source_link.h"
+#include "mav.h"
 #include "source_replay.h"
 
 /* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
@@ -27,6 +28,9 @@ struct sonard {
     struct source_coproc coproc;
     struct source_replay replay;
     struct posefile pose;
+    struct mav mav;
+    struct live_source mav_src;
+    int have_mav;
     FILE *csv_out;
     int have_lcm;
 };
@@ -134,12 +138,17 @@ static int run_live(struct sonard *s)
     struct app_status st;
     struct live_source ls;
     source_link_live(&s->link, &ls);
-    if (live_run(&s->app, &ls, reload, s) != HOST_OK)
+    if (live_run(&s->app, &ls, s->have_mav ? &s->mav_src : NULL, s->have_mav ? 1u : 0u, reload, s) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
         sink_summary(&s->app);
+        if (s->have_mav) {
+            char line[512];
+            mav_summary(&s->mav, line, sizeof(line));
+            fprintf(stderr, "sonard: %s\n", line);
+        }
     }
     return 0;
 }
@@ -148,7 +157,7 @@ static int run_coproc(struct sonard *s)
 {
     struct live_source ls;
     source_coproc_live(&s->coproc, &ls);
-    if (live_run(&s->app, &ls, NULL, NULL) != HOST_OK)
+    if (live_run(&s->app, &ls, NULL, 0, NULL, NULL) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
@@ -231,6 +240,22 @@ int main(int argc, char **argv)
         return 2;
     }
     app_set_log(&s.app, log_stderr, &s);
+    if (s.opt.mavlink != NULL) {
+        struct mav_config mc;
+        mc.url = s.opt.mavlink;
+        mc.sysid = (uint8_t)s.opt.mav_sysid;
+        mc.compid = (uint8_t)s.opt.mav_compid;
+        mc.autopilot = (uint8_t)s.opt.mav_autopilot;
+        mc.rate_hz = s.opt.mav_rate;
+        mc.angle_offset = s.opt.pipeline.detector.angle_offset;
+        mc.min_range_m = s.opt.pipeline.detector.min_range_m;
+        if (mav_parse(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, &s.app) != HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
+        }
+        mav_live(&s.mav, &s.mav_src);
+        s.have_mav = 1;
+    }
     if (s.opt.replay != NULL)
         s.app.link = s.opt.replay;
     rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);

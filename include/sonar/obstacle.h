@@ -1,0 +1,72 @@
+/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 72 x 16 B + 40 B (~3.6 KB at 1200). */
+#ifndef SONAR_OBSTACLE_H
+#define SONAR_OBSTACLE_H
+
+#include <stdint.h>
+
+#include "sonar/config.h"
+#include "sonar/err.h"
+
+/*
+ * MAVLink's OBSTACLE_DISTANCE as ArduPilot reads it (AP_Proximity_MAV): 72 sectors of 5 degrees
+ * in the body frame (FRD: 0 forward, clockwise), sector k centred on k x 5 degrees (angle_offset
+ * 0); a beam at bearing b falls in sector round(b / 5) mod 72. Distances in cm. Background
+ * subtraction serves detection, but a wall is what the autopilot must not hit: this map takes
+ * every echo, against a noise floor per range sample: a slow running median across all beams (an
+ * eighth of a level a beam toward each), so the ring-down and the gain curve are floor, and a
+ * wall, seen in a run of beams at one range, is not (a level a beam learnt a 90-degree wall within
+ * its own sweep). An echo exceeds the floor f by max(min_level, f x margin / 16): three times the
+ * floor by default, as speckle's median-filtered tail stays under it. A beam's echo is the peak
+ * of its first return above the floor beyond min_range.
+ */
+#define SONAR_OBS_SECTORS 72
+#define SONAR_OBS_SECTOR_DEG 5
+#define SONAR_OBS_UNKNOWN 65535u    /* not scanned within the age limit */
+#define SONAR_OBS_PASS_US 1000000   /* beams into one sector within this of each other are one pass: the nearest wins */
+
+struct sonar_obstacle_config {
+    float min_range_m;  /* echoes nearer are not reported (ring-down, the mount), 0..100 m */
+    uint8_t margin;     /* an echo exceeds the floor f by f * margin / 16 ... , 0..64 */
+    uint8_t min_level;  /* ... and by at least this many grey levels, 1..255 */
+};
+
+struct sonar_obstacle_sector {
+    int64_t utime;      /* us since the epoch of the last beam through it; 0 = never */
+    uint16_t cm;        /* its nearest echo, cm; 0 = none (clear) */
+};
+
+struct sonar_obstacle {
+    struct sonar_obstacle_config cfg;
+    uint16_t floor[SONAR_MAX_SAMPLES]; /* the noise floor per range sample, eighths of a level; 0 = not seeded */
+    uint16_t n;                       /* samples per beam the floor holds */
+    float range_m;                    /* the range of the beams so far (a new one resets the map) */
+    uint32_t beams, echoes;           /* beams taken, beams with an echo */
+    int64_t newest;                   /* utime of the newest beam taken */
+    struct sonar_obstacle_sector sector[SONAR_OBS_SECTORS];
+};
+
+/* sonard's defaults: min_range 0.5 m, margin 32 (three times the floor), min_level 24. */
+void sonar_obstacle_defaults(struct sonar_obstacle_config *cfg);
+
+/* Validates cfg (copied) and empties the map. Returns SONAR_OK or SONAR_ERR_ARG. */
+SONAR_CHECK int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_config *cfg);
+
+/*
+ * One beam (filtered samples, n 1..SONAR_MAX_SAMPLES over range_m metres, (0, 1000]) at bearing_deg
+ * in the body frame (any value; taken modulo 360), seen at utime: its nearest echo beyond
+ * min_range goes into its sector (the nearest of one pass), or the sector is marked clear; the
+ * floor then learns the beam. A new n or range_m starts the map afresh. Returns SONAR_OK or
+ * SONAR_ERR_ARG (nothing changed).
+ */
+SONAR_CHECK int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg, const uint8_t *s,
+                                    uint16_t n, float range_m);
+
+/*
+ * The whole map at now_us for one message: dist_cm[k] = the sector's echo, max_cm + 1 where it was
+ * scanned and clear, SONAR_OBS_UNKNOWN where it was not scanned within max_age_us (a sweep, say).
+ * *min_cm = min_range in cm (at least 1), *max_cm = the range in cm (0 before any beam).
+ */
+void sonar_obstacle_map(const struct sonar_obstacle *o, int64_t now_us, int64_t max_age_us, uint16_t *dist_cm,
+                        uint16_t *min_cm, uint16_t *max_cm);
+
+#endif

@@ -1,0 +1,100 @@
+/* mav.h -- the autopilot's MAVLink endpoint: ATTITUDE and LOCAL_POSITION_NED in as poses; OBSTACLE_DISTANCE, OBSTACLE_DISTANCE_3D and HEARTBEAT out; ~4 KB plus the obstacle map (obstacle.h). */
+#ifndef SONARD_MAV_H
+#define SONARD_MAV_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <sys/socket.h>
+
+#include "app.h"
+#include "link.h"
+#include "live.h"
+#include "sonar/obstacle.h"
+
+#define MAV_PEERS 4                 /* udpin: the senders answered, each for MAV_PEER_US after it was last heard */
+#define MAV_PEER_US 10000000
+#define MAV_POSITION_STALE_US 1000000 /* without LOCAL_POSITION_NED for this long: heading only, at the last position */
+
+enum mav_kind { MAV_UDPIN = 0, MAV_UDPOUT = 1, MAV_SERIAL = 2 };
+
+struct mav_config {
+    const char *url;        /* udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD] */
+    uint8_t sysid, compid;  /* ours: 1..255 each */
+    uint8_t autopilot;      /* the system whose autopilot (component 1) gives the pose; 0: any */
+    float rate_hz;          /* OBSTACLE_DISTANCE, 1..50 a second (HEARTBEAT: 1 Hz) */
+    float angle_offset;     /* gradians: the pipeline's, so beams fall in the sectors the detections use */
+    float min_range_m;      /* the pipeline's --min-range; at least the ring-down's SONAR_PIPE_NEAR_M */
+};
+
+/* Counters, all since the start. */
+struct mav_counters {
+    uint32_t rx_msgs;       /* good messages */
+    uint32_t rx_bad_crc;    /* framed, with a CRC that failed */
+    uint32_t rx_foreign;    /* framed, of a message this dialect (ardupilotmega) does not have */
+    uint32_t rx_other;      /* good, but not from the autopilot (other systems, components, or ours echoed) */
+    uint32_t attitudes, positions, poses_refused;
+    uint32_t position_gaps;     /* LOCAL_POSITION_NED back after more than MAV_POSITION_STALE_US without */
+    uint32_t tx_msgs, tx_dropped; /* sent; not sent (no peer yet, a full socket or serial buffer) */
+    uint32_t obstacle_distance, obstacle_3d, heartbeats;
+};
+
+struct mav {
+    struct mav_config cfg;
+    struct app *app;
+    int kind;
+    int fd;                     /* udpin */
+    struct link link;           /* udpout, serial */
+    char desc[160];
+    struct {
+        struct sockaddr_storage addr;
+        socklen_t len;
+        int64_t seen_us;
+    } peer[MAV_PEERS];
+    /* The generated library's parser buffers and status (mavlink_message_t x 2, mavlink_status_t x 2)
+       and the sender's status (its sequence number), kept opaque so that only mav.c needs its headers. */
+    union {
+        uint64_t align;
+        unsigned char b[1024];
+    } rx, tx;
+    struct sonar_obstacle obs;
+    struct app_sink sink;       /* filtered beams into the map; tracks out as OBSTACLE_DISTANCE_3D */
+    int64_t t0_us;              /* monotonic start, for time_boot_ms */
+    int64_t next_hb, next_od;
+    int have_pos;
+    int64_t first_att_us;       /* wall time of the first ATTITUDE */
+    float north_m, east_m;
+    int64_t pos_us;
+    int64_t unsent_us;          /* wall time of the oldest beam not yet in a sent OBSTACLE_DISTANCE; 0: none */
+    double lat_sum_ms, lat_max_ms; /* echo to message, over the messages sent */
+    uint32_t lat_n;
+    struct mav_counters n;
+};
+
+/*
+ * Parses and checks cfg (the URL forms, the ids, the rate). Returns HOST_OK, or HOST_ERR_CONFIG
+ * with err naming the part.
+ */
+HOST_CHECK int mav_parse(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
+
+/* Binds the app: adds the sink (HOST_OK or SONAR_ERR_FULL). Open with the live loop (mav_live). */
+HOST_CHECK int mav_attach(struct mav *m, struct app *a);
+
+/* The loop's view: a descriptor to read, timers for HEARTBEAT and OBSTACLE_DISTANCE; it never blocks the sonar. */
+void mav_live(struct mav *m, struct live_source *out);
+
+/* One line of counters and latency for stderr at exit. */
+void mav_summary(const struct mav *m, char *buf, size_t n);
+
+/*
+ * Feeds received bytes to the parser (the live source's read path; also for tests): poses to the
+ * app, everything counted. now_wall_us: the receive time, which the poses take.
+ */
+void mav_bytes(struct mav *m, const uint8_t *buf, size_t len, int64_t now_wall_us);
+
+/*
+ * Encodes the whole obstacle map as one OBSTACLE_DISTANCE into buf (>= 280 B) at now (wall and
+ * monotonic us). Returns its length. Exposed for tests.
+ */
+size_t mav_obstacle_distance(struct mav *m, uint8_t *buf, int64_t now_wall_us, int64_t now_mono_us);
+
+#endif

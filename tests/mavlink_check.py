@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""mavlink_check.py -- plays a vehicle's autopilot to sonard's --mavlink udpin endpoint and decodes,
+with pymavlink's own parser and CRCs, everything sonard sends back; writes a JSON report.
+
+The autopilot (system 1, component 1) sends HEARTBEAT at 1 Hz and ATTITUDE + LOCAL_POSITION_NED at
+20 Hz for a sonar that stands still, heading north; once a second it also sends what sonard must
+ignore and count: a message with a broken CRC, one of a dialect sonard does not have, random bytes,
+and an ATTITUDE from another system (sysid 7). Loopback only, bounded by --seconds.
+
+Report: message counts; OBSTACLE_DISTANCE and HEARTBEAT rates; the fields of every
+OBSTACLE_DISTANCE; the last one's sectors against the simulated scene (walls and objects from
+sonar-sim's truth: the nearest obstacle inside each 5-degree sector); the OBSTACLE_DISTANCE_3D bursts.
+"""
+import argparse
+import json
+import math
+import random
+import socket
+import struct
+import sys
+import time
+
+from pymavlink.dialects.v20 import ardupilotmega as apm
+
+
+def ray_segment(ux, uy, x0, y0, x1, y1):
+    ex, ey = x1 - x0, y1 - y0
+    den = ux * ey - uy * ex
+    if abs(den) < 1e-12:
+        return None
+    t = (x0 * ey - y0 * ex) / den
+    s = (x0 * uy - y0 * ux) / den
+    return t if t > 0 and 0 <= s <= 1 else None
+
+
+def nearest_in_sector(k, walls, objects, rmax):
+    """The nearest wall or object surface within sector k (centred on 5k degrees, +-2.5), metres."""
+    best = None
+    for i in range(51):
+        th = math.radians(5 * k - 2.5 + 0.1 * i)
+        ux, uy = math.cos(th), math.sin(th)
+        for w in walls:
+            t = ray_segment(ux, uy, *w)
+            if t is not None and (best is None or t < best):
+                best = t
+    lo, hi = math.radians(5 * k - 2.5), math.radians(5 * k + 2.5)
+    for o in objects:
+        d = math.hypot(o["x"], o["y"])
+        phi = math.atan2(o["y"], o["x"])
+        half = math.asin(min(1.0, o["radius"] / d))
+        mid = (lo + hi) / 2
+        gap = abs((phi - mid + math.pi) % (2 * math.pi) - math.pi)
+        if gap <= (hi - lo) / 2 + half:
+            best = d - o["radius"] if best is None else min(best, d - o["radius"])
+    return best if best is not None and best <= rmax else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--port", type=int, required=True)
+    ap.add_argument("--seconds", type=float, required=True)
+    ap.add_argument("--truth", help="sonar-sim truth JSON of the scene served (walls, objects)")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--listen-only", action="store_true",
+                    help="no autopilot: only a ground station's HEARTBEAT (sysid 255), to be answered")
+    a = ap.parse_args()
+    dest = ("127.0.0.1", a.port)
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    s.setblocking(False)
+    ours = apm.MAVLink(None, srcSystem=255 if a.listen_only else 1, srcComponent=190 if a.listen_only else 1)
+    other = apm.MAVLink(None, srcSystem=7, srcComponent=1)
+    rx = apm.MAVLink(None)
+    rx.robust_parsing = True
+    rng = random.Random(1)
+    t0 = time.time()
+    next_hb = next_pose = next_junk = t0
+    counts, bad = {}, 0
+    od, hb, od3d = [], [], []
+    while time.time() - t0 < a.seconds:
+        now = time.time()
+        ms = int((now - t0) * 1000)
+        if now >= next_hb:
+            s.sendto(ours.heartbeat_encode(apm.MAV_TYPE_SUBMARINE, apm.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0,
+                                           apm.MAV_STATE_ACTIVE).pack(ours), dest)
+            next_hb += 1.0
+        if now >= next_pose and a.listen_only:
+            next_pose = next_junk = now + 3600
+        if now >= next_pose:
+            s.sendto(ours.attitude_encode(ms, 0, 0, 0.0, 0, 0, 0).pack(ours), dest)
+            s.sendto(ours.local_position_ned_encode(ms, 0.0, 0.0, 0.0, 0, 0, 0).pack(ours), dest)
+            next_pose += 0.05
+        if now >= next_junk:
+            good = bytearray(ours.attitude_encode(ms, 0, 0, 1.0, 0, 0, 0).pack(ours))
+            good[-1] ^= 0x5A  # a broken CRC
+            s.sendto(bytes(good), dest)
+            payload = bytes(rng.randrange(256) for _ in range(12))
+            # MAVLink 2 framing of message id 0xABCDE, in no dialect sonard knows
+            s.sendto(struct.pack("<BBBBBBB", 0xFD, len(payload), 0, 0, 0, 9, 9) + bytes([0xDE, 0xBC, 0x0A]) +
+                     payload + b"\x12\x34", dest)
+            s.sendto(bytes(rng.randrange(256) for _ in range(40)), dest)
+            s.sendto(other.attitude_encode(ms, 0, 0, 1.57, 0, 0, 0).pack(other), dest)
+            next_junk += 1.0
+        try:
+            while True:
+                data, _ = s.recvfrom(4096)
+                got = time.time() - t0
+                for m in rx.parse_buffer(data) or []:
+                    name = m.get_type()
+                    if name == "BAD_DATA":
+                        bad += 1
+                        continue
+                    counts[name] = counts.get(name, 0) + 1
+                    if name == "OBSTACLE_DISTANCE":
+                        od.append({"t": got, "distances": list(m.distances), "min": m.min_distance, "max": m.max_distance,
+                                   "increment": m.increment, "increment_f": m.increment_f, "angle_offset": m.angle_offset,
+                                   "frame": m.frame, "sensor_type": m.sensor_type, "sysid": m.get_srcSystem(),
+                                   "compid": m.get_srcComponent()})
+                    elif name == "HEARTBEAT":
+                        hb.append({"t": got, "type": m.type, "autopilot": m.autopilot, "sysid": m.get_srcSystem(),
+                                   "compid": m.get_srcComponent()})
+                    elif name == "OBSTACLE_DISTANCE_3D":
+                        od3d.append({"t": got, "time_boot_ms": m.time_boot_ms, "id": m.obstacle_id, "x": m.x, "y": m.y,
+                                     "z": m.z, "frame": m.frame})
+        except BlockingIOError:
+            pass
+        time.sleep(0.005)
+    rep = {"counts": counts, "bad_data": bad, "od_n": len(od), "hb": hb, "od3d": od3d}
+    if len(od) > 2:
+        rep["od_rate_hz"] = (len(od) - 1) / (od[-1]["t"] - od[0]["t"])
+        gaps = [b["t"] - a_["t"] for a_, b in zip(od, od[1:])]
+        rep["od_max_gap_s"] = max(gaps)
+        rep["od_fields"] = sorted({json.dumps({k: v for k, v in o.items() if k not in ("t", "distances")},
+                                              sort_keys=True) for o in od})
+        rep["od_last"] = od[-1]["distances"]
+    if len(hb) > 2:
+        rep["hb_rate_hz"] = (len(hb) - 1) / (hb[-1]["t"] - hb[0]["t"])
+    if a.truth and od:
+        tr = json.load(open(a.truth))
+        walls = tr.get("walls", [])
+        # Objects that stand still through the truth (a moving one was elsewhere when its sector was scanned).
+        where = {}
+        for sw in tr["sweeps"]:
+            for o in sw["objects"]:
+                where.setdefault(o["id"], set()).add((round(o["x"], 2), round(o["y"], 2)))
+        objs = [o for o in tr["sweeps"][-1]["objects"] if len(where[o["id"]]) == 1]
+        last = od[-1]
+        rmax = last["max"] / 100.0
+        errs = []
+        for k, d in enumerate(last["distances"]):
+            want = nearest_in_sector(k, walls, objs, rmax)
+            if d == 65535:
+                continue
+            got = None if d == last["max"] + 1 else d / 100.0
+            errs.append({"sector": k, "got": got, "want": want,
+                         "err": None if got is None or want is None else got - want})
+        rep["sectors"] = errs
+    json.dump(rep, open(a.out, "w"), indent=1)
+    print(f"mavlink_check: {sum(counts.values())} messages ({', '.join(f'{k} {v}' for k, v in sorted(counts.items()))}), "
+          f"{bad} bad")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

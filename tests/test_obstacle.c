@@ -1,0 +1,107 @@
+/* test_obstacle.c -- the sector map for OBSTACLE_DISTANCE: noise floor, nearest echo, clear and unknown sectors, passes, ageing, bad input. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sonar/obstacle.h"
+
+#define N 200 /* 10 m: 5 cm a sample */
+
+static struct sonar_obstacle ob;
+
+/* Noise 10..18; a wall 150 from sample k (k < 0: none), and the ring-down in the first 6 samples. */
+static void beam(int64_t t, float bearing, int k)
+{
+    uint8_t s[N];
+    int i;
+    for (i = 0; i < N; i++)
+        s[i] = (uint8_t)(10 + (i * 7 + (int)t / 1000) % 9);
+    for (i = 0; i < 6; i++)
+        s[i] = 220;
+    if (k >= 0)
+        for (i = k; i < k + 3 && i < N; i++)
+            s[i] = 150;
+    assert_int_equal(sonar_obstacle_beam(&ob, t, bearing, s, N, 10.0f), SONAR_OK);
+}
+
+static void test_sectors(void **state)
+{
+    struct sonar_obstacle_config c;
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    int a, k;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    /* A full turn of 400 beams, 20 ms apart: a wall at 6 m (sample 120) between 90 and 180 degrees. */
+    for (a = 0; a < 400; a++)
+        beam(1000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f < 180.0f ? 120 : -1);
+    for (a = 0; a < 400; a++) /* a second turn: the floor has learnt the noise and the ring-down */
+        beam(9000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f <= 180.0f ? 120 : -1);
+    sonar_obstacle_map(&ob, 17000000, 8000000, d, &mn, &mx);
+    assert_int_equal(mn, 50);
+    assert_int_equal(mx, 1000);
+    for (k = 0; k < SONAR_OBS_SECTORS; k++) {
+        if (k >= 19 && k <= 35)
+            assert_int_equal(d[k], 603); /* sample 120's centre: 6.025 m */
+        else if (k < 17 || k > 37)
+            assert_int_equal(d[k], 1001); /* scanned and clear: max + 1, never the ring-down */
+    }
+    /* A nearer echo later in the same pass wins; a new pass replaces. */
+    beam(16900000, 0.0f, 40);
+    beam(16950000, 1.0f, 60);
+    sonar_obstacle_map(&ob, 17000000, 8000000, d, &mn, &mx);
+    assert_int_equal(d[0], 203);
+    beam(30000000, 0.0f, -1);
+    sonar_obstacle_map(&ob, 30000000, 8000000, d, &mn, &mx);
+    assert_int_equal(d[0], 1001);
+    /* Older than the age limit: unknown; a bearing wraps into its sector. */
+    assert_int_equal(d[20], SONAR_OBS_UNKNOWN);
+    beam(30100000, -2.4f, 80);
+    sonar_obstacle_map(&ob, 30100000, 8000000, d, &mn, &mx);
+    assert_int_equal(d[0], 403);
+    beam(30200000, 357.6f, -1);
+    sonar_obstacle_map(&ob, 30200000, 8000000, d, &mn, &mx);
+    assert_int_equal(d[0], 403); /* 357.6 rounds to sector 0 too, and the same pass keeps the echo */
+}
+
+static void test_bad_input_and_resets(void **state)
+{
+    struct sonar_obstacle_config c;
+    uint8_t s[N] = {0};
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    c.min_level = 0;
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_ERR_ARG);
+    c.min_level = 24;
+    c.min_range_m = -1.0f;
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_ERR_ARG);
+    c.min_range_m = 0.5f;
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, s, 0, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, s, N, 0.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, (float)(0.0 / 0.0), s, N, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, NULL, N, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(ob.beams, 0);
+    sonar_obstacle_map(&ob, 1, 1000000, d, &mn, &mx);
+    assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
+    assert_int_equal(mx, 0);
+    beam(1000, 0.0f, -1);
+    assert_int_equal(sonar_obstacle_beam(&ob, 2000, 5.0f, s, N, 20.0f), SONAR_OK); /* a new range: afresh */
+    sonar_obstacle_map(&ob, 2000, 1000000, d, &mn, &mx);
+    assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
+    assert_int_equal(d[1], 2001);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sectors),
+        cmocka_unit_test(test_bad_input_and_resets),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
