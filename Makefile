@@ -26,13 +26,13 @@ HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/repo
             src/host/posefile.c src/host/pvbin.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
-            $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o
+            $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/source_pose_lcm.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
 UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options
-UNIT_LIVE = app sinks mav
+UNIT_LIVE = app sinks mav source_pose_lcm
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
@@ -87,6 +87,10 @@ $(BUILD)/host/sinks.o: src/host/sinks.c $(BUILD)/lcm/.stamp
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 
 $(BUILD)/host/source_coproc.o: src/host/source_coproc.c $(BUILD)/lcm/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
+
+$(BUILD)/host/source_pose_lcm.o: src/host/source_pose_lcm.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 

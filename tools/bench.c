@@ -10,6 +10,7 @@
 #include "sonar/hull.h"
 #include "sonar/kmeans.h"
 #include "sonar/median.h"
+#include "sonar/obstacle.h"
 #include "sonar/pipeline.h"
 #include "sonar/tracker.h"
 
@@ -22,6 +23,8 @@ static uint8_t sweeps[SWEEPS][BEAMS][N];
 #define sweep sweeps[0]
 static uint8_t filt[N], fg[N], copy[BEAMS][N];
 static struct sonar_background bg, bg_alone; /* the pipeline's, and one for timing the stage alone */
+static struct sonar_background bg_world;      /* the world grid of a moving sonar */
+static struct sonar_obstacle obstacles;       /* the OBSTACLE_DISTANCE map */
 static struct sonar_detector det;
 static struct sonar_detections out, worst_out;
 
@@ -240,6 +243,34 @@ int main(int argc, char **argv)
         }
         printf("tracker_sweep_us %.3f\n", median_of(t_trk, REPS));
         printf("tracker_tracks %d\n", (int)tk0.n);
+    }
+    /*
+     * A moving sonar: each beam into the world grid, the vehicle 1 cm further north and 0.3
+     * degrees further round each beam (0.5 m/s and 30 degrees/s at 20 ms a beam); and each beam
+     * into the OBSTACLE_DISTANCE map. Both per beam, over the same sweep.
+     */
+    {
+        struct sonar_background_config wc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+        struct sonar_obstacle_config oc;
+        double t_w[REPS], t_o[REPS];
+        long k = 0;
+        sonar_obstacle_defaults(&oc);
+        if (sonar_background_init(&bg_world, &wc) != SONAR_OK || sonar_obstacle_init(&obstacles, &oc) != SONAR_OK)
+            return 1;
+        for (r = 0; r < REPS; r++) {
+            double t0 = now(), t1;
+            for (i = 0; i < BEAMS; i++, k++) {
+                struct sonar_bg_ray ray = {0.01 * (double)k, 0.0, 0.9 * i + 0.3 * (double)k, 1.2, 20.0f, 0.5f};
+                sink += sonar_background_apply_world(&bg_world, &ray, sweep[i], fg, N);
+            }
+            t1 = now();
+            for (i = 0; i < BEAMS; i++)
+                sink += sonar_obstacle_beam(&obstacles, (int64_t)k * 20000 + i * 20000, 0.9f * (float)i, sweep[i], N, 20.0f);
+            t_w[r] = (t1 - t0) / BEAMS * 1e6;
+            t_o[r] = (now() - t1) / BEAMS * 1e6;
+        }
+        printf("world_background_beam_us %.3f\n", median_of(t_w, REPS));
+        printf("obstacle_beam_us %.3f\n", median_of(t_o, REPS));
     }
     printf("median5_ns_per_sample %.4f\n", median_of(t_med, REPS));
     printf("median5x5_ns_per_sample %.4f\n", median_of(t_2d, REPS));

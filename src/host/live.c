@@ -18,6 +18,24 @@ static int64_t now_us(const struct app *a)
     return a->clock.mono_ns(a->clock.user) / 1000;
 }
 
+void live_no_stop(void *self, int64_t now_us)
+{
+    (void)self;
+    (void)now_us;
+}
+
+int live_always_stopped(const void *self)
+{
+    (void)self;
+    return 1;
+}
+
+int live_no_state(const void *self)
+{
+    (void)self;
+    return 0;
+}
+
 int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
              live_reload_fn reload, void *reload_user)
 {

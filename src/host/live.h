@@ -27,6 +27,11 @@ struct live_source {
 
 #define LIVE_MAX_AUX 4
 
+/* For sources with nothing to stop or report (poses in, the autopilot's link): stop is a no-op, they are always stopped, state 0. */
+void live_no_stop(void *self, int64_t now_us);
+int live_always_stopped(const void *self);
+int live_no_state(const void *self);
+
 /*
  * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the source
  * (motor_off, at most 1.5 s) and sends a last status. aux (naux <= LIVE_MAX_AUX, may be NULL when

@@ -414,24 +414,6 @@ static int64_t mav_timers(void *self, int64_t now)
     return m->next_hb < m->next_od ? m->next_hb : m->next_od;
 }
 
-static void mav_stop(void *self, int64_t now)
-{
-    (void)self;
-    (void)now;
-}
-
-static int mav_stopped(const void *self)
-{
-    (void)self;
-    return 1;
-}
-
-static int mav_state(const void *self)
-{
-    (void)self;
-    return 0;
-}
-
 static void mav_close(void *self)
 {
     struct mav *m = self;
@@ -442,7 +424,7 @@ static void mav_close(void *self)
 }
 
 static const struct live_source_ops mav_ops = {mav_start, mav_fd,   mav_ready, mav_timers,
-                                               mav_stop,  mav_stopped, mav_state, mav_close, 0};
+                                               live_no_stop,  live_always_stopped, live_no_state, mav_close, 0};
 
 void mav_live(struct mav *m, struct live_source *out)
 {

@@ -138,6 +138,8 @@ static const struct opt_spec spec[] = {
      "our MAVLink component id", NULL, NULL},
     {"mavlink-autopilot", "N", OPT_LONG, 1, 0, F(mav_autopilot), 0, 255, "system id (0 = any)", "0",
      "take the pose only from this system's autopilot (component 1)", NULL, NULL},
+    {"pose-lcm", "URL", OPT_STR, 1, 0, F(pose_lcm), 0, 200, "LCM URL", "sonard's --lcm",
+     "live: read the vehicle's pose (sonar.pose_t on SONAR_POSE) from this LCM", NULL, NULL},
     {"mavlink-rate", "HZ", OPT_F32, 1, 0, F(mav_rate), 1, 50, "messages a second", "20",
      "OBSTACLE_DISTANCE rate (ArduPilot drops the sensor after 500 ms without one)", NULL, NULL},
     SECTION("replay"),
@@ -257,6 +259,10 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
     if (bgw < 0 || !opt_was_given(&o->given, (size_t)bgw))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
+    if (o->pose_lcm != NULL && o->replay != NULL) {
+        snprintf(err, errlen, "--pose-lcm URL is for a live sonar; a replay takes --pose FILE.csv");
+        return HOST_ERR_CONFIG;
+    }
     if (o->mavlink != NULL && o->sonar == NULL) {
         snprintf(err, errlen, "--mavlink URL goes with --sonar: the obstacle map is made from a live sonar's beams");
         return HOST_ERR_CONFIG;

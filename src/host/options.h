@@ -15,6 +15,7 @@
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
     const char *pose_file;      /* replay: the vehicle's poses, utime_us,north_m,east_m,yaw_deg */
+    const char *pose_lcm;       /* live: SONAR_POSE on an LCM of its own (else sonard's --lcm) */
     const char *sonar;          /* live: serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT */
     const char *coprocessor;    /* the firmware's host link, same URL forms */
     long coproc_beams;          /* ask the firmware for every Nth raw beam; 0 = none */

@@ -13,6 +13,7 @@
 #include "source_coproc.h"
 #include "source_link.h"
 #include "mav.h"
+#include "source_pose_lcm.h"
 #include "source_replay.h"
 
 /* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
@@ -29,8 +30,10 @@ struct sonard {
     struct source_replay replay;
     struct posefile pose;
     struct mav mav;
-    struct live_source mav_src;
-    int have_mav;
+    struct source_pose_lcm plcm;
+    struct live_source aux[2];
+    unsigned naux;
+    int have_mav, have_plcm;
     FILE *csv_out;
     int have_lcm;
 };
@@ -138,7 +141,7 @@ static int run_live(struct sonard *s)
     struct app_status st;
     struct live_source ls;
     source_link_live(&s->link, &ls);
-    if (live_run(&s->app, &ls, s->have_mav ? &s->mav_src : NULL, s->have_mav ? 1u : 0u, reload, s) != HOST_OK)
+    if (live_run(&s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
@@ -149,6 +152,9 @@ static int run_live(struct sonard *s)
             mav_summary(&s->mav, line, sizeof(line));
             fprintf(stderr, "sonard: %s\n", line);
         }
+        if (s->have_plcm && s->plcm.received > 0)
+            fprintf(stderr, "sonard: %s: %u poses, %u did not decode, %u refused\n", s->plcm.channel, s->plcm.received,
+                    s->plcm.bad, s->plcm.refused);
     }
     return 0;
 }
@@ -157,7 +163,7 @@ static int run_coproc(struct sonard *s)
 {
     struct live_source ls;
     source_coproc_live(&s->coproc, &ls);
-    if (live_run(&s->app, &ls, NULL, 0, NULL, NULL) != HOST_OK)
+    if (live_run(&s->app, &ls, s->aux, s->naux, NULL, NULL) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
@@ -253,8 +259,18 @@ int main(int argc, char **argv)
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }
-        mav_live(&s.mav, &s.mav_src);
+        mav_live(&s.mav, &s.aux[s.naux++]);
         s.have_mav = 1;
+    }
+    /* Poses over LCM (SONAR_POSE): on sonard's own LCM, or on --pose-lcm URL. */
+    if (s.opt.replay == NULL && (s.have_lcm || s.opt.pose_lcm != NULL)) {
+        if (source_pose_lcm_open(&s.plcm, s.have_lcm ? s.lcm.lcm : NULL, s.opt.pose_lcm, s.opt.channel_prefix, &s.app, err,
+                                 sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
+        }
+        source_pose_lcm_live(&s.plcm, &s.aux[s.naux++]);
+        s.have_plcm = 1;
     }
     if (s.opt.replay != NULL)
         s.app.link = s.opt.replay;
