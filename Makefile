@@ -39,7 +39,7 @@ OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 .PHONY: mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
-all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv
+all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
 
 ## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
 deps:
@@ -112,6 +112,10 @@ $(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUIL
                      $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
+
+$(BUILD)/sonar-wallfit: tools/wallfit.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/pvbin2csv: tools/pvbin2csv.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)

@@ -74,6 +74,8 @@ python3 tools/score.py "$T/veh.json" "$T/vehb.jsonl" --label "  vehicle, body fr
 python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --label "  vehicle, world frame: " | tail -2
 check "vehicle scene with --pose: world-frame detection F1 >= 0.90" \
     python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --min-f1 0.90
+check "vehicle scene: the posts and the buoy are tracked standing still (<= 0.05 m/s) while the vehicle moves" \
+    python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --max-static-speed 0.05
 check "vehicle scene: the pose is said to be known, and every sweep is tracked in the world frame" sh -c "
     grep -q 'pose: known at 1728153122.000 s: detections and tracks in the world frame' '$T/veh.err' &&
     test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 18"

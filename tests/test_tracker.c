@@ -296,6 +296,67 @@ static void test_manoeuvre_pass_keeps_a_turning_track(void **state)
 }
 
 /*
+ * Kinematic bounds: a buoy's track (still, three hits) whose buoy is missed does not take, in the
+ * manoeuvre pass, a post 3.4 m away 7 s later (0.5 m/s from standstill); and no pair implies more
+ * than --track-max-speed, however wide a new track's velocity gate.
+ */
+static void test_kinematic_bounds(void **state)
+{
+    struct sonar_tracker_obs o = {0.0f, 5.0f, 0};
+    struct sonar_tracker_config c;
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 3; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 7000000);
+        o.utime = (int64_t)s * 7000000 + 3000000;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 1);
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+    {
+        struct sonar_tracker_sweep sw = everywhere(28000000);
+        o.utime = 24000000;
+        o.x_m = 3.4f;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.manoeuvres, 0);
+    assert_int_equal(tk.n, 2); /* a new track for the post; the buoy's coasts, still */
+    assert_int_equal(by_id(1)->det, -1);
+    assert_true(fabsf(by_id(1)->vx) < 0.05f);
+    /* A one-hit track 10.9 m from a detection 4 s later (2.7 m/s): another object, at 2.5 m/s at most. */
+    init();
+    {
+        struct sonar_tracker_sweep sw = everywhere(4000000);
+        struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
+        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+        sw = everywhere(8000000);
+        a.x_m = 2.52f;
+        a.y_m = -5.89f;
+        a.utime = 7000000;
+        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 2);
+    c = tk.cfg;
+    c.max_speed_mps = 0.0f; /* off: the wide gate takes it */
+    init();
+    assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_OK);
+    {
+        struct sonar_tracker_sweep sw = everywhere(4000000);
+        struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
+        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+        sw = everywhere(8000000);
+        a.x_m = 2.52f;
+        a.y_m = -5.89f;
+        a.utime = 7000000;
+        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 1);
+    c.max_speed_mps = 0.05f;
+    assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_ERR_ARG);
+}
+
+/*
  * An established track goes first, manoeuvre pass included: a tentative track born near where a
  * turning target comes out of its turn (wide gate: its velocity is unknown) does not take the
  * detection the turning track needs.
@@ -511,6 +572,7 @@ int main(void)
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_config_check_names_fields),
         cmocka_unit_test(test_reframe_and_origin),
+        cmocka_unit_test(test_kinematic_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

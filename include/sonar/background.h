@@ -112,4 +112,12 @@ SONAR_CHECK int sonar_background_apply(struct sonar_background *bg, uint16_t ang
 SONAR_CHECK int sonar_background_apply_world(struct sonar_background *bg, const struct sonar_bg_ray *ray,
                                              const uint8_t *in, uint8_t *fg, uint16_t n);
 
+/*
+ * Reads the world grid at (north_m, east_m): *model (0 = never seen) and *seen (observations,
+ * saturating at 255). Returns 1, or 0 when the grid is not in use or the point lies outside its
+ * window (both then 0). For maps and for checking what the grid learnt.
+ */
+int sonar_background_world_at(const struct sonar_background *bg, double north_m, double east_m, uint8_t *model,
+                              uint8_t *seen);
+
 #endif

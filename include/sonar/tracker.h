@@ -29,12 +29,17 @@ enum sonar_track_state {
 #define SONAR_TRK_WINDOW_MAX 8   /* 1 <= confirm_m <= confirm_n <= 8 */
 #define SONAR_TRK_MAX_DT_MAX 600 /* max_dt_s: 1..600 */
 #define SONAR_TRK_COORD_MAX 1000 /* detections beyond +-1000 m on an axis are refused as absurd */
+/* The manoeuvre pass pairs a track only with a detection it reaches at 3 x its speed + 0.3 m/s (+ 3 meas_m). */
+#define SONAR_TRK_TURN_SPEEDUP 3.0f
+#define SONAR_TRK_TURN_FROM_REST 0.3f
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
     float manoeuvre_mps2; /* acceleration noise std of the manoeuvre pass, m/s^2, 0..10; not above accel_mps2: no such pass */
     float meas_m;         /* detection position std per axis, m, 0.01..10 */
     float speed0_mps;     /* velocity std of a new track, m/s, 0.01..20 */
+    float max_speed_mps;  /* no pair implies a move faster than this from the track's last state (+ 3 meas_m), m/s,
+                             0 (off) or 0.1..20: a one-hit track's velocity gate spans metres, this bounds it */
     float gate;           /* Mahalanobis d^2 a detection may be from a prediction (chi-square, 2 dof: 9.21 = 99%), 1..100 */
     uint8_t confirm_m;    /* hits ...                                           */
     uint8_t confirm_n;    /* ... in the last N sweeps the track was visible in confirm it; 1 <= M <= N <= 8 */

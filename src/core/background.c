@@ -405,3 +405,21 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
     }
     return SONAR_OK;
 }
+
+int sonar_background_world_at(const struct sonar_background *bg, double north_m, double east_m, uint8_t *model,
+                              uint8_t *seen)
+{
+    int32_t i, j;
+    const uint8_t *c;
+    *model = *seen = 0;
+    if (bg == NULL || !bg->world || !isfinite(north_m) || !isfinite(east_m) || fabs(north_m) > 1e6 || fabs(east_m) > 1e6)
+        return 0;
+    i = cell_index(bg, north_m);
+    j = cell_index(bg, east_m);
+    if (i < bg->wi0 || i >= bg->wi0 + (int32_t)bg->grid || j < bg->wj0 || j >= bg->wj0 + (int32_t)bg->grid)
+        return 0;
+    c = &bg->cell[0][0] + 2u * (mod(i, bg->grid) * bg->grid + mod(j, bg->grid));
+    *model = c[0];
+    *seen = c[1];
+    return 1;
+}

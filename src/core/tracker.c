@@ -17,6 +17,7 @@ SONAR_STATIC_ASSERT(SONAR_TRK_WINDOW_MAX <= 8, history_fits_a_byte);
 
 #define TURN ((int)SONAR_GRAD_TURN)
 
+
 /* a modulo one turn, 0..399, for any sign. */
 static int wrap(int a)
 {
@@ -33,6 +34,7 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
     cfg->manoeuvre_mps2 = 0.5f;
     cfg->meas_m = 0.15f;
     cfg->speed0_mps = 1.0f;
+    cfg->max_speed_mps = 2.5f;
     cfg->gate = 9.21f;
     cfg->confirm_m = 2;
     cfg->confirm_n = 3;
@@ -50,6 +52,8 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
         return "meas_m: 0.01.." STR(SONAR_TRK_MEAS_MAX) " metres";
     if (!(c->speed0_mps >= 0.01f && c->speed0_mps <= (float)SONAR_TRK_SPEED_MAX))
         return "speed0_mps: 0.01.." STR(SONAR_TRK_SPEED_MAX) " m/s";
+    if (!(c->max_speed_mps == 0.0f || (c->max_speed_mps >= 0.1f && c->max_speed_mps <= (float)SONAR_TRK_SPEED_MAX)))
+        return "max_speed_mps: 0 (off) or 0.1.." STR(SONAR_TRK_SPEED_MAX) " m/s";
     if (!(c->gate >= 1.0f && c->gate <= (float)SONAR_TRK_GATE_MAX))
         return "gate: 1.." STR(SONAR_TRK_GATE_MAX) " (squared Mahalanobis distance)";
     if (c->confirm_n < 1 || c->confirm_n > SONAR_TRK_WINDOW_MAX)
@@ -313,7 +317,7 @@ static void correct(struct sonar_track *t, float r2, float zx, float zy)
 
 /* The cost of continuing t with o under acceleration noise q: d^2 + 2 ln(S / r2), or BIG outside the gate. */
 static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
-                       float q, float r2, int *clipped)
+                       float q, float r2, int turn, int *clipped)
 {
     float dt = step_s(tk, t, o->utime, clipped), pa = t->pa, pb = t->pb, pc = t->pc, s, ex, ey, d2;
     predict_cov(q, dt, &pa, &pb, &pc);
@@ -321,6 +325,23 @@ static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track 
     ex = o->x_m - (t->px + t->vx * dt);
     ey = o->y_m - (t->py + t->vy * dt);
     d2 = (ex * ex + ey * ey) / s;
+    if (tk->cfg.max_speed_mps > 0.0f) {
+        /* Kinematics: from where the track last was, nothing this fast (people, divers, swimmers). */
+        float mx = o->x_m - t->px, my = o->y_m - t->py, reach = tk->cfg.max_speed_mps * dt + 3.0f * tk->cfg.meas_m;
+        if (mx * mx + my * my > reach * reach)
+            return (float)BIG;
+    }
+    if (turn) {
+        /*
+         * The manoeuvre pass's noise gates metres around a track that stood still: on the vehicle
+         * scene a buoy's track, its buoy missed, took a post 3.4 m away and carried 0.7 m/s for
+         * sweeps. A turn changes where a track goes more than how fast it goes.
+         */
+        float mx = o->x_m - t->px, my = o->y_m - t->py, v = sqrtf(t->vx * t->vx + t->vy * t->vy);
+        float reach = (SONAR_TRK_TURN_SPEEDUP * v + SONAR_TRK_TURN_FROM_REST) * dt + 3.0f * tk->cfg.meas_m;
+        if (mx * mx + my * my > reach * reach)
+            return (float)BIG;
+    }
     return d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
 }
 
@@ -346,7 +367,8 @@ static void hit(const struct sonar_tracker *tk, struct sonar_track *t, const str
  * compacted in left[] in their order.
  */
 static uint8_t pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
-                    const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int *clipped)
+                    const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int turn,
+                    int *clipped)
 {
     int8_t row_col[SONAR_MAX_CLUSTERS];
     struct costs c;
@@ -355,7 +377,7 @@ static uint8_t pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], c
         return nl;
     for (i = 0; i < nl; i++)
         for (k = 0; k < nc; k++)
-            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], q, r2, clipped);
+            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], q, r2, turn, clipped);
     c.m = &cost[0][0];
     c.stride = SONAR_MAX_TRACKS;
     c.real = nc;
@@ -427,19 +449,19 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     for (k = 0; k < tk->n; k++)
         if (tk->t[k].state != SONAR_TRACK_TENTATIVE)
             cand[nc++] = k;
-    nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, &clipped);
+    nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, &clipped);
     if (qm > q) {
         for (k = 0, nc = 0; k < tk->n; k++)
             if (tk->t[k].det < 0 && tk->t[k].state == SONAR_TRACK_CONFIRMED)
                 cand[nc++] = k;
         j = nl;
-        nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, &clipped);
+        nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, 1, &clipped);
         tk->manoeuvres += (uint32_t)(j - nl);
     }
     for (k = 0, nc = 0; k < tk->n; k++)
         if (tk->t[k].state == SONAR_TRACK_TENTATIVE)
             cand[nc++] = k;
-    (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, &clipped);
+    (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, &clipped);
     /* Confirmation, coasting and deletion; the array stays in birth order. */
     for (k = 0, j = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];

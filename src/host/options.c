@@ -205,6 +205,8 @@ static const struct opt_spec spec[] = {
      "noise of the manoeuvre pass, in which a track hit in its last sweep that\nfound nothing may take a detection left over (a turn); off unless above --track-accel", NULL, NULL},
     {"track-speed", "V", OPT_F32, 1, 1, T(speed0_mps), 0.01, SONAR_TRK_SPEED_MAX, "m/s", "1",
      "speed uncertainty of a new track", NULL, NULL},
+    {"track-max-speed", "V", OPT_F32, 1, 1, T(max_speed_mps), 0, SONAR_TRK_SPEED_MAX, "m/s (0 = off, else >= 0.1)", "2.5",
+     "no track moves faster than this between two looks (people, divers, swimmers)", NULL, NULL},
     {"track-confirm", "M", OPT_U8, 1, 1, T(confirm_m), 1, SONAR_TRK_WINDOW_MAX, "hits", "2",
      "hits in the last --track-window visible sweeps that confirm a track", NULL, NULL},
     {"track-window", "N", OPT_U8, 1, 1, T(confirm_n), 1, SONAR_TRK_WINDOW_MAX, "sweeps", "3",

@@ -60,6 +60,7 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
     c.track_manoeuvre_mps2 = p->tracker.manoeuvre_mps2;
     c.track_meas_m = p->tracker.meas_m;
     c.track_speed0_mps = p->tracker.speed0_mps;
+    c.track_max_speed_mps = p->tracker.max_speed_mps;
     c.track_gate = p->tracker.gate;
     c.track_confirm_m = (int8_t)p->tracker.confirm_m;
     c.track_confirm_n = (int8_t)p->tracker.confirm_n;

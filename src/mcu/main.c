@@ -222,6 +222,7 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     next->tracker.manoeuvre_mps2 = c.track_manoeuvre_mps2;
     next->tracker.meas_m = c.track_meas_m;
     next->tracker.speed0_mps = c.track_speed0_mps;
+    next->tracker.max_speed_mps = c.track_max_speed_mps;
     next->tracker.gate = c.track_gate;
     next->tracker.confirm_m = to_u8(c.track_confirm_m, 0);
     next->tracker.confirm_n = to_u8(c.track_confirm_n, 0);
