@@ -12,6 +12,7 @@
 #define N 200 /* 10 m: 5 cm a sample */
 
 static struct sonar_obstacle ob;
+static const struct sonar_pose *pose_; /* the vehicle's, for beam(); NULL: none */
 
 /* Noise 10..18; a wall 150 from sample k (k < 0: none), and the ring-down in the first 6 samples. */
 static void beam(int64_t t, float bearing, int k)
@@ -25,7 +26,7 @@ static void beam(int64_t t, float bearing, int k)
     if (k >= 0)
         for (i = k; i < k + 3 && i < N; i++)
             s[i] = 150;
-    assert_int_equal(sonar_obstacle_beam(&ob, t, bearing, s, N, 10.0f), SONAR_OK);
+    assert_int_equal(sonar_obstacle_beam(&ob, t, bearing, pose_, s, N, 10.0f), SONAR_OK);
 }
 
 static void test_sectors(void **state)
@@ -41,7 +42,7 @@ static void test_sectors(void **state)
         beam(1000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f < 180.0f ? 120 : -1);
     for (a = 0; a < 400; a++) /* a second turn: the floor has learnt the noise and the ring-down */
         beam(9000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f <= 180.0f ? 120 : -1);
-    sonar_obstacle_map(&ob, 17000000, 8000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 17000000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(mn, 50);
     assert_int_equal(mx, 1000);
     for (k = 0; k < SONAR_OBS_SECTORS; k++) {
@@ -53,18 +54,18 @@ static void test_sectors(void **state)
     /* A nearer echo later in the same pass wins; a new pass replaces. */
     beam(16900000, 0.0f, 40);
     beam(16950000, 1.0f, 60);
-    sonar_obstacle_map(&ob, 17000000, 8000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 17000000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], 203);
     beam(30000000, 0.0f, -1);
-    sonar_obstacle_map(&ob, 30000000, 8000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 30000000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], 1001);
     /* Older than the age limit: unknown; a bearing wraps into its sector. */
     assert_int_equal(d[20], SONAR_OBS_UNKNOWN);
     beam(30100000, -2.4f, 80);
-    sonar_obstacle_map(&ob, 30100000, 8000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 30100000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], 403);
     beam(30200000, 357.6f, -1);
-    sonar_obstacle_map(&ob, 30200000, 8000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 30200000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], 403); /* 357.6 rounds to sector 0 too, and the same pass keeps the echo */
 }
 
@@ -82,19 +83,51 @@ static void test_bad_input_and_resets(void **state)
     assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_ERR_ARG);
     c.min_range_m = 0.5f;
     assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, s, 0, 10.0f), SONAR_ERR_ARG);
-    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, s, N, 0.0f), SONAR_ERR_ARG);
-    assert_int_equal(sonar_obstacle_beam(&ob, 1, (float)(0.0 / 0.0), s, N, 10.0f), SONAR_ERR_ARG);
-    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, NULL, N, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, NULL, s, 0, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, NULL, s, N, 0.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, (float)(0.0 / 0.0), NULL, s, N, 10.0f), SONAR_ERR_ARG);
+    assert_int_equal(sonar_obstacle_beam(&ob, 1, 0.0f, NULL, NULL, N, 10.0f), SONAR_ERR_ARG);
     assert_int_equal(ob.beams, 0);
-    sonar_obstacle_map(&ob, 1, 1000000, d, &mn, &mx);
+    sonar_obstacle_map(&ob, 1, 1000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
     assert_int_equal(mx, 0);
     beam(1000, 0.0f, -1);
-    assert_int_equal(sonar_obstacle_beam(&ob, 2000, 5.0f, s, N, 20.0f), SONAR_OK); /* a new range: afresh */
-    sonar_obstacle_map(&ob, 2000, 1000000, d, &mn, &mx);
+    assert_int_equal(sonar_obstacle_beam(&ob, 2000, 5.0f, NULL, s, N, 20.0f), SONAR_OK); /* a new range: afresh */
+    sonar_obstacle_map(&ob, 2000, 1000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
     assert_int_equal(d[1], 2001);
+}
+
+/*
+ * A vehicle at (10, 20) heading north sees a wall 6 m ahead, then turns to face east and moves 1 m
+ * north: the echo, kept as a world point, is now 5 m away on its left (body bearing 270, sector 54),
+ * and the clear sectors turn with it; without the pose then, what was kept in the world is left out.
+ */
+static void test_world_memory(void **state)
+{
+    struct sonar_obstacle_config c;
+    struct sonar_pose p = {0, 10.0f, 20.0f, 0.0f}, now = {0, 11.0f, 20.0f, 90.0f};
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    int a;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    pose_ = &p;
+    for (a = 0; a < 800; a++) { /* two turns from astern; the wall only straight ahead, at 6 m (sample 120: 6.025 m) */
+        int g = (a + 200) % 400;
+        beam(1000000 + a * 20000, (float)g * 0.9f, g < 3 || g > 397 ? 120 : -1);
+    }
+    pose_ = NULL;
+    sonar_obstacle_map(&ob, 17000000, 20000000, &p, d, &mn, &mx);
+    assert_int_equal(d[0], 603);
+    assert_int_equal(d[36], 1001);
+    sonar_obstacle_map(&ob, 17000000, 20000000, &now, d, &mn, &mx);
+    assert_int_equal(d[54], 503); /* 5.025 m on the left */
+    assert_int_equal(d[0], 1001);  /* east, where the vehicle now faces: scanned, clear */
+    assert_int_equal(d[18], 1001);
+    sonar_obstacle_map(&ob, 17000000, 20000000, NULL, d, &mn, &mx);
+    assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
+    assert_int_equal(d[54], SONAR_OBS_UNKNOWN);
 }
 
 int main(void)
@@ -102,6 +135,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sectors),
         cmocka_unit_test(test_bad_input_and_resets),
+        cmocka_unit_test(test_world_memory),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

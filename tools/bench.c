@@ -265,7 +265,7 @@ int main(int argc, char **argv)
             }
             t1 = now();
             for (i = 0; i < BEAMS; i++)
-                sink += sonar_obstacle_beam(&obstacles, (int64_t)k * 20000 + i * 20000, 0.9f * (float)i, sweep[i], N, 20.0f);
+                sink += sonar_obstacle_beam(&obstacles, (int64_t)k * 20000 + i * 20000, 0.9f * (float)i, NULL, sweep[i], N, 20.0f);
             t_w[r] = (t1 - t0) / BEAMS * 1e6;
             t_o[r] = (now() - t1) / BEAMS * 1e6;
         }

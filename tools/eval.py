@@ -484,7 +484,9 @@ def main():
     if wallfit:
         L.append("The pool's walls as the world grid learnt them (`sonar-wallfit --replay vehicle.csv --pose vehicle.pose.csv "
                  "--wall ...`): across each wall every 0.2 m, a metre clear of the corners, the model-weighted centre of the "
-                 "cells above half the largest within ±1 m, against the wall's true line.\n")
+                 "cells above half the largest within ±1 m, against the wall's true line; and, once a second from the third "
+                 "sweep on, each OBSTACLE_DISTANCE sector with an echo against the nearest wall in it from where the vehicle "
+                 "then is, with the map's world memory (docs/mavlink.md) and without it.\n")
         L.append("```\n" + "\n".join(wallfit) + "\n```\n")
     L.append("Targets (issue 11): detection F1 ≥ 0.9 with the pose; a static wall rebuilt in the world frame within one range "
              "cell RMS; static objects tracked at ≤ 0.05 m/s while the vehicle moves.\n")

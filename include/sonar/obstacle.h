@@ -1,4 +1,4 @@
-/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 72 x 16 B + 40 B (~3.6 KB at 1200). */
+/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 72 x 24 B + 40 B (~4.2 KB at 1200). */
 #ifndef SONAR_OBSTACLE_H
 #define SONAR_OBSTACLE_H
 
@@ -6,6 +6,7 @@
 
 #include "sonar/config.h"
 #include "sonar/err.h"
+#include "sonar/pose.h"
 
 /*
  * MAVLink's OBSTACLE_DISTANCE as ArduPilot reads it (AP_Proximity_MAV): 72 sectors of 5 degrees
@@ -30,9 +31,17 @@ struct sonar_obstacle_config {
     uint8_t min_level;  /* ... and by at least this many grey levels, 1..255 */
 };
 
+/*
+ * With the vehicle's pose, the map remembers the world: sector k of the memory is the world
+ * bearing k x 5 degrees, an echo is kept as the world point it came from, and each message turns
+ * the memory into the body frame at the pose then, so a sector swept seconds ago on a turning,
+ * moving vehicle still points at its wall. Without a pose, sectors are the body frame's, as seen.
+ */
 struct sonar_obstacle_sector {
     int64_t utime;      /* us since the epoch of the last beam through it; 0 = never */
     uint16_t cm;        /* its nearest echo, cm; 0 = none (clear) */
+    uint8_t world;      /* 1: a world bearing, and north_m, east_m hold the echo (or, clear, the sonar then) */
+    float north_m, east_m;
 };
 
 struct sonar_obstacle {
@@ -53,20 +62,22 @@ SONAR_CHECK int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar
 
 /*
  * One beam (filtered samples, n 1..SONAR_MAX_SAMPLES over range_m metres, (0, 1000]) at bearing_deg
- * in the body frame (any value; taken modulo 360), seen at utime: its nearest echo beyond
- * min_range goes into its sector (the nearest of one pass), or the sector is marked clear; the
- * floor then learns the beam. A new n or range_m starts the map afresh. Returns SONAR_OK or
- * SONAR_ERR_ARG (nothing changed).
+ * in the body frame (any value; taken modulo 360), seen at utime with the vehicle at pose (NULL:
+ * unknown): its nearest echo beyond min_range goes into its sector (the nearest of one pass), or
+ * the sector is marked clear; the floor then learns the beam. A new n or range_m starts the map
+ * afresh. Returns SONAR_OK or SONAR_ERR_ARG (nothing changed).
  */
-SONAR_CHECK int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg, const uint8_t *s,
-                                    uint16_t n, float range_m);
+SONAR_CHECK int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg,
+                                    const struct sonar_pose *pose, const uint8_t *s, uint16_t n, float range_m);
 
 /*
- * The whole map at now_us for one message: dist_cm[k] = the sector's echo, max_cm + 1 where it was
+ * The whole map at now_us for one message, in the body frame at pose (NULL: unknown; then what was
+ * kept in the world cannot be placed and is left out): dist_cm[k] = the nearest echo in sector k
+ * (one that came nearer than min_range since is reported at min_range), max_cm + 1 where it was
  * scanned and clear, SONAR_OBS_UNKNOWN where it was not scanned within max_age_us (a sweep, say).
  * *min_cm = min_range in cm (at least 1), *max_cm = the range in cm (0 before any beam).
  */
-void sonar_obstacle_map(const struct sonar_obstacle *o, int64_t now_us, int64_t max_age_us, uint16_t *dist_cm,
-                        uint16_t *min_cm, uint16_t *max_cm);
+void sonar_obstacle_map(const struct sonar_obstacle *o, int64_t now_us, int64_t max_age_us, const struct sonar_pose *pose,
+                        uint16_t *dist_cm, uint16_t *min_cm, uint16_t *max_cm);
 
 #endif

@@ -144,11 +144,16 @@ static int64_t max_age(const struct mav *m)
     return (int64_t)(s * 1.2e6);
 }
 
-/* The whole map as one OBSTACLE_DISTANCE: sector k centred on k x 5 degrees (angle_offset 0), body FRD, cm. */
+/*
+ * The whole map as one OBSTACLE_DISTANCE: sector k centred on k x 5 degrees (angle_offset 0), body
+ * FRD, cm, in the body frame at the vehicle's pose now when there is one.
+ */
 static void pack_od(struct mav *m, mavlink_message_t *msg, int64_t now_wall, int64_t now_mono)
 {
     uint16_t dist[SONAR_OBS_SECTORS], mn, mx;
-    sonar_obstacle_map(&m->obs, now_wall, max_age(m), dist, &mn, &mx);
+    struct sonar_pose q;
+    int have = m->app != NULL && sonar_pose_at(&m->app->poses, now_wall, &q);
+    sonar_obstacle_map(&m->obs, now_wall, max_age(m), have ? &q : NULL, dist, &mn, &mx);
     mavlink_msg_obstacle_distance_pack_status(m->cfg.sysid, m->cfg.compid, txs(m), msg,
                                               (uint64_t)(now_mono - m->t0_us), MAV_DISTANCE_SENSOR_ULTRASOUND, dist,
                                               SONAR_OBS_SECTOR_DEG, mn, mx, (float)SONAR_OBS_SECTOR_DEG, 0.0f,
@@ -186,7 +191,12 @@ static int sink_beam(void *self, const struct app_beam *b)
 {
     struct mav *m = self;
     float bearing = ((float)b->angle + m->cfg.angle_offset) * 0.9f;
-    if (sonar_obstacle_beam(&m->obs, b->utime, bearing, b->samples, b->n, b->range_m) != SONAR_OK)
+    struct sonar_pose q;
+    q.utime = b->utime;
+    q.north_m = b->north_m;
+    q.east_m = b->east_m;
+    q.yaw_deg = b->yaw_deg;
+    if (sonar_obstacle_beam(&m->obs, b->utime, bearing, b->has_pose ? &q : NULL, b->samples, b->n, b->range_m) != SONAR_OK)
         return HOST_ERR_IO;
     if (m->unsent_us == 0)
         m->unsent_us = m->app->clock.wall_us(m->app->clock.user);
@@ -208,7 +218,7 @@ static int sink_detections(void *self, const struct sonar_detections *d, const s
     uint8_t i;
     if (tk == NULL)
         return HOST_OK;
-    sonar_obstacle_map(&m->obs, d->utime, max_age(m), dist, &mn, &mx);
+    sonar_obstacle_map(&m->obs, d->utime, max_age(m), NULL, dist, &mn, &mx); /* only its min and max */
     for (i = 0; i < tk->n; i++) {
         const struct sonar_track *k = &tk->t[i];
         mavlink_message_t msg;
