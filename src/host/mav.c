@@ -34,11 +34,16 @@ static mavlink_status_t *txs(struct mav *m)
     return (mavlink_status_t *)(void *)m->tx.b;
 }
 
-/* Splits "HOST:PORT" (the last colon) into host and port. Returns 0, or -1. */
+/* Splits "HOST:PORT" (the last colon) into host and port, a number 1..65535. Returns 0, or -1. */
 static int host_port(const char *s, char *host, size_t hn, char *port, size_t pn)
 {
     const char *c = strrchr(s, ':');
+    char *end;
+    long p;
     if (c == NULL || c == s || c[1] == '\0' || (size_t)(c - s) >= hn || strlen(c + 1) >= pn)
+        return -1;
+    p = strtol(c + 1, &end, 10);
+    if (*end != '\0' || p < 1 || p > 65535)
         return -1;
     memcpy(host, s, (size_t)(c - s));
     host[c - s] = '\0';
@@ -64,7 +69,7 @@ int mav_parse(struct mav *m, const struct mav_config *cfg, char *err, size_t err
     if (strncmp(cfg->url, "udpin:", 6) == 0) {
         m->kind = MAV_UDPIN;
         if (host_port(cfg->url + 6, host, sizeof(host), port, sizeof(port)) != 0) {
-            snprintf(err, errlen, "--mavlink %s: udpin:ADDR:PORT, e.g. udpin:0.0.0.0:14660", cfg->url);
+            snprintf(err, errlen, "--mavlink %s: udpin:ADDR:PORT with a port 1..65535, e.g. udpin:0.0.0.0:14660", cfg->url);
             return HOST_ERR_CONFIG;
         }
     } else if (strncmp(cfg->url, "udpout:", 7) == 0) {
@@ -73,7 +78,8 @@ int mav_parse(struct mav *m, const struct mav_config *cfg, char *err, size_t err
         snprintf(u, sizeof(u), "udp:%s", cfg->url + 7);
         if (host_port(cfg->url + 7, host, sizeof(host), port, sizeof(port)) != 0 ||
             link_parse(&m->link, u, 0, err, errlen) != HOST_OK) {
-            snprintf(err, errlen, "--mavlink %s: udpout:HOST:PORT, e.g. udpout:192.168.2.1:14550", cfg->url);
+            snprintf(err, errlen, "--mavlink %s: udpout:HOST:PORT with a port 1..65535, e.g. udpout:192.168.2.1:14550",
+                     cfg->url);
             return HOST_ERR_CONFIG;
         }
     } else if (strncmp(cfg->url, "serial:", 7) == 0) {
