@@ -295,6 +295,19 @@ static void test_manoeuvre_pass_keeps_a_turning_track(void **state)
     assert_true(fabsf(tk.t[0].vx) < 0.3f);
 }
 
+/* A track's first look at (3.96, 4.91), then a detection 10.9 m away 4 s later (2.7 m/s). */
+static void far_second_look(void)
+{
+    struct sonar_tracker_sweep sw = everywhere(4000000);
+    struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
+    assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+    sw = everywhere(8000000);
+    a.x_m = 2.52f;
+    a.y_m = -5.89f;
+    a.utime = 7000000;
+    assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
+}
+
 /*
  * Kinematic bounds: a buoy's track (still, three hits) whose buoy is missed does not take, in the
  * manoeuvre pass, a post 3.4 m away 7 s later (0.5 m/s from standstill); and no pair implies more
@@ -326,31 +339,13 @@ static void test_kinematic_bounds(void **state)
     assert_true(fabsf(by_id(1)->vx) < 0.05f);
     /* A one-hit track 10.9 m from a detection 4 s later (2.7 m/s): another object, at 2.5 m/s at most. */
     init();
-    {
-        struct sonar_tracker_sweep sw = everywhere(4000000);
-        struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
-        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
-        sw = everywhere(8000000);
-        a.x_m = 2.52f;
-        a.y_m = -5.89f;
-        a.utime = 7000000;
-        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
-    }
+    far_second_look();
     assert_int_equal(tk.n, 2);
     c = tk.cfg;
     c.max_speed_mps = 0.0f; /* off: the wide gate takes it */
     init();
     assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_OK);
-    {
-        struct sonar_tracker_sweep sw = everywhere(4000000);
-        struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
-        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
-        sw = everywhere(8000000);
-        a.x_m = 2.52f;
-        a.y_m = -5.89f;
-        a.utime = 7000000;
-        assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
-    }
+    far_second_look();
     assert_int_equal(tk.n, 1);
     c.max_speed_mps = 0.05f;
     assert_int_equal(sonar_tracker_tune(&tk, &c), SONAR_ERR_ARG);
