@@ -66,6 +66,33 @@ check "--track-confirm 4 --track-window 3 is refused (exit 2), naming both" \
 # A moving vehicle (issue 11): the 30 x 16 m pool seen while the vehicle goes up and down it at
 # 0.5 m/s and its heading swings at 30 degrees/s. With the pose (--pose) the background is kept in
 # the world and the tracks too; the body-frame baseline (no pose) is printed beside it.
+# Progress: a line on stderr when it is a terminal (a pty here), none in a log.
+check "--replay on a terminal: a progress line (beams, sweeps, rate, percent); none when stderr is a file" python3 - "$B/sonard" "$T/pool.csv" "$T/pool.err" <<'PY'
+import os, pty, re, subprocess, sys
+m, s = pty.openpty()
+p = subprocess.Popen([sys.argv[1], "--replay", sys.argv[2], "--json", "--no-lcm"], stdout=subprocess.DEVNULL, stderr=s)
+os.close(s)
+out = b""
+while True:
+    try:
+        d = os.read(m, 4096)
+    except OSError:
+        break
+    if not d:
+        break
+    out += d
+assert p.wait() == 0
+text = out.decode()
+last = [x for x in re.split(r"[\r\n]+", text) if "beams/s" in x]
+assert last, text
+got = re.search(r"beams (\d+)  sweeps (\d+)  \d+ beams/s  100 %", last[-1])
+assert got, last[-1]
+used = re.search(r"(\d+) rows used, \d+ skipped, (\d+) sweeps", text)
+assert got.group(1) == used.group(1) and got.group(2) == used.group(2), (last[-1], used.group(0))
+log = open(sys.argv[3]).read()
+assert "beams/s" not in log and "\r" not in log, log
+print(last[-1].strip())
+PY
 "$B/sonar-sim" --scene vehicle --out "$T/veh.csv" --truth "$T/veh.json" --pose-out "$T/veh.pose.csv"
 "$B/sonard" --replay "$T/veh.csv" --pose "$T/veh.pose.csv" --json --min-points 8 --csv-out "$T/veh.rec.csv" \
     --stage raw > "$T/veh.jsonl" 2> "$T/veh.err"

@@ -37,6 +37,29 @@ head -c 5000 "$T/20220822-200542039.bin" > "$T/cut.bin"
 "$B/pvbin2csv" "$T/cut.bin" "$T/cut.csv" 2> "$T/cut.err"
 check "a truncated .bin: named record and byte, the beams before it kept" sh -c "grep -q 'truncated at byte' '$T/cut.err' && test -s '$T/cut.csv'"
 
+# brping's own form, as a new user would try it: 'angle;s0;...' rows under a header, no timestamps.
+J=$(ls "$R"/junayed_sector/*_Results.csv 2>/dev/null | head -1)
+if [ -n "$J" ]; then
+    "$B/sonard" --replay "$J" --json --no-lcm > "$T/jun.jsonl" 2> "$T/jun.err"
+    check "brping capture (angle;samples, untimed): the form named, all 101 rows one 100-gradian sweep, timed by the model" \
+        python3 - "$T/jun.jsonl" "$T/jun.err" <<'PY'
+import json, sys
+lines = [json.loads(l) for l in open(sys.argv[1])]
+err = open(sys.argv[2]).read()
+assert "brping rows (angle;samples" in err and "Ping360 model" in err, err
+assert "101 rows used, 0 skipped, 1 sweeps" in err, err
+assert len(lines) == 1 and lines[0]["beams"] == 101, lines
+# 100 steps of one gradian at 2 m: 19.4 + 6 + 2*2/1500 s = 28.07 ms a beam
+assert abs(lines[0]["utime"] - 100 * 28067) < 1000, lines[0]["utime"]
+print("1 sweep of", lines[0]["beams"], "beams, last at", lines[0]["utime"] / 1e6, "s")
+PY
+    "$B/sonard" --replay "$J" --json --no-lcm --quiet --beam-ms 50 > "$T/jun50.jsonl"
+    check "brping capture with --beam-ms 50: the sweep ends at 5 s" \
+        python3 -c "import json,sys; l=[json.loads(x) for x in open(sys.argv[1])]; assert l[0]['utime']==5000000, l[0]['utime']" "$T/jun50.jsonl"
+else
+    echo "realdata: brping capture absent from $R/junayed_sector: its checks skipped"
+fi
+
 # AquaScan text matrices + labels -> CSV + truth.
 python3 tools/aquascan2csv.py "$R/aquascan" --out "$T/aq" --range 15 > "$T/aq.out"
 check "AquaScan -> CSV: 51 sweeps and 237 labelled people (2 sweeps have no label file)" sh -c "grep -q 'sonar4: 30 sweeps (0 without labels, not scored), 146' '$T/aq.out' && grep -q 'sonar11: 21 sweeps (2 without labels, not scored), 91' '$T/aq.out'"

@@ -209,6 +209,46 @@ static void test_writer_round_trip(void **state)
 }
 
 /* The vehicle's pose rides on each row: written, read back, and half a pose refused by name. */
+/* brping's form: 'angle;s0;s1;...' under a header, no timestamps; named, and timed by the caller. */
+static void test_untimed_semicolon_form(void **state)
+{
+    char err[128];
+    (void)state;
+    write_file("Angle (gradian);Intensity (0-255)\n"
+               "   150;76;152;201\n"
+               "151;1;2;3;range_m=2\n"
+               "152;1,5;2;3\n"
+               "400;1;2;3\n"
+               "153;1;2\n"
+               "154;9;8;7\n");
+    assert_string_equal(csv_format_name(&rd), "empty (no rows)");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(rd.format, CSV_FORMAT_UNTIMED);
+    assert_non_null(strstr(csv_format_name(&rd), "angle;samples"));
+    assert_int_equal(row.timed, 0);
+    assert_int_equal(row.sec, 0);
+    assert_int_equal(row.angle, 150);
+    assert_int_equal(row.n, 3);
+    assert_int_equal(row.samples[0], 76);
+    assert_int_equal(row.samples[2], 201);
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_true(row.range_m == 2.0);
+    expect_bad("not a number"); /* a decimal comma is no sample */
+    expect_bad("angle '400'");
+    expect_bad("2 samples");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(row.angle, 154);
+    assert_int_equal(rd.good, 3);
+    assert_int_equal(rd.bad, 3);
+    done();
+    /* the study's form says so, and its rows are timed */
+    write_file("1,0,4,\"1 2 3\"\n");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+    assert_int_equal(rd.format, CSV_FORMAT_STUDY);
+    assert_int_equal(row.timed, 1);
+    done();
+}
+
 static void test_pose_metadata(void **state)
 {
     char err[160];
@@ -252,6 +292,7 @@ int main(void)
         cmocka_unit_test(test_random_rows_match_reference),
         cmocka_unit_test(test_writer_round_trip),
         cmocka_unit_test(test_pose_metadata),
+        cmocka_unit_test(test_untimed_semicolon_form),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

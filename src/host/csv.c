@@ -262,6 +262,21 @@ static const char *fast_samples(const char *p, struct csv_row *row, unsigned lon
     return p;
 }
 
+/* The untimed form's head: the angle alone. */
+static int parse_angle(char **p, struct csv_row *row, char *err, size_t errlen)
+{
+    char *a = next_field(p);
+    int64_t v;
+    row->sec = 0;
+    row->nsec = 0;
+    if (a == NULL || parse_i64(a, &v) != 0 || v < 0 || v > 399) {
+        snprintf(err, errlen, "angle '%s' is not an integer 0..399 gradians", a ? a : "");
+        return -1;
+    }
+    row->angle = (uint16_t)v;
+    return 0;
+}
+
 static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char *err, size_t errlen)
 {
     const char *p;
@@ -273,7 +288,8 @@ static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char
     row->gain = row->transmit_duration = row->transmit_frequency = -1.0;
     row->has_pose = 0;
     row->north_m = row->east_m = row->yaw_deg = 0.0;
-    if (parse_head(&rest, row, err, errlen) != 0)
+    row->timed = r->format != CSV_FORMAT_UNTIMED;
+    if ((row->timed ? parse_head(&rest, row, err, errlen) : parse_angle(&rest, row, err, errlen)) != 0)
         return -1;
     if (rest != NULL)
         rest = (char *)(uintptr_t)fast_samples(rest, row, &count);
@@ -396,6 +412,14 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
         s = trim(r->buf);
         if (*s == '\0' || *s == '#')
             continue;
+        if (r->format == CSV_FORMAT_UNKNOWN)
+            r->format = strchr(s, ';') != NULL ? CSV_FORMAT_UNTIMED : CSV_FORMAT_STUDY;
+        if (r->format == CSV_FORMAT_UNTIMED) {
+            /* ';' is that form's comma; a comma inside it would be a decimal point, which no field may hold */
+            char *q;
+            for (q = s; (q = strpbrk(q, ";,")) != NULL; q++)
+                *q = *q == ';' ? ',' : ';';
+        }
         /* A header: only before any data, and only if its first field is not numeric. */
         if (!r->seen_data && !isdigit((unsigned char)*s) && *s != '-') {
             r->seen_data = 1;
@@ -408,6 +432,15 @@ int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen
         }
         r->good++;
         return 1;
+    }
+}
+
+const char *csv_format_name(const struct csv_reader *r)
+{
+    switch (r->format) {
+    case CSV_FORMAT_STUDY: return "study CSV (sec,nsec,angle,samples)";
+    case CSV_FORMAT_UNTIMED: return "brping rows (angle;samples, ';'-separated, no timestamps)";
+    default: return "empty (no rows)";
     }
 }
 

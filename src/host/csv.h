@@ -15,6 +15,10 @@
  *   sec,nsec,angle,"s0 s1 s2 ..."        the study's form, samples in one quoted field
  *   sec,nsec,angle,s0,s1,s2,...          samples spread across columns
  *   sec.nsec,angle,...                   timestamp combined
+ *   angle;s0;s1;...                      brping captures (Junayed et al.): ';'-separated, no
+ *                                        timestamps, header "Angle (gradian);Intensity (0-255)"
+ * The form is fixed by the file's first line: a ';' in it makes the file the untimed form
+ * (csv_format_name says which was found); rows of that form have timed = 0 and sec = nsec = 0.
  * An optional header line (first field not a number) is skipped; '...' tokens and '[' ']' are
  * ignored. Fields `key=value` after the samples carry metadata (range_m, sample_period,
  * speed_of_sound, gain, transmit_duration, transmit_frequency, and the vehicle's pose at the beam:
@@ -35,6 +39,7 @@ struct csv_row {
     uint32_t nsec;
     uint16_t angle; /* gradians 0..399 */
     uint16_t n;
+    int timed; /* 0: the row had no timestamp (the untimed form); the caller times it */
     uint8_t samples[SONAR_MAX_SAMPLES];
     /* metadata, < 0 when absent */
     double range_m, sample_period, speed_of_sound, gain, transmit_duration, transmit_frequency;
@@ -51,9 +56,15 @@ struct csv_reader {
     unsigned long bad;
     uint16_t expect_n;      /* samples per row, fixed by the first good row */
     int seen_data;
+    int format;             /* enum csv_format, fixed by the first line */
     char buf[CSV_LINE_MAX + 64]; /* the tokenizer reads up to 63 bytes past the NUL: zeroed per line */
     char iobuf[1 << 20];
 };
+
+enum csv_format { CSV_FORMAT_UNKNOWN = 0, CSV_FORMAT_STUDY, CSV_FORMAT_UNTIMED };
+
+/* The form of the rows read so far, for messages: "study CSV (sec,nsec,angle,samples)" and so on. */
+const char *csv_format_name(const struct csv_reader *r);
 
 /* Opens path ("-" = stdin). Returns HOST_OK, or HOST_ERR_IO with errno set. */
 int csv_open(struct csv_reader *r, const char *path);

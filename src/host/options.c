@@ -147,6 +147,8 @@ static const struct opt_spec spec[] = {
      "process a recording in the study's CSV form instead of a live sonar", NULL, NULL},
     {"pose", "FILE", OPT_STR, 0, 0, F(pose_file), 0, 0, "file", "the rows' north_m= east_m= yaw_deg=",
      "the vehicle's poses for --replay: a CSV with the header\nutime_us,north_m,east_m,yaw_deg (docs/architecture.md, frames)", NULL, NULL},
+    {"beam-ms", "MS", OPT_F64, 1, 0, F(beam_ms), 0, 60000, "milliseconds (0 = the model)", "0",
+     "time between the beams of an untimed recording (brping's angle;samples\nrows); 0: the Ping360 model, 19.4 ms + 6 ms a gradian + 2R/c", NULL, NULL},
     {"stage", "S", OPT_CHOICE, 1, 0, F(stage), 0, 0, "raw, median or foreground", "foreground",
      "replay --csv-out: export after this stage", "raw=0|median=1|foreground=2", NULL},
     SECTION("geometry"),

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "app.h"
 #include "live.h"
@@ -232,12 +233,18 @@ int main(int argc, char **argv)
                HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         return 2;
-    } else if (s.opt.pose_file != NULL) {
-        if (posefile_open(&s.pose, s.opt.pose_file, err, sizeof(err)) != HOST_OK) {
-            fprintf(stderr, "sonard: --pose %s\n", err);
-            return 2;
+    } else {
+        s.replay.beam_ms = s.opt.beam_ms;
+        s.replay.quiet = s.opt.quiet;
+        /* a progress line is for a person watching, not for a log */
+        s.replay.progress = !s.opt.quiet && isatty(fileno(stderr));
+        if (s.opt.pose_file != NULL) {
+            if (posefile_open(&s.pose, s.opt.pose_file, err, sizeof(err)) != HOST_OK) {
+                fprintf(stderr, "sonard: --pose %s\n", err);
+                return 2;
+            }
+            s.replay.pose = &s.pose;
         }
-        s.replay.pose = &s.pose;
     }
     if (app_init(&s.app, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock, (float)s.opt.speed_of_sound,
                  s.opt.sweeps, err, sizeof(err)) != HOST_OK ||

@@ -2,7 +2,10 @@
 #include "source_replay.h"
 
 #include <errno.h>
+#include <inttypes.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
 
 #include "sonar/geometry.h"
 
@@ -16,6 +19,10 @@ int source_replay_open(struct source_replay *r, const char *path, double range_m
     r->range_m = range_m;
     r->speed_of_sound = speed_of_sound;
     r->pose = NULL;
+    r->beam_ms = 0.0;
+    r->progress = r->quiet = 0;
+    r->clock_us = 0;
+    r->prev_angle = -1;
     return HOST_OK;
 }
 
@@ -25,6 +32,16 @@ void source_replay_stream(struct source_replay *r, FILE *f, const char *name, do
     r->range_m = range_m;
     r->speed_of_sound = speed_of_sound;
     r->pose = NULL;
+    r->beam_ms = 0.0;
+    r->progress = r->quiet = 0;
+    r->clock_us = 0;
+    r->prev_angle = -1;
+}
+
+int64_t source_replay_beam_us(unsigned step, double range_m, double speed_of_sound)
+{
+    double us = 19400.0 + 6000.0 * (step ? step : 1u) + 2.0 * range_m / speed_of_sound * 1e6;
+    return (int64_t)us;
 }
 
 /* Range of a row: --range, else the row's range_m or sample_period metadata, else 2 m. */
@@ -45,11 +62,69 @@ static int32_t meta_int(double v)
     return v >= 0.0 ? (int32_t)(v + 0.5) : -1; /* the reader bounds every value to 0..65535 */
 }
 
+/* Untimed rows: each one a modelled beam (or --beam-ms) after the previous, from 0. */
+static int64_t untimed_utime(struct source_replay *r, float range_m, double c)
+{
+    unsigned step = 1;
+    if (r->prev_angle >= 0) {
+        unsigned d = (unsigned)(r->row.angle > r->prev_angle ? r->row.angle - r->prev_angle : r->prev_angle - r->row.angle);
+        step = d > 200u ? 400u - d : d; /* the short way round */
+    }
+    if (r->prev_angle >= 0)
+        r->clock_us += r->beam_ms > 0.0 ? (int64_t)(r->beam_ms * 1000.0 + 0.5) : source_replay_beam_us(step, range_m, c);
+    r->prev_angle = r->row.angle;
+    return r->clock_us;
+}
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+/* "beams 12000  sweeps 30  41000 beams/s  37 %  ETA 3 s", over itself with \r. */
+static void show_progress(struct source_replay *r, const struct app *a, FILE *errf, double t0, long size, int last)
+{
+    double dt = now_s() - t0;
+    long at = ftell(r->csv.f);
+    double rate = dt > 0.0 ? (double)r->csv.good / dt : 0.0;
+    fprintf(errf, "\r%s: beams %lu  sweeps %" PRIu32 "  %.0f beams/s", r->csv.path, r->csv.good, a->sweeps, rate);
+    if (size > 0 && at >= 0) {
+        double frac = (double)at / (double)size;
+        fprintf(errf, "  %3.0f %%", 100.0 * frac);
+        if (frac > 0.0 && !last)
+            fprintf(errf, "  ETA %.0f s ", dt * (1.0 - frac) / frac);
+        else
+            fprintf(errf, "           ");
+    }
+    if (last)
+        fputc('\n', errf);
+    fflush(errf);
+}
+
 unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *errf)
 {
     char err[256];
-    int got;
+    int got, said = 0;
+    double t0 = now_s(), next_show = t0 + 0.25;
+    long size = -1;
+    struct stat st;
+    if (r->progress && errf != NULL && fstat(fileno(r->csv.f), &st) == 0 && S_ISREG(st.st_mode))
+        size = (long)st.st_size;
     while ((got = csv_next(&r->csv, &r->row, err, sizeof(err))) != 0) {
+        if (!said && r->csv.format != CSV_FORMAT_UNKNOWN) {
+            said = 1;
+            if (errf != NULL && !r->quiet && r->csv.format == CSV_FORMAT_UNTIMED)
+                fprintf(errf, "sonard: %s: %s: beams timed %s\n", r->csv.path, csv_format_name(&r->csv),
+                        r->beam_ms > 0.0 ? "--beam-ms apart" : "by the Ping360 model (19.4 ms + 6 ms a gradian + 2R/c)");
+            else if (errf != NULL && !r->quiet)
+                fprintf(errf, "sonard: %s: %s\n", r->csv.path, csv_format_name(&r->csv));
+        }
+        if (r->progress && errf != NULL && (r->csv.good & 255u) == 0 && now_s() >= next_show) {
+            show_progress(r, a, errf, t0, size, 0);
+            next_show = now_s() + 0.25;
+        }
         const struct csv_row *w = &r->row;
         struct app_beam b;
         double c = w->speed_of_sound > 0.0 ? w->speed_of_sound : r->speed_of_sound;
@@ -60,7 +135,6 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
                 fprintf(errf, "%s:%lu: %s; row skipped\n", r->csv.path, r->csv.line, err);
             continue;
         }
-        b.utime = w->sec * 1000000 + (int64_t)(w->nsec / 1000u); /* the reader bounds sec to fit */
         b.angle = w->angle;
         b.n = w->n;
         b.gain = meta_int(w->gain);
@@ -69,6 +143,8 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
         b.transmit_frequency = meta_int(w->transmit_frequency);
         b.speed_of_sound = (float)c;
         b.range_m = row_range(r, c);
+        b.utime = w->timed ? w->sec * 1000000 + (int64_t)(w->nsec / 1000u) /* the reader bounds sec to fit */
+                           : untimed_utime(r, b.range_m, c);
         b.stage = SONAR_STAGE_RAW;
         /* A pose file, when given, says where the vehicle was; else the row's own pose, if any. */
         b.has_pose = (uint8_t)(r->pose == NULL && w->has_pose);
@@ -86,6 +162,8 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
     }
     if (app_finish(a) != SONAR_OK && errf != NULL)
         fprintf(errf, "sonard: finishing the last sweep failed\n");
+    if (r->progress && errf != NULL)
+        show_progress(r, a, errf, t0, size, 1);
     return r->csv.good;
 }
 

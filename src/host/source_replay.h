@@ -14,7 +14,16 @@ struct source_replay {
     double range_m;        /* > 0: overrides the rows' metadata */
     double speed_of_sound; /* m/s, when a row does not say */
     struct posefile *pose; /* --pose FILE, read ahead of each beam, or NULL: the rows' own poses */
+    double beam_ms;        /* > 0: the time between untimed rows; else the Ping360 model */
+    int progress;          /* 1: a progress line on errf (the caller checks errf is a terminal) */
+    int quiet;             /* 1: do not say which form the file is in */
+    int64_t clock_us;      /* the untimed rows' clock */
+    int prev_angle;        /* the previous untimed row's angle, -1 before the first */
 };
+
+/* Model time of one untimed beam in us: 19.4 ms + 6 ms per gradian stepped + 2R/c (ping.md, section 3;
+ * the serial transfer is left out, the transport being unknown). step 0 counts as 1. */
+int64_t source_replay_beam_us(unsigned step, double range_m, double speed_of_sound);
 
 /* path: a file or "-". Returns HOST_OK or HOST_ERR_IO with "PATH: reason" in err. */
 HOST_CHECK int source_replay_open(struct source_replay *r, const char *path, double range_m, double speed_of_sound,
