@@ -23,7 +23,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
-            src/host/posefile.c src/host/pvbin.c
+            src/host/posefile.c src/host/pvbin.c src/host/discover.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
             $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/source_pose_lcm.o
@@ -31,12 +31,12 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options
+UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover
 UNIT_LIVE = app sinks mav source_pose_lcm
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
@@ -108,7 +108,8 @@ $(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a \
+$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/host/discover.o \
+                     $(BUILD)/libsonarcore.a \
                      $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
@@ -136,7 +137,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink discover soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -196,6 +197,10 @@ live: all
 ## mavlink: sonard --mavlink live over loopback UDP, decoded by pinned pymavlink (.venv-mavlink): HEARTBEAT, OBSTACLE_DISTANCE against the simulated walls, OBSTACLE_DISTANCE_3D, poses from sonar-feed's autopilot, junk traffic
 mavlink: all .venv-mavlink/.done
 	@sh tests/mavlink.sh $(BUILD)
+
+## discover: sonard --discover against sonar-feed answering Ping360 discovery on loopback
+discover: all
+	@sh tests/discover.sh $(BUILD)
 
 ## crosscheck: Blue Robotics' own Python client (bluerobotics-ping, in .venv-brping) against sonar-feed over UDP
 crosscheck: all .venv-brping/.done

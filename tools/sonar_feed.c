@@ -17,6 +17,7 @@
 #include <arpa/inet.h>
 
 #include "csv.h"
+#include "discover.h"
 #include "optschema.h"
 #include "ardupilotmega/mavlink.h"
 #include "scene.h"
@@ -88,6 +89,12 @@ struct feed {
     double scene_t0;    /* when the first beam was served: the scene's clock starts then (a vehicle's path is timed) */
     double next_pose;
     long poses_sent;
+    /* discovery (--discovery udp:127.x.x.x:PORT): answers "Discovery" as the device does */
+    char disc_host[64];
+    int disc_port, dfd;
+    uint8_t mac[6];
+    const char *claim_ip;  /* the address the reply claims; the --listen host by default */
+    long discoveries;
 };
 
 static volatile sig_atomic_t quit;
@@ -564,6 +571,52 @@ static int parse_listen(void *base, const char *v, char *err, size_t n)
     return HOST_ERR_CONFIG;
 }
 
+static int parse_discovery(void *base, const char *v, char *err, size_t n)
+{
+    struct feed *f = base;
+    if (strncmp(v, "udp:", 4) != 0 || sscanf(v + 4, "%63[^:]:%d", f->disc_host, &f->disc_port) != 2 || f->disc_port < 1 ||
+        f->disc_port > 65535 || strncmp(f->disc_host, "127.", 4) != 0) {
+        snprintf(err, n, "--discovery: '%s' is not udp:127.x.x.x:PORT (loopback only)", v);
+        return HOST_ERR_CONFIG;
+    }
+    return HOST_OK;
+}
+
+static int parse_mac(void *base, const char *v, char *err, size_t n)
+{
+    struct feed *f = base;
+    unsigned m[6];
+    int used = 0, i;
+    if (sscanf(v, "%2x-%2x-%2x-%2x-%2x-%2x%n", &m[0], &m[1], &m[2], &m[3], &m[4], &m[5], &used) != 6 || v[used] != '\0') {
+        snprintf(err, n, "--mac: '%s' is not six hex pairs like 54-10-EC-00-00-01", v);
+        return HOST_ERR_CONFIG;
+    }
+    for (i = 0; i < 6; i++)
+        f->mac[i] = (uint8_t)m[i];
+    return HOST_OK;
+}
+
+/* A datagram on the discovery port: "Discovery" gets the device's text reply; anything else is ignored, as the device does. */
+static void answer_discovery(struct feed *f)
+{
+    char buf[256], reply[256];
+    struct sockaddr_in from;
+    socklen_t fl = sizeof(from);
+    struct in_addr ip;
+    ssize_t got = recvfrom(f->dfd, buf, sizeof(buf) - 1, 0, (struct sockaddr *)&from, &fl);
+    size_t n;
+    if (got < 0)
+        return;
+    buf[got] = '\0';
+    if (strncmp(buf, "Discovery", 9) != 0)
+        return;
+    if (inet_pton(AF_INET, f->claim_ip != NULL ? f->claim_ip : f->host, &ip) != 1)
+        ip.s_addr = htonl(INADDR_LOOPBACK);
+    n = discover_format_reply(reply, sizeof(reply), f->mac, ntohl(ip.s_addr));
+    if (sendto(f->dfd, reply, n, 0, (struct sockaddr *)&from, fl) == (ssize_t)n)
+        f->discoveries++;
+}
+
 static int parse_firmware(void *base, const char *v, char *err, size_t n)
 {
     struct feed *f = base;
@@ -620,6 +673,10 @@ static const struct opt_spec feed_spec[] = {
     {"max-beams", "N", OPT_LONG, 0, 0, FO(max_beams), 1, 1e12, "beams", "no limit", "exit after N beams sent intact (soak)", NULL, NULL},
     {"mavlink", "URL", OPT_STR, 0, 0, FO(mavlink), 0, 0, "udpout:127.x.x.x:PORT", NULL,
      "a moving scene's autopilot: ATTITUDE and LOCAL_POSITION_NED at 20 Hz", NULL, NULL},
+    {"discovery", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "udp:127.x.x.x:PORT", NULL,
+     "answer Ping360 discovery (\"Discovery\" -> the device's text reply) here", NULL, parse_discovery},
+    {"mac", "XX-XX-XX-XX-XX-XX", OPT_CUSTOM, 0, 0, 0, 0, 0, "six hex pairs", "54-10-EC-00-00-01", "MAC address in the discovery reply", NULL, parse_mac},
+    {"claim-ip", "A.B.C.D", OPT_STR, 0, 0, FO(claim_ip), 0, 20, "IPv4", "the --listen host", "IP address the discovery reply claims", NULL, NULL},
     {"faults", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
     {"drop", "P", OPT_F64, 0, 0, FO(drop), 0, 1, "probability", "0", "drop a reply", NULL, NULL},
     {"drop-at", "N", OPT_LONG, 0, 0, FO(drop_at), 1, 1e12, "replies", NULL, "drop reply N", NULL, NULL},
@@ -656,6 +713,11 @@ int main(int argc, char **argv)
     f.c = 1500.0;
     f.max_s = 600;
     f.csv_range = -1;
+    f.mac[0] = 0x54;
+    f.mac[1] = 0x10;
+    f.mac[2] = 0xEC;
+    f.mac[5] = 0x01;
+    f.dfd = -1;
     f.rng.s = 0x9E3779B97F4A7C15ull;
     f.fault_rng.s = 0x2545F4914F6CDD1Dull;
     if (opt_parse_argv(&schema, argc, argv, &f, NULL, &action, err, sizeof(err)) != HOST_OK) {
@@ -692,6 +754,17 @@ int main(int argc, char **argv)
     if (sonar_ping_parser_init(&f.parser, 0) != SONAR_OK || sonar_sweep_init(&f.sweep, 20, 400) != SONAR_OK ||
         setup(&f) != 0)
         return 2;
+    if (f.disc_port > 0) {
+        struct sockaddr_in a;
+        memset(&a, 0, sizeof(a));
+        a.sin_family = AF_INET;
+        a.sin_port = htons((uint16_t)f.disc_port);
+        if (inet_pton(AF_INET, f.disc_host, &a.sin_addr) != 1 || (f.dfd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK, 0)) < 0 ||
+            bind(f.dfd, (struct sockaddr *)&a, sizeof(a)) != 0) {
+            perror("sonar_feed: --discovery");
+            return 2;
+        }
+    }
     f.sp = 88;
     f.n = 1200;
     f.freq = 740;
@@ -700,7 +773,7 @@ int main(int argc, char **argv)
     signal(SIGPIPE, SIG_IGN);
     t0 = now_s();
     while (!quit) {
-        struct pollfd pfd[2];
+        struct pollfd pfd[3];
         struct timespec ts = {0, 200000000};
         int np = 0, r;
         double now = now_s();
@@ -731,9 +804,19 @@ int main(int argc, char **argv)
             pfd[np].fd = f.cfd;
             pfd[np++].events = POLLIN;
         }
+        if (f.dfd >= 0) {
+            /* last, so the indices above stay as they are */
+            pfd[np].fd = f.dfd;
+            pfd[np++].events = POLLIN;
+        }
         r = ppoll(pfd, (nfds_t)np, &ts, NULL);
         if (r < 0 && errno != EINTR)
             break;
+        if (f.dfd >= 0) {
+            if (pfd[np - 1].revents & POLLIN)
+                answer_discovery(&f);
+            np--;
+        }
         if (f.lfd >= 0 && f.cfd < 0 && np > 0 && (pfd[0].revents & POLLIN)) {
             f.cfd = accept(f.lfd, NULL, NULL);
             if (f.cfd >= 0)
@@ -778,6 +861,8 @@ int main(int argc, char **argv)
             f.motor_offs);
     if (f.mfd >= 0)
         fprintf(stderr, "sonar_feed: mavlink %s: %ld poses sent\n", f.mavlink, f.poses_sent);
+    if (f.dfd >= 0)
+        fprintf(stderr, "sonar_feed: discovery %s:%d: %ld replies\n", f.disc_host, f.disc_port, f.discoveries);
     if (f.log != NULL) {
         fprintf(f.log, "summary requests %ld beams %ld replies %ld dropped %ld corrupted %ld garbage %ld disconnects %ld stalls %ld nacks %ld motor_off %ld intact %ld\n",
                 f.requests, f.beams, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,

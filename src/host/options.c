@@ -125,6 +125,14 @@ static const struct opt_spec spec[] = {
      "record beams in the study's CSV plus metadata columns (live: raw;\nreplay: the --stage)", NULL, NULL},
     {"config", "FILE", OPT_ACTION, 0, 0, 0, 0, 0, "file", NULL,
      "key = value lines, keys as the long options; several apply in order,\nflags override them; re-read on SIGHUP", NULL, NULL},
+    SECTION("discovery (Ethernet Ping360s)"),
+    {"discover", NULL, OPT_FLAG, 0, 0, F(discover), 0, 0, NULL, "off",
+     "list the Ping360s on the network (\"Discovery\" to UDP 30303, as Ping Viewer\ndoes): address, MAC, firmware; then exit", NULL, NULL},
+    {"discover-to", "IP:PORT", OPT_STR, 0, 0, F(discover_to), 0, 40, "IPv4:PORT", "255.255.255.255:30303 (broadcast)",
+     "where to send the probe (one device, or a test's sonar-feed)", NULL, NULL},
+    {"discover-seconds", "S", OPT_F64, 0, 0, F(discover_s), 0.2, 60, "seconds", "2", "how long to listen for replies", NULL, NULL},
+    {"discover-data-port", "PORT", OPT_LONG, 0, 0, F(discover_data_port), 1, 65535, "UDP port", "12345",
+     "the devices' Ping Protocol port, asked for their firmware", NULL, NULL},
     SECTION("co-processor (docs/coprocessor.md)"),
     {"coprocessor", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
      "the co-processor's host link: push these options to its firmware,\nrepublish its detections and status", NULL, parse_coprocessor},
@@ -237,6 +245,8 @@ static void defaults(struct sonard_options *o)
     o->channel_prefix = "";
     o->range_m = -1.0;
     o->speed_of_sound = 1500.0;
+    o->discover_s = 2.0;
+    o->discover_data_port = 12345;
     o->mav_sysid = 1;
     o->mav_compid = 158;
     o->mav_rate = 20.0f;
@@ -251,7 +261,8 @@ static void usage(void)
 {
     printf("usage: sonard --sonar URL [options]       live: drive a Ping360, publish over LCM\n"
            "       sonard --coprocessor URL [options] the same, detected on the co-processor\n"
-           "       sonard --replay FILE.csv [options] offline: a recording in the study's CSV form\n\n");
+           "       sonard --replay FILE.csv [options] offline: a recording in the study's CSV form\n"
+           "       sonard --discover                  list the Ethernet Ping360s on the network\n\n");
     opt_usage(&schema, stdout);
 }
 
@@ -274,6 +285,13 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     if (o->pose_file != NULL && o->replay == NULL) {
         snprintf(err, errlen, "--pose FILE.csv goes with --replay: a live vehicle's pose comes from its autopilot");
         return HOST_ERR_CONFIG;
+    }
+    if (o->discover) {
+        if (o->replay != NULL || o->sonar != NULL || o->coprocessor != NULL) {
+            snprintf(err, errlen, "--discover lists the sonars and exits: it takes no --sonar, --coprocessor or --replay");
+            return HOST_ERR_CONFIG;
+        }
+        return HOST_OK;
     }
     if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1) {
         snprintf(err, errlen, "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");

@@ -22,6 +22,10 @@ struct sonard_options {
     const char *mavlink;        /* the autopilot: udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD] */
     long mav_sysid, mav_compid, mav_autopilot;
     float mav_rate;             /* OBSTACLE_DISTANCE messages a second */
+    int discover;               /* list the network's Ping360s and exit */
+    const char *discover_to;    /* NULL: broadcast 255.255.255.255:30303 */
+    double discover_s;
+    long discover_data_port;
     const char *csv_out;        /* export / recording file */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "discover.h"
 #include "live.h"
 #include "options.h"
 #include "sinks.h"
@@ -214,6 +215,14 @@ int main(int argc, char **argv)
         if (rc < 0)
             fprintf(stderr, "sonard: %s\n", err);
         return rc < 0 ? 2 : 0;
+    }
+    if (s.opt.discover) {
+        struct discover_config dc;
+        dc.to = s.opt.discover_to;
+        dc.seconds = s.opt.discover_s;
+        dc.data_port = (int)s.opt.discover_data_port;
+        rc = discover_run(&dc, stdout, stderr);
+        return rc > 0 ? 0 : rc == 0 ? 1 : 2;
     }
     if (s.opt.sonar != NULL) {
         if (source_link_parse(&s.link, s.opt.sonar, s.opt.baud, err, sizeof(err)) != HOST_OK) {
