@@ -1,5 +1,6 @@
 /* options.c -- sonard's option table: every option once, with its field, range, unit, default and help; parsing and whole-config checks; no heap. */
 #include "options.h"
+#include "version.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -341,7 +342,7 @@ int options_parse(int argc, char **argv, struct sonard_options *o, char *err, si
         if (strcmp(spec[action].name, "help") == 0)
             usage();
         else
-            printf("sonard 0.3.0\n");
+            printf("sonard %s\n", SONARD_VERSION);
         return 1;
     }
     return check_whole(o, err, errlen);
