@@ -30,6 +30,7 @@ struct sonard_options {
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */
     uint8_t stage;              /* enum sonar_stage exported to csv_out (replay) */
+    double replay_speed;        /* replay: 0 at once, else this multiple of the recorded pace */
     double beam_ms;             /* replay: time between untimed rows; 0 = the device model */
     double range_m;             /* < 0: replay takes it from the CSV metadata, else 2 m */
     double speed_of_sound;      /* m/s */

@@ -93,7 +93,8 @@ static int open_sinks(struct sonard *s, char *err, size_t errlen)
 {
     const struct sonard_options *o = &s->opt;
     int live = o->replay == NULL, r;
-    if (live && !o->no_lcm) {
+    /* A replay publishes only when asked (--lcm URL): the same messages as live, e.g. into a log for lcm2mcap. */
+    if ((live && !o->no_lcm) || (!live && o->lcm_url != NULL && !o->no_lcm)) {
         if ((r = sink_lcm_open(&s->lcm, o->lcm_url, o->channel_prefix, o->publish_filtered, err, errlen)) != HOST_OK)
             return r;
         s->have_lcm = 1;
@@ -244,6 +245,7 @@ int main(int argc, char **argv)
         return 2;
     } else {
         s.replay.beam_ms = s.opt.beam_ms;
+        s.replay.speed = s.opt.replay_speed;
         s.replay.quiet = s.opt.quiet;
         /* a progress line is for a person watching, not for a log */
         s.replay.progress = !s.opt.quiet && isatty(fileno(stderr));

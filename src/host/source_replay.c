@@ -20,6 +20,7 @@ int source_replay_open(struct source_replay *r, const char *path, double range_m
     r->speed_of_sound = speed_of_sound;
     r->pose = NULL;
     r->beam_ms = 0.0;
+    r->speed = 0.0;
     r->progress = r->quiet = 0;
     r->clock_us = 0;
     r->prev_angle = -1;
@@ -33,6 +34,7 @@ void source_replay_stream(struct source_replay *r, FILE *f, const char *name, do
     r->speed_of_sound = speed_of_sound;
     r->pose = NULL;
     r->beam_ms = 0.0;
+    r->speed = 0.0;
     r->progress = r->quiet = 0;
     r->clock_us = 0;
     r->prev_angle = -1;
@@ -83,6 +85,20 @@ static double now_s(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
+/* --replay-speed: waits until the row's recorded time, scaled, has come; a clock that jumps back does not wait. */
+static void pace(const struct source_replay *r, int64_t utime, int64_t utime0, double wall0)
+{
+    double due = wall0 + (double)(utime - utime0) * 1e-6 / r->speed, wait = due - now_s();
+    if (wait > 0.0) {
+        struct timespec ts;
+        if (wait > 10.0)
+            wait = 10.0; /* a gap in the recording is not waited out in full */
+        ts.tv_sec = (time_t)wait;
+        ts.tv_nsec = (long)((wait - (double)ts.tv_sec) * 1e9);
+        nanosleep(&ts, NULL);
+    }
+}
+
 /* "beams 12000  sweeps 30  41000 beams/s  37 %  ETA 3 s", over itself with \r. */
 static void show_progress(struct source_replay *r, const struct app *a, FILE *errf, double t0, long size, int last)
 {
@@ -107,7 +123,9 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
 {
     char err[256];
     int got, said = 0;
-    double t0 = now_s(), next_show = t0 + 0.25;
+    double t0 = now_s(), next_show = t0 + 0.25, wall0 = 0.0;
+    int64_t utime0 = 0;
+    int paced = 0;
     long size = -1;
     struct stat st;
     if (r->progress && errf != NULL && fstat(fileno(r->csv.f), &st) == 0 && S_ISREG(st.st_mode))
@@ -152,6 +170,14 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
         b.east_m = (float)w->east_m;
         b.yaw_deg = (float)w->yaw_deg;
         b.samples = w->samples;
+        if (r->speed > 0.0) {
+            if (!paced || b.utime < utime0) {
+                paced = 1;
+                utime0 = b.utime;
+                wall0 = now_s();
+            }
+            pace(r, b.utime, utime0, wall0);
+        }
         if (r->pose != NULL)
             posefile_feed(r->pose, a, b.utime + SONAR_POSE_STALE_US, errf);
         if ((pr = app_push(a, &b)) != HOST_OK) {

@@ -15,6 +15,7 @@ struct source_replay {
     double speed_of_sound; /* m/s, when a row does not say */
     struct posefile *pose; /* --pose FILE, read ahead of each beam, or NULL: the rows' own poses */
     double beam_ms;        /* > 0: the time between untimed rows; else the Ping360 model */
+    double speed;          /* > 0: push rows at this multiple of their recorded pace (1 = as recorded); 0: at once */
     int progress;          /* 1: a progress line on errf (the caller checks errf is a terminal) */
     int quiet;             /* 1: do not say which form the file is in */
     int64_t clock_us;      /* the untimed rows' clock */
