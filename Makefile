@@ -36,7 +36,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
@@ -137,7 +137,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink mcap discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -207,6 +207,19 @@ deb: all $(BUILD)/lcm/sonar_types.jar
 deb-test: deb
 	@sh tools/deps.sh systemd iproute2 passwd
 	@sh tests/deb.sh $(BUILD)
+
+## view: the live polar view on http://127.0.0.1:8360/ (VIEW=ADDR:PORT, LCM=URL, PREFIX=P): run it beside sonard
+VIEW ?= 127.0.0.1:8360
+.venv-view/.done: tools/requirements-view.txt
+	python3 -m venv .venv-view && .venv-view/bin/pip install -q -r tools/requirements-view.txt && touch $@
+view: all .venv-view/.done
+	.venv-view/bin/python tools/view/sonar_view.py --listen $(VIEW) --types $(BUILD)/lcm/python $(if $(LCM),--lcm '$(LCM)') \
+	  $(if $(PREFIX),--prefix $(PREFIX))
+
+## view-test: the view in Debian's headless chromium (selenium) against a live simulated sonar
+view-test: all .venv-view/.done
+	@sh tools/deps.sh chromium chromium-driver python3-selenium iproute2
+	@sh tests/view.sh $(BUILD)
 
 ## mcap: tools/lcm2mcap round trips (LCM log -> MCAP -> the mcap reader), bad logs, live recording
 .venv-mcap/.done: tools/requirements-mcap.txt

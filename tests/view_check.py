@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""view_check.py -- drives Debian's chromium (selenium, headless) against sonar_view.py while sonard runs a live
+sonar-feed: the known objects show as bright pixels where they are, the page keeps updating, it says when sonard is
+gone and recovers when sonard is back, malformed LCM messages are counted, a page opened mid-sweep draws. Writes a
+screenshot and a JSON report. Run by tests/view.sh inside a network namespace of its own.
+
+  view_check.py --url URL --truth pool.json --sonard "CMD..." --bad-cmd "CMD..." --shot view.png --report r.json
+"""
+import argparse
+import json
+import shlex
+import subprocess
+import sys
+import time
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+
+
+def wait_for(what, fn, timeout):
+    end = time.time() + timeout
+    while time.time() < end:
+        v = fn()
+        if v:
+            return v
+        time.sleep(0.25)
+    raise SystemExit(f"view_check: timed out after {timeout} s waiting for {what}")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--url", required=True)
+    ap.add_argument("--truth", required=True)
+    ap.add_argument("--sonard", required=True, help="the sonard command line to start (and restart)")
+    ap.add_argument("--bad-cmd", required=True, help="a command that publishes malformed LCM messages")
+    ap.add_argument("--shot", required=True)
+    ap.add_argument("--report", required=True)
+    ap.add_argument("--sweep-s", type=float, default=7.0, help="a sweep's length, seconds (waits are scaled by it)")
+    a = ap.parse_args()
+    rep = {"checks": {}}
+
+    def ok(name, cond, detail=""):
+        rep["checks"][name] = bool(cond)
+        print(("[  PASS  ] " if cond else "[  FAIL  ] ") + name + (f": {detail}" if detail else ""), flush=True)
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = "/usr/bin/chromium"
+    for o in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1120,800",
+              "--no-first-run", "--disable-extensions", "--disable-background-networking"):
+        opts.add_argument(o)
+    drv = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=opts)
+    js = drv.execute_script
+    sonard = subprocess.Popen(shlex.split(a.sonard), stdout=subprocess.DEVNULL, stderr=open(a.report + ".sonard.err", "w"))
+    try:
+        time.sleep(1.0)  # the page is opened after sonard started: mid-sweep
+        drv.get(a.url)
+        wait_for("the first beams", lambda: js("return window.sonarView && window.sonarView.beams > 5"), 20)
+        b0 = js("return window.sonarView.beams")
+        # one sweep and a bit: every angle drawn once
+        time.sleep(a.sweep_s * 1.3)
+        v = js("return {beams: sonarView.beams, frames: sonarView.frames, range: sonarView.range, status: sonarView.status}")
+        ok("a page opened mid-sweep draws beams as they come", v["beams"] > b0 + 50, f"{b0} -> {v['beams']} beams")
+        ok("the status panel has the link (scanning), the firmware and the sweep time",
+           v["status"] is not None and v["status"]["link_state"] in (3, 4) and v["status"]["fw_major"] == 3
+           and "firmware" in drv.page_source and "sweep time" in drv.page_source, json.dumps(v["status"])[:200])
+        truth = json.load(open(a.truth))
+        # the scene's objects appear in its 3rd and 4th sweeps (the background learns the pool first)
+        want = max(i for i, sw in enumerate(truth["sweeps"]) if sw["objects"] and i <= 3)
+        wait_for(f"sweep {want} to be over", lambda: js("return sonarView.status && sonarView.status.sweeps > arguments[0]", want),
+                 a.sweep_s * (want + 3))
+        objs = truth["sweeps"][want]["objects"]
+
+        def brightness(x, y, half=3):
+            return js("""const [u, v] = sonarView.toPixel(arguments[0], arguments[1]), h = arguments[2];
+                         const d = document.getElementById('image').getContext('2d').getImageData(u - h, v - h, 2 * h + 1, 2 * h + 1).data;
+                         let m = 0; for (let i = 0; i < d.length; i += 4) m = Math.max(m, d[i] + d[i + 1] + d[i + 2]); return m;""",
+                      x, y, half)
+        at_obj = [brightness(o["x"], o["y"]) for o in objs]
+        # halfway from the sonar to each object: open water, dark
+        between = [brightness(o["x"] * 0.5, o["y"] * 0.5, 1) for o in objs]
+        rep["object_brightness"], rep["water_brightness"] = at_obj, between
+        ok("each known object shows as bright pixels where it is, the water between is dark",
+           objs and min(at_obj) >= 300 and max(between) < 200, f"objects {at_obj}, water {between}")
+        c1 = js("return document.getElementById('image').toDataURL()")
+        f1 = js("return sonarView.frames")
+        time.sleep(2.0)
+        c2 = js("return document.getElementById('image').toDataURL()")
+        f2 = js("return sonarView.frames")
+        ok("the fan keeps updating (frames drawn, the image changes)", f2 > f1 + 10 and c2 != c1,
+           f"frames {f1} -> {f2}")
+        st = js("return sonarView.stats")
+        rep["fps"], rep["latency_ms_mean"], rep["latency_ms_max"] = st["fps"], st["latency_ms_mean"], st["latency_ms_max"]
+        ok("it keeps up with the device-paced sonar: latency behind the sonar under 250 ms",
+           st["latency_ms_mean"] is not None and st["latency_ms_mean"] < 250,
+           f"{st['fps']} frames/s, latency mean {st['latency_ms_mean']:.1f} ms, max {st['latency_ms_max']:.1f} ms")
+        drv.save_screenshot(a.shot)
+        # malformed LCM messages on the view's channels: counted, the view goes on
+        subprocess.run(shlex.split(a.bad_cmd), check=True)
+        wait_for("the malformed messages to be counted", lambda: js("return (sonarView.viewInfo || {}).bad >= 3"), 5)
+        b1 = js("return sonarView.beams")
+        time.sleep(1.5)
+        ok("malformed LCM messages are counted and skipped; the beams keep coming",
+           js("return sonarView.beams") > b1 + 5, f"bad {js('return sonarView.viewInfo.bad')}")
+        # sonard restarted: the page says it is gone, then resumes by itself
+        sonard.send_signal(2)
+        sonard.wait(timeout=10)
+        wait_for("the page to say sonard is silent", lambda: "no data from sonard" in js("return document.getElementById('state').textContent"), 10)
+        ok("sonard stopped: the page says so", True, js("return document.getElementById('state').textContent"))
+        b2 = js("return sonarView.beams")
+        sonard = subprocess.Popen(shlex.split(a.sonard), stdout=subprocess.DEVNULL, stderr=open(a.report + ".sonard2.err", "w"))
+        wait_for("beams after the restart", lambda: js("return sonarView.beams") > b2 + 20, 20)
+        wait_for("the page to say live again", lambda: "live" == js("return document.getElementById('state').textContent"), 10)
+        ok("sonard restarted: the same page draws again and says live", True, f"{js('return sonarView.beams') - b2} beams since")
+    finally:
+        if sonard.poll() is None:
+            sonard.send_signal(2)
+            try:
+                sonard.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                sonard.kill()
+        drv.quit()
+    json.dump(rep, open(a.report, "w"), indent=1)
+    sys.exit(0 if all(rep["checks"].values()) else 1)
+
+
+if __name__ == "__main__":
+    main()

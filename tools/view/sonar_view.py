@@ -1,0 +1,229 @@
+#!/usr/bin/env python3
+"""sonar_view.py -- a live polar view of sonard in the browser: LCM in, one WebSocket per page out, plain HTML/JS.
+
+  sonar_view.py [--lcm URL] [--listen 127.0.0.1:8360] [--prefix P] [--types build/lcm/python]
+
+It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with
+sonard's --channel-prefix) and serves http://ADDR:PORT/ (index.html, view.js) and the WebSocket /ws.
+Libraries: the `lcm` Python binding (LCM's own) and `websockets` (HTTP and WebSocket in one small,
+dependency-free asyncio library); the page is plain JavaScript on a canvas.
+
+Backpressure: a page that cannot keep up gets the newest beam of each angle (older ones are dropped and
+counted), never a growing queue: at most 400 beams wait per page. A page that stops reading for 10 s is
+closed. Malformed LCM messages are counted and skipped. Without LCM traffic the page says how long the
+sonar has been silent; it resumes by itself when sonard comes back.
+"""
+import argparse
+import asyncio
+import json
+import os
+import struct
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+class Client:
+    def __init__(self, ws):
+        self.ws = ws
+        self.filtered = False
+        self.beams = {}       # angle -> packed beam, newest only
+        self.texts = []       # detections / tracks / status JSON, at most 16 kept
+        self.wake = asyncio.Event()
+        self.dropped = 0
+        self.sent = 0
+
+
+class Hub:
+    def __init__(self, prefix):
+        self.prefix = prefix
+        self.clients = set()
+        self.counts = {"beams": 0, "bad": 0, "dropped": 0}
+        self.last_rx = 0.0
+        self.last_status = None
+
+    def beam(self, filtered, data):
+        for c in self.clients:
+            if c.filtered != filtered:
+                continue
+            angle = struct.unpack_from("<H", data, 1)[0]
+            if angle in c.beams:
+                c.dropped += 1  # the page is behind: only the newest beam of an angle is worth drawing
+                self.counts["dropped"] += 1
+            c.beams[angle] = data
+            c.wake.set()
+
+    def text(self, obj):
+        s = json.dumps(obj, separators=(",", ":"))
+        for c in self.clients:
+            if len(c.texts) >= 16:
+                c.texts.pop(0)
+                c.dropped += 1
+            c.texts.append(s)
+            c.wake.set()
+
+
+def pack_beam(m):
+    # kind 1, angle u16, range f32, utime f64 (us), n u16, samples
+    n = len(m.samples)
+    return struct.pack("<BHfdH", 1, m.angle % 400, m.range_m, float(m.utime), n) + bytes(m.samples)
+
+
+def status_json(m, hub):
+    keys = ["link_state", "link", "fw_major", "fw_minor", "fw_patch", "frames", "checksum_errors", "resyncs",
+            "oversize", "bytes_dropped", "timeouts", "retries", "nacks", "reconnects", "stale", "beams", "sweeps",
+            "beams_rejected", "sink_errors", "last_sweep_s", "beam_us_p50", "beam_us_p99", "tracks", "pose_state"]
+    out = {k: getattr(m, k) for k in keys}
+    out["utime"] = m.utime
+    return out
+
+
+def lcm_setup(url, hub, types_dir):
+    sys.path.insert(0, types_dir)
+    import lcm
+    from sonar import beam_t, detections_t, tracks_t, status_t
+    lc = lcm.LCM(url) if url else lcm.LCM()
+    p = hub.prefix
+
+    def guard(fn):
+        def h(channel, data):
+            hub.last_rx = time.time()
+            try:
+                fn(data)
+            except Exception as e:  # a malformed message must not stop the view
+                hub.counts["bad"] += 1
+                if hub.counts["bad"] <= 5:
+                    print(f"sonar_view: {channel}: malformed message skipped ({e})", file=sys.stderr)
+        return h
+
+    def on_beam(filtered):
+        def f(data):
+            m = beam_t.decode(data)
+            hub.counts["beams"] += 1
+            hub.beam(filtered, pack_beam(m))
+        return f
+
+    def on_det(data):
+        m = detections_t.decode(data)
+        hub.text({"kind": "detections", "sweep": m.sweep, "utime": m.utime, "detections": [
+            {"x": d.x_m, "y": d.y_m, "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]} for d in m.detections]})
+
+    def on_trk(data):
+        m = tracks_t.decode(data)
+        hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
+            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
+
+    def on_status(data):
+        m = status_t.decode(data)
+        hub.last_status = status_json(m, hub)
+        hub.text({"kind": "status", "status": hub.last_status})
+
+    lc.subscribe(p + "SONAR_BEAM$", guard(on_beam(False)))
+    lc.subscribe(p + "SONAR_BEAM_FILTERED$", guard(on_beam(True)))
+    lc.subscribe(p + "SONAR_DETECTIONS$", guard(on_det))
+    lc.subscribe(p + "SONAR_TRACKS$", guard(on_trk))
+    lc.subscribe(p + "SONAR_STATUS$", guard(on_status))
+    return lc
+
+
+async def sender(c):
+    while True:
+        await c.wake.wait()
+        c.wake.clear()
+        while c.texts or c.beams:
+            if c.texts:
+                msg = c.texts.pop(0)
+            else:
+                angle = next(iter(c.beams))
+                msg = c.beams.pop(angle)
+            # a page that stops reading is closed rather than buffered for
+            await asyncio.wait_for(c.ws.send(msg), timeout=10)
+            c.sent += 1
+
+
+async def handler(ws, hub):
+    c = Client(ws)
+    hub.clients.add(c)
+    if hub.last_status is not None:
+        c.texts.append(json.dumps({"kind": "status", "status": hub.last_status}))
+        c.wake.set()
+    task = asyncio.create_task(sender(c))
+    try:
+        async for msg in ws:
+            try:
+                req = json.loads(msg)
+            except ValueError:
+                continue
+            if "filtered" in req:
+                c.filtered = bool(req["filtered"])
+                c.beams.clear()
+    except Exception:
+        pass
+    finally:
+        hub.clients.discard(c)
+        task.cancel()
+
+
+async def ticker(hub):
+    """Once a second: the view's own health, so a page knows when the sonar went quiet."""
+    while True:
+        await asyncio.sleep(1.0)
+        silent = time.time() - hub.last_rx if hub.last_rx else None
+        hub.text({"kind": "view", "silent_s": silent, "beams": hub.counts["beams"], "bad": hub.counts["bad"],
+                  "dropped": hub.counts["dropped"], "pages": len(hub.clients)})
+
+
+async def main_async(a):
+    from websockets.asyncio.server import serve
+    from websockets.datastructures import Headers
+    from websockets.http11 import Response
+
+    hub = Hub(a.prefix)
+    lc = lcm_setup(a.lcm, hub, a.types)
+    loop = asyncio.get_running_loop()
+    loop.add_reader(lc.fileno(), lc.handle)
+    files = {"/": ("index.html", "text/html; charset=utf-8"), "/index.html": ("index.html", "text/html; charset=utf-8"),
+             "/view.js": ("view.js", "application/javascript; charset=utf-8")}
+
+    def http(connection, request):
+        path = request.path.split("?")[0]
+        if path == "/ws":
+            return None  # the WebSocket handshake goes on
+        if path in files:
+            name, ctype = files[path]
+            body = open(os.path.join(HERE, name), "rb").read()
+        elif path == "/health":
+            body, ctype = json.dumps({"counts": hub.counts, "pages": len(hub.clients),
+                                      "silent_s": time.time() - hub.last_rx if hub.last_rx else None}).encode(), "application/json"
+        else:
+            return connection.respond(404, "not found\n")
+        return Response(200, "OK", Headers([("Content-Type", ctype), ("Content-Length", str(len(body))),
+                                            ("Cache-Control", "no-store")]), body)
+
+    host, port = a.listen.rsplit(":", 1)
+    async with serve(lambda ws: handler(ws, hub), host, int(port), process_request=http, max_size=1 << 16,
+                     ping_interval=5, ping_timeout=10):
+        print(f"sonar_view: http://{host}:{port}/ (LCM {a.lcm or 'default'}, prefix '{a.prefix}')", file=sys.stderr, flush=True)
+        asyncio.create_task(ticker(hub))
+        await asyncio.Future()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--lcm", default=os.environ.get("LCM_DEFAULT_URL"), help="LCM URL (default: LCM's own)")
+    ap.add_argument("--listen", default="127.0.0.1:8360", help="ADDR:PORT to serve the page on")
+    ap.add_argument("--prefix", default="", help="sonard's --channel-prefix")
+    ap.add_argument("--types", default=os.environ.get("SONARD_LCM_PY", "build/lcm/python"),
+                    help="directory holding the generated 'sonar' package")
+    a = ap.parse_args()
+    try:
+        asyncio.run(main_async(a))
+    except KeyboardInterrupt:
+        pass
+    except OSError as e:
+        raise SystemExit(f"sonar_view: --listen {a.listen}: {e.strerror}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,191 @@
+// view.js -- draws sonard's beams into a polar fan as they come (one WebSocket), with range rings, hulls, track IDs
+// and trails, and a health panel; plain JavaScript, no libraries. window.sonarView exposes the state for tests.
+"use strict";
+
+const S = 720, C = S / 2, R = S / 2 - 12;           // canvas, centre, fan radius in pixels
+const LINK = ["down", "connecting", "probing", "scanning", "auto-transmit", "stopping", "stopped"];
+const image = document.getElementById("image"), overlay = document.getElementById("overlay");
+const ictx = image.getContext("2d"), octx = overlay.getContext("2d");
+const img = ictx.createImageData(S, S);
+const px32 = new Uint32Array(img.data.buffer);
+
+// A thermal palette in the spirit of Ping Viewer's: black, blue, cyan, yellow, red, white.
+const stops = [[0, 0, 0, 0], [40, 0, 20, 110], [100, 0, 170, 200], [160, 240, 230, 40], [215, 240, 60, 20], [255, 255, 255, 255]];
+const palette = new Uint32Array(256);
+for (let v = 0; v < 256; v++) {
+  let k = 0;
+  while (stops[k + 1][0] < v) k++;
+  const a = stops[k], b = stops[k + 1], t = (v - a[0]) / (b[0] - a[0]);
+  const ch = i => Math.round(a[i] + (b[i] - a[i]) * t);
+  palette[v] = (255 << 24) | (ch(3) << 16) | (ch(2) << 8) | ch(1);   // little-endian RGBA
+}
+const EMPTY = (255 << 24) | (0x1a << 16) | (0x14 << 8) | 0x10;      // outside the fan and not yet swept
+px32.fill(EMPTY);
+
+// Each pixel of the fan belongs to the nearest gradian; per angle, its pixels and their radial fractions.
+const byAngle = [];
+for (let a = 0; a < 400; a++) byAngle.push({ idx: [], frac: [] });
+for (let py = 0; py < S; py++) {
+  for (let pxl = 0; pxl < S; pxl++) {
+    const x = (C - py) / R, y = (pxl - C) / R, r = Math.hypot(x, y);    // x forward (up), y starboard (right)
+    if (r >= 1) continue;
+    let a = Math.round(Math.atan2(y, x) * 200 / Math.PI);
+    a = ((a % 400) + 400) % 400;
+    byAngle[a].idx.push(py * S + pxl);
+    byAngle[a].frac.push(r);
+  }
+}
+for (const e of byAngle) { e.idx = Int32Array.from(e.idx); e.frac = Float32Array.from(e.frac); }
+
+const view = window.sonarView = {
+  beams: 0, frames: 0, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
+  detections: [], tracks: [], trails: new Map(), dropped: 0,
+  stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
+  background: [0x10, 0x14, 0x1a],
+  toPixel(x, y) { const k = view.range > 0 ? R / view.range : 0; return [Math.round(C + y * k), Math.round(C - x * k)]; },
+  pixelAt(x, y) { const [u, v] = view.toPixel(x, y); const d = ictx.getImageData(u, v, 1, 1).data; return [d[0], d[1], d[2]]; },
+};
+
+let dirty = false, newestUtime = 0, latSum = 0, latMax = 0, latN = 0, prevAngle = -1, width = 1;
+const beamTimes = [];
+
+function drawBeam(buf) {
+  const dv = new DataView(buf);
+  const angle = dv.getUint16(1, true), range = dv.getFloat32(3, true), utime = dv.getFloat64(7, true), n = dv.getUint16(15, true);
+  const s = new Uint8Array(buf, 17, n);
+  if (Math.abs(range - view.range) > 1e-3) { view.range = range; }
+  // A beam covers the step to its neighbours: the gradians between it and the previous beam (the short way round).
+  if (prevAngle >= 0) {
+    let d = Math.abs(angle - prevAngle); if (d > 200) d = 400 - d;
+    if (d >= 1 && d <= 10) width = d;
+  }
+  prevAngle = angle;
+  const lo = angle - ((width - 1) >> 1);
+  for (let k = 0; k < width; k++) {
+    const e = byAngle[(lo + k + 400) % 400];
+    for (let i = 0; i < e.idx.length; i++) px32[e.idx[i]] = palette[s[Math.min(n - 1, (e.frac[i] * n) | 0)]];
+  }
+  view.beams++;
+  beamTimes.push(performance.now());
+  if (utime > newestUtime) newestUtime = utime;
+  dirty = true;
+}
+
+function rings() {
+  octx.clearRect(0, 0, S, S);
+  if (!(view.range > 0)) return;
+  const k = R / view.range, steps = [0.5, 1, 2, 5, 10, 20];
+  const step = steps.find(st => view.range / st <= 6) || 20;
+  octx.strokeStyle = "rgba(200,220,255,0.35)"; octx.fillStyle = "rgba(200,220,255,0.8)"; octx.lineWidth = 1;
+  octx.font = "11px system-ui";
+  for (let m = step; m <= view.range + 1e-6; m += step) {
+    octx.beginPath(); octx.arc(C, C, m * k, 0, 2 * Math.PI); octx.stroke();
+    octx.fillText(m + " m", C + 3, C - m * k + 12);
+  }
+  octx.beginPath(); octx.moveTo(C, C); octx.lineTo(C, C - R); octx.stroke();   // forward
+}
+
+function shapes() {
+  octx.lineWidth = 2;
+  octx.strokeStyle = "#ff5c5c";
+  for (const d of view.detections) {
+    if (!d.hull.length) continue;
+    octx.beginPath();
+    d.hull.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
+    octx.closePath(); octx.stroke();
+  }
+  octx.font = "bold 13px system-ui";
+  for (const t of view.tracks) {
+    const trail = view.trails.get(t.id) || [];
+    octx.strokeStyle = "rgba(90,200,255,0.8)"; octx.lineWidth = 1.5;
+    octx.beginPath();
+    trail.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
+    octx.stroke();
+    const [u, v] = view.toPixel(t.x, t.y);
+    octx.fillStyle = t.state === 1 ? "#5ac8ff" : "#9aa5b1";
+    octx.beginPath(); octx.arc(u, v, 4, 0, 2 * Math.PI); octx.fill();
+    octx.fillText("#" + t.id, u + 6, v - 6);
+  }
+}
+
+function frame() {
+  if (dirty) {
+    ictx.putImageData(img, 0, 0);
+    dirty = false;
+    view.frames++;
+    // latency behind the sonar: the newest beam on screen against the wall clock (sonard stamps beams on arrival)
+    const lat = Date.now() - newestUtime / 1000;
+    if (lat > -1000 && lat < 60000) { latSum += lat; latN++; latMax = Math.max(latMax, lat); }
+  }
+  rings();
+  shapes();
+  requestAnimationFrame(frame);
+}
+requestAnimationFrame(frame);
+
+function row(name, value, bad) { return `<tr><td>${name}</td><td class="${bad ? "bad" : ""}">${value}</td></tr>`; }
+
+let lastFrames = 0;
+setInterval(() => {
+  const now = performance.now();
+  while (beamTimes.length && beamTimes[0] < now - 1000) beamTimes.shift();
+  view.stats.fps = view.frames - lastFrames; lastFrames = view.frames;
+  view.stats.latency_ms_mean = latN ? latSum / latN : null; view.stats.latency_ms_max = latN ? latMax : null;
+  view.stats.latency_n = latN;
+  const st = view.status, vi = view.viewInfo || {};
+  const silent = vi.silent_s;
+  view.silent_s = silent;
+  let state;
+  if (view.state === "offline") state = `<span class="bad">view server unreachable: retrying</span>`;
+  else if (silent == null) state = "waiting for sonard…";
+  else if (silent > 3) state = `<span class="bad">no data from sonard for ${silent.toFixed(0)} s</span>`;
+  else state = `<span class="ok">live</span>`;
+  document.getElementById("state").innerHTML = state;
+  let h = "";
+  if (st) {
+    h += row("link", `${LINK[st.link_state] || st.link_state} ${st.link}`, st.link_state < 3);
+    h += row("firmware", `${st.fw_major}.${st.fw_minor}.${st.fw_patch}`);
+    h += row("sweep time", st.last_sweep_s > 0 ? st.last_sweep_s.toFixed(1) + " s" : "—");
+    h += row("processing a beam p50 / p99", `${st.beam_us_p50.toFixed(1)} / ${st.beam_us_p99.toFixed(1)} µs`);
+    h += row("sweeps", st.sweeps);
+    h += row("tracks", st.tracks);
+    for (const k of ["checksum_errors", "timeouts", "retries", "nacks", "reconnects", "stale", "beams_rejected", "sink_errors"])
+      h += row(k.replace("_", " "), st[k], st[k] > 0 && k !== "retries");
+  }
+  h += row("beams / s", beamTimes.length);
+  h += row("frames / s", view.stats.fps);
+  h += row("latency behind sonar", view.stats.latency_ms_mean == null ? "—" : view.stats.latency_ms_mean.toFixed(0) + " ms");
+  h += row("view: dropped (behind)", vi.dropped || 0, false);
+  h += row("view: malformed messages", vi.bad || 0, (vi.bad || 0) > 0);
+  document.getElementById("stats").innerHTML = h;
+}, 1000);
+
+let ws = null;
+function connect() {
+  ws = new WebSocket(`ws://${location.host}/ws`);
+  ws.binaryType = "arraybuffer";
+  ws.onopen = () => { view.state = "open"; ws.send(JSON.stringify({ filtered: document.getElementById("filtered").checked })); };
+  ws.onmessage = ev => {
+    if (typeof ev.data !== "string") { drawBeam(ev.data); return; }
+    const m = JSON.parse(ev.data);
+    if (m.kind === "detections") view.detections = m.detections;
+    else if (m.kind === "tracks") {
+      view.tracks = m.tracks;
+      const seen = new Set();
+      for (const t of m.tracks) {
+        seen.add(t.id);
+        const tr = view.trails.get(t.id) || [];
+        tr.push([t.x, t.y]); if (tr.length > 8) tr.shift();
+        view.trails.set(t.id, tr);
+      }
+      for (const id of [...view.trails.keys()]) if (!seen.has(id)) view.trails.delete(id);
+    } else if (m.kind === "status") view.status = m.status;
+    else if (m.kind === "view") view.viewInfo = m;
+  };
+  ws.onclose = () => { view.state = "offline"; setTimeout(connect, 1000); };
+}
+document.getElementById("filtered").onchange = e => {
+  px32.fill(EMPTY); dirty = true;
+  if (ws && ws.readyState === 1) ws.send(JSON.stringify({ filtered: e.target.checked }));
+};
+connect();
