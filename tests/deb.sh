@@ -40,12 +40,12 @@ check "--replay from the installed paths: the pool's objects found (F1 >= 0.95)"
 check "the installed Python LCM types import with the system Python and decode what sonard encodes" sh -c "
 cd / && /usr/bin/python3 -c 'from sonar import beam_t, detections_t, status_t, tracks_t; m = beam_t(); m.samples = b\"\"; beam_t.decode(m.encode())'"
 check "the jar for lcm-spy holds the sonar types" python3 -c "
-import zipfile; n = zipfile.ZipFile('/usr/share/java/sonard-lcmtypes.jar').namelist()
+import zipfile; n = zipfile.ZipFile('/usr/share/java/sonard.jar').namelist()
 assert all('sonar/%s.class' % t in n for t in ('beam_t', 'detections_t', 'status_t', 'tracks_t')), n"
-check "the docs, the LCM type sources and the units are where the package says" sh -c "
+check "the docs, the manual pages, the LCM type sources and the units are where the package says" sh -c "
 test -f /usr/share/doc/sonard/README.md && test -f /usr/share/doc/sonard/configuration.md &&
 test -f /usr/share/sonard/lcm_types/sonar_beam_t.lcm && test -f /lib/systemd/system/sonard.service &&
-test -f /lib/systemd/system/sonard@.service"
+test -f /lib/systemd/system/sonard@.service && zcat /usr/share/man/man1/sonard.1.gz | grep -q -- --discover"
 
 # The units: their exposure as systemd scores it, the serial device by the ACL and dialout only.
 for u in sonard.service sonard@front.service; do

@@ -20,7 +20,7 @@ ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
 .venv-view/bin/python tools/view/sonar_view.py --lcm '$URL' --listen 127.0.0.1:8360 --types "$B/lcm/python" 2> "$T/view.err" & V=\$!
 sleep 1
 /usr/bin/python3 tests/view_check.py --url http://127.0.0.1:8360/ --truth "$T/pool.json" --shot "$B/view.png" --report "$T/report.json" \\
-    --sonard "$B/sonard --sonar tcp:127.0.0.1:5360 --range 12 --step 4 --lcm $URL --quiet" \\
+    --sonard "$B/sonard --sonar tcp:127.0.0.1:5360 --range 12 --step 4 --publish-filtered --lcm $URL --quiet" \\
     --bad-cmd ".venv-view/bin/python -c \"import lcm; l = lcm.LCM('$URL'); [l.publish(c, b'\\\\x00garbage') for c in ('SONAR_BEAM', 'SONAR_DETECTIONS', 'SONAR_STATUS')]\"" \\
     > "$T/check.out" 2>&1
 echo \$? > "$T/rc"

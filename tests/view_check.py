@@ -94,6 +94,16 @@ def main():
            st["latency_ms_mean"] is not None and st["latency_ms_mean"] < 250,
            f"{st['fps']} frames/s, latency mean {st['latency_ms_mean']:.1f} ms, max {st['latency_ms_max']:.1f} ms")
         drv.save_screenshot(a.shot)
+        # switched to SONAR_BEAM_FILTERED: the fan is redrawn from the foreground beams, mostly dark water
+        b_raw = js("return sonarView.beams")
+        drv.find_element("id", "filtered").click()
+        time.sleep(a.sweep_s * 1.1)
+        dark = js("""const d = document.getElementById('image').getContext('2d').getImageData(0, 0, 720, 720).data;
+                     let n = 0, lit = 0; for (let i = 0; i < d.length; i += 4) { n++; if (d[i] + d[i + 1] + d[i + 2] > 150) lit++; }
+                     return lit / n;""")
+        ok("the filtered switch: SONAR_BEAM_FILTERED drawn instead, the background gone (under 2 % of pixels lit)",
+           js("return sonarView.beams") > b_raw + 50 and dark < 0.02, f"{100 * dark:.2f} % lit")
+        drv.find_element("id", "filtered").click()
         # malformed LCM messages on the view's channels: counted, the view goes on
         subprocess.run(shlex.split(a.bad_cmd), check=True)
         wait_for("the malformed messages to be counted", lambda: js("return (sonarView.viewInfo || {}).bad >= 3"), 5)

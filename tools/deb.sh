@@ -21,7 +21,7 @@ install -m 0644 tools/systemd/sonard.service tools/systemd/sonard@.service "$R/l
 install -m 0644 docs/sonard.conf.example "$R/etc/sonard/sonard.conf"
 install -m 0644 docs/sonard.conf.example "$R/usr/share/doc/sonard/examples/sonard.conf"
 install -m 0644 lcm_types/*.lcm "$R/usr/share/sonard/lcm_types/"
-install -m 0644 "$B/lcm/sonar_types.jar" "$R/usr/share/java/sonard-lcmtypes.jar"
+install -m 0644 "$B/lcm/sonar_types.jar" "$R/usr/share/java/sonard.jar"
 cp -r "$B/lcm/python/sonar" "$R/usr/lib/python3/dist-packages/sonar"
 find "$R/usr/lib/python3" -name '__pycache__' -prune -exec rm -rf {} +
 find "$R/usr/lib/python3" -type f -exec chmod 0644 {} +
@@ -32,6 +32,21 @@ printf 'sonard (%s) unstable; urgency=medium\n\n  * Built from %s.\n\n -- sonard
     "$V" "$(git describe --always --dirty 2> /dev/null || echo 'a source tree')" \
     "$(date -R -d @"${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2> /dev/null || date +%s)}")" |
     gzip -9n > "$R/usr/share/doc/sonard/changelog.gz" # a native package: changelog.gz
+# Manual pages from each program's own --help (one source: the option tables), for man(1).
+mkdir -p "$R/usr/share/man/man1"
+for p in sonard:"Ping360 sonar to live object detections over LCM and MAVLink" \
+         sonar-feed:"a simulated Ping360 on TCP, UDP or a pty" \
+         sonar-sim:"simulated Ping360 recordings with their truth" \
+         sonar-pvbin2csv:"Ping Viewer .bin logs to the study's CSV" \
+         sonar-wallfit:"fits a recording's world grid to known walls"; do
+    name=${p%%:*}; what=${p#*:}
+    { printf '.TH %s 1 "%s" "sonard %s" "User Commands"\n.SH NAME\n%s \\- %s\n.SH SYNOPSIS AND OPTIONS\n.nf\n' \
+          "$(echo "$name" | tr a-z A-Z)" "$(date -u -d @"${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2> /dev/null || date +%s)}" +%Y-%m-%d)" \
+          "$V" "$name" "$what"
+      "$R/usr/bin/$name" --help 2>&1 | sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"
+      printf '.fi\n.SH SEE ALSO\n/usr/share/doc/sonard/README.md, /usr/share/doc/sonard/configuration.md\n'
+    } | gzip -9n > "$R/usr/share/man/man1/$name.1.gz"
+done
 install -m 0755 tools/deb/postinst tools/deb/prerm tools/deb/postrm "$R/DEBIAN/"
 echo /etc/sonard/sonard.conf > "$R/DEBIAN/conffiles"
 # Library dependencies: dpkg-shlibdeps wants a debian/control beside it.
