@@ -197,6 +197,57 @@ static void test_crossing_targets_keep_ids(void **state)
     }
 }
 
+/*
+ * Two swimmers cross and are seen as one echo, while a diver appears 3.4 m from one swimmer's
+ * prediction (the `moving` scene's sweeps 3 to 6). The swimmer whose prediction lies on the merged
+ * echo that the other took coasts through it instead of jumping to the diver, and both keep their IDs
+ * once they are seen apart again.
+ */
+static void test_merged_echo_coasts(void **state)
+{
+    struct sonar_tracker_obs o[3];
+    struct sonar_tracker_sweep sw;
+    const struct sonar_track *a, *b;
+    (void)state;
+    init();
+    o[0].x_m = 7.21f, o[0].y_m = 5.59f, o[0].utime = 41700000; /* b, going -x at 0.5 m/s */
+    o[1].x_m = -6.23f, o[1].y_m = 6.23f, o[1].utime = 43400000; /* a, going +x */
+    sw = everywhere(47000000);
+    assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+    o[0].x_m = 3.85f, o[0].y_m = 5.66f, o[0].utime = 48300000;
+    o[1].x_m = -3.18f, o[1].y_m = 6.23f, o[1].utime = 49400000;
+    sw = everywhere(53300000);
+    assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+    b = by_id(1);
+    a = by_id(2);
+    assert_true(a != NULL && b != NULL && a->state == SONAR_TRACK_CONFIRMED && b->state == SONAR_TRACK_CONFIRMED);
+    /* merged: one echo between them; the diver, new, 3.4 m from b's prediction */
+    o[0].x_m = 0.14f, o[0].y_m = 5.88f, o[0].utime = 55300000;
+    o[1].x_m = 3.95f, o[1].y_m = 4.49f, o[1].utime = 54600000;
+    sw = everywhere(59600000);
+    assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+    a = by_id(2);
+    b = by_id(1);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_int_equal(a->det + b->det, -1); /* one took the merged echo (0), the other coasts (-1) */
+    assert_non_null(by_id(3));              /* the diver has a track of its own */
+    assert_int_equal(by_id(3)->det, 1);
+    /* apart again: each swimmer its own */
+    o[0].x_m = 2.66f, o[0].y_m = 6.16f, o[0].utime = 61200000; /* a */
+    o[1].x_m = -2.93f, o[1].y_m = 5.74f, o[1].utime = 62100000; /* b */
+    o[2].x_m = 2.87f, o[2].y_m = 9.85f, o[2].utime = 61300000; /* the diver, turned */
+    sw = everywhere(66000000);
+    assert_int_equal(sonar_tracker_update(&tk, o, 3, &sw), SONAR_OK);
+    a = by_id(2);
+    b = by_id(1);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_int_equal(a->det, 0);
+    assert_int_equal(b->det, 1);
+    assert_true(a->vx > 0.2f && b->vx < -0.2f);
+}
+
 /* A back-and-forth sector: a track outside what this sweep scanned is not missed. */
 static void test_sector_out_of_view_is_not_a_miss(void **state)
 {
@@ -568,6 +619,7 @@ int main(void)
         cmocka_unit_test(test_config_check_names_fields),
         cmocka_unit_test(test_reframe_and_origin),
         cmocka_unit_test(test_kinematic_bounds),
+        cmocka_unit_test(test_merged_echo_coasts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

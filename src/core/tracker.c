@@ -26,6 +26,10 @@ static int wrap(int a)
 
 /* Position variance beyond which a coasting prediction says nothing: (10 m)^2. */
 #define LOST_M2 100.0f
+#define MERGED (-2) /* det while a track coasts through a merged echo (one update only) */
+#ifndef SONAR_TRK_MERGE_M
+#define SONAR_TRK_MERGE_M 1.0f /* metres: a prediction this near another track's detection is on a merged echo */
+#endif
 
 void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
 {
@@ -368,7 +372,7 @@ static void hit(const struct sonar_tracker *tk, struct sonar_track *t, const str
  */
 static uint8_t pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
                     const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int turn,
-                    int *clipped)
+                    int merge, int *clipped)
 {
     int8_t row_col[SONAR_MAX_CLUSTERS];
     struct costs c;
@@ -383,9 +387,64 @@ static uint8_t pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], c
     c.real = nc;
     c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + LOST_M2 / r2);
     hungarian(&c, nl, (unsigned)nc + nl, row_col);
+    if (merge)
+        for (i = 0; i < nl; i++) {
+            /*
+             * Two objects seen as one: a track whose prediction falls on a detection another track
+             * took, much nearer than the one it was given, is on a merged echo (swimmers crossing);
+             * it coasts through it rather than jumping to a farther detection that is someone else's.
+             */
+            const struct sonar_track *t;
+            float ex, ey, own, dt;
+            unsigned jj;
+            k = (uint8_t)row_col[i];
+            if (k >= nc || cost[i][k] >= (float)BIG)
+                continue;
+            t = &tk->t[cand[k]];
+            dt = step_s(tk, t, obs[left[i]].utime, clipped);
+            ex = obs[left[i]].x_m - (t->px + t->vx * dt);
+            ey = obs[left[i]].y_m - (t->py + t->vy * dt);
+            own = ex * ex + ey * ey;
+            for (jj = 0; jj < nl; jj++) {
+                float d2;
+                if (jj == i || row_col[jj] < 0 || (unsigned)row_col[jj] >= nc || cost[jj][row_col[jj]] >= (float)BIG)
+                    continue;
+                dt = step_s(tk, t, obs[left[jj]].utime, clipped);
+                ex = obs[left[jj]].x_m - (t->px + t->vx * dt);
+                ey = obs[left[jj]].y_m - (t->py + t->vy * dt);
+                d2 = ex * ex + ey * ey;
+                if (d2 < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M && 4.0f * d2 < own) {
+                    row_col[i] = -1;
+                    tk->t[cand[k]].det = MERGED; /* no later pass may move it either */
+                    break;
+                }
+            }
+        }
+    if (merge)
+        for (k = 0; k < nc; k++) {
+            /* Left without a detection, its prediction on one another track took: merged too, kept from the manoeuvre pass. */
+            struct sonar_track *t = &tk->t[cand[k]];
+            unsigned jj;
+            for (jj = 0; jj < nl && row_col[jj] != (int8_t)k; jj++)
+                ;
+            if (jj < nl || t->det == MERGED)
+                continue;
+            for (jj = 0; jj < nl; jj++) {
+                float ex, ey, dt;
+                if (row_col[jj] < 0 || (unsigned)row_col[jj] >= nc || cost[jj][row_col[jj]] >= (float)BIG)
+                    continue;
+                dt = step_s(tk, t, obs[left[jj]].utime, clipped);
+                ex = obs[left[jj]].x_m - (t->px + t->vx * dt);
+                ey = obs[left[jj]].y_m - (t->py + t->vy * dt);
+                if (ex * ex + ey * ey < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M) {
+                    t->det = MERGED;
+                    break;
+                }
+            }
+        }
     for (i = 0; i < nl; i++) {
         k = (uint8_t)row_col[i];
-        if (k < nc && cost[i][k] < (float)BIG)
+        if (row_col[i] >= 0 && k < nc && cost[i][k] < (float)BIG)
             hit(tk, &tk->t[cand[k]], &obs[left[i]], left[i], q, r2, clipped);
         else
             left[m++] = left[i];
@@ -449,19 +508,22 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     for (k = 0; k < tk->n; k++)
         if (tk->t[k].state != SONAR_TRACK_TENTATIVE)
             cand[nc++] = k;
-    nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, &clipped);
+    nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 1, &clipped);
     if (qm > q) {
         for (k = 0, nc = 0; k < tk->n; k++)
-            if (tk->t[k].det < 0 && tk->t[k].state == SONAR_TRACK_CONFIRMED)
+            if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED)
                 cand[nc++] = k;
         j = nl;
-        nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, 1, &clipped);
+        nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, 1, 0, &clipped);
         tk->manoeuvres += (uint32_t)(j - nl);
     }
     for (k = 0, nc = 0; k < tk->n; k++)
         if (tk->t[k].state == SONAR_TRACK_TENTATIVE)
             cand[nc++] = k;
-    (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, &clipped);
+    (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 0, &clipped);
+    for (k = 0; k < tk->n; k++)
+        if (tk->t[k].det == MERGED)
+            tk->t[k].det = -1;
     /* Confirmation, coasting and deletion; the array stays in birth order. */
     for (k = 0, j = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
