@@ -17,14 +17,16 @@ URL='udpm://239.255.76.67:7667?ttl=0'
 cat > "$T/run.sh" <<EOS
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
 "$B/sonar-feed" --listen tcp:127.0.0.1:5360 --scene pool --max-seconds 120 2> "$T/feed.err" & F=\$!
+"$B/sonar-feed" --listen tcp:127.0.0.1:5361 --scene pool --pace fast --max-seconds 120 2> "$T/feed2.err" & F2=\$!
 .venv-view/bin/python tools/view/sonar_view.py --lcm '$URL' --listen 127.0.0.1:8360 --types "$B/lcm/python" 2> "$T/view.err" & V=\$!
 sleep 1
 /usr/bin/python3 tests/view_check.py --url http://127.0.0.1:8360/ --truth "$T/pool.json" --shot "$B/view.png" --report "$T/report.json" \\
     --sonard "$B/sonard --sonar tcp:127.0.0.1:5360 --range 12 --step 4 --publish-filtered --lcm $URL --quiet" \\
+    --sonard-fast "$B/sonard --sonar tcp:127.0.0.1:5361 --range 12 --lcm $URL --quiet" --health http://127.0.0.1:8360/health \\
     --bad-cmd ".venv-view/bin/python -c \"import lcm; l = lcm.LCM('$URL'); [l.publish(c, b'\\\\x00garbage') for c in ('SONAR_BEAM', 'SONAR_DETECTIONS', 'SONAR_STATUS')]\"" \\
     > "$T/check.out" 2>&1
 echo \$? > "$T/rc"
-kill \$V \$F 2> /dev/null
+kill \$V \$F \$F2 2> /dev/null
 wait
 EOS
 unshare -rn sh "$T/run.sh"

@@ -32,6 +32,8 @@ def main():
     ap.add_argument("--url", required=True)
     ap.add_argument("--truth", required=True)
     ap.add_argument("--sonard", required=True, help="the sonard command line to start (and restart)")
+    ap.add_argument("--sonard-fast", help="sonard against a sonar-feed at --pace fast: the overload phase")
+    ap.add_argument("--health", help="the view server's /health URL")
     ap.add_argument("--bad-cmd", required=True, help="a command that publishes malformed LCM messages")
     ap.add_argument("--shot", required=True)
     ap.add_argument("--report", required=True)
@@ -121,6 +123,31 @@ def main():
         wait_for("beams after the restart", lambda: js("return sonarView.beams") > b2 + 20, 20)
         wait_for("the page to say live again", lambda: "live" == js("return document.getElementById('state').textContent"), 10)
         ok("sonard restarted: the same page draws again and says live", True, f"{js('return sonarView.beams') - b2} beams since")
+        if a.sonard_fast:
+            # Overload: a sonar hundreds of times faster than the device. The view must drop, not queue.
+            import urllib.request
+            sonard.send_signal(2)
+            sonard.wait(timeout=10)
+            sonard = subprocess.Popen(shlex.split(a.sonard_fast), stdout=subprocess.DEVNULL,
+                                      stderr=open(a.report + ".sonard3.err", "w"))
+            time.sleep(2.0)
+            h0 = json.load(urllib.request.urlopen(a.health))["counts"]
+            p0 = js("sonarView.resetStats(); return sonarView.beams")
+            t0 = time.time()
+            time.sleep(6.0)
+            dt = time.time() - t0
+            h1 = json.load(urllib.request.urlopen(a.health))["counts"]
+            p1 = js("return sonarView.beams")
+            st = js("return sonarView.stats")
+            rep["overload"] = {"server_beams_s": (h1["beams"] - h0["beams"]) / dt, "page_beams_s": (p1 - p0) / dt,
+                               "dropped": h1["dropped"] - h0["dropped"], "fps": st["fps"],
+                               "latency_ms_mean": st["latency_ms_mean"], "latency_ms_max": st["latency_ms_max"]}
+            o = rep["overload"]
+            ok("overloaded (sonar-feed --pace fast): beams dropped, not queued; latency stays under 250 ms",
+               o["dropped"] > 0 and o["latency_ms_mean"] is not None and o["latency_ms_mean"] < 250,
+               "%.0f beams/s in, %.0f drawn, %d dropped, %d frames/s, latency mean %.0f ms max %.0f ms" % (
+                   o["server_beams_s"], o["page_beams_s"], o["dropped"], o["fps"], o["latency_ms_mean"] or -1,
+                   o["latency_ms_max"] or -1))
     finally:
         if sonard.poll() is None:
             sonard.send_signal(2)

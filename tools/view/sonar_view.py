@@ -9,7 +9,8 @@ Libraries: the `lcm` Python binding (LCM's own) and `websockets` (HTTP and WebSo
 dependency-free asyncio library); the page is plain JavaScript on a canvas.
 
 Backpressure: a page that cannot keep up gets the newest beam of each angle (older ones are dropped and
-counted), never a growing queue: at most 400 beams wait per page. A page that stops reading for 10 s is
+counted), never a growing queue: at most PAGE_BEAMS (64) beams wait per page, the oldest dropped first, and at
+most IN_FLIGHT (32) are on their way (the page acknowledges what it received at each animation frame). A page that stops reading for 10 s is
 closed. Malformed LCM messages are counted and skipped. Without LCM traffic the page says how long the
 sonar has been silent; it resumes by itself when sonard comes back.
 """
@@ -22,6 +23,8 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+PAGE_BEAMS = 64  # beams waiting per page at most (the oldest dropped first): ~2.7 s of a device-paced sonar
+IN_FLIGHT = 32   # beams sent and not yet acknowledged by the page
 
 
 class Client:
@@ -33,6 +36,9 @@ class Client:
         self.wake = asyncio.Event()
         self.dropped = 0
         self.sent = 0
+        self.sent_beams = 0   # beams sent to the page
+        self.acked = 0        # beams the page says it has received (it tells at each animation frame)
+        self.acked_ev = asyncio.Event()
 
 
 class Hub:
@@ -50,6 +56,11 @@ class Hub:
             angle = struct.unpack_from("<H", data, 1)[0]
             if angle in c.beams:
                 c.dropped += 1  # the page is behind: only the newest beam of an angle is worth drawing
+                self.counts["dropped"] += 1
+                del c.beams[angle]  # re-inserted below as the newest
+            elif len(c.beams) >= PAGE_BEAMS:
+                del c.beams[next(iter(c.beams))]  # far behind: the oldest waiting beam goes, so lag stays short
+                c.dropped += 1
                 self.counts["dropped"] += 1
             c.beams[angle] = data
             c.wake.set()
@@ -135,8 +146,19 @@ async def sender(c):
             if c.texts:
                 msg = c.texts.pop(0)
             else:
+                # Flow control: at most IN_FLIGHT beams between here and the page's canvas. Kernel socket
+                # buffers hold seconds of beams; waiting here keeps the backlog in c.beams, where it is dropped.
+                while c.sent_beams - c.acked >= IN_FLIGHT and not c.texts:
+                    c.acked_ev.clear()
+                    try:
+                        await asyncio.wait_for(c.acked_ev.wait(), timeout=10)
+                    except asyncio.TimeoutError:
+                        c.acked = c.sent_beams  # an old page that does not acknowledge: go on unthrottled
+                if c.texts or not c.beams:
+                    continue
                 angle = next(iter(c.beams))
                 msg = c.beams.pop(angle)
+                c.sent_beams += 1
             # a page that stops reading is closed rather than buffered for
             await asyncio.wait_for(c.ws.send(msg), timeout=10)
             c.sent += 1
@@ -158,6 +180,9 @@ async def handler(ws, hub):
             if "filtered" in req:
                 c.filtered = bool(req["filtered"])
                 c.beams.clear()
+            if isinstance(req.get("received"), int):
+                c.acked = req["received"]
+                c.acked_ev.set()
     except Exception:
         pass
     finally:

@@ -43,9 +43,11 @@ const view = window.sonarView = {
   stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
   background: [0x10, 0x14, 0x1a],
   toPixel(x, y) { const k = view.range > 0 ? R / view.range : 0; return [Math.round(C + y * k), Math.round(C - x * k)]; },
+  resetStats() { latSum = 0; latMax = 0; latN = 0; },
   pixelAt(x, y) { const [u, v] = view.toPixel(x, y); const d = ictx.getImageData(u, v, 1, 1).data; return [d[0], d[1], d[2]]; },
 };
 
+let received = 0, acked = 0;
 let dirty = false, newestUtime = 0, latSum = 0, latMax = 0, latN = 0, prevAngle = -1, width = 1;
 const beamTimes = [];
 
@@ -119,6 +121,8 @@ function frame() {
   }
   rings();
   shapes();
+  // flow control: tell the server what arrived, so it sends no more than it can draw soon
+  if (received !== acked && ws && ws.readyState === 1) { ws.send(JSON.stringify({ received })); acked = received; }
   requestAnimationFrame(frame);
 }
 requestAnimationFrame(frame);
@@ -164,9 +168,9 @@ let ws = null;
 function connect() {
   ws = new WebSocket(`ws://${location.host}/ws`);
   ws.binaryType = "arraybuffer";
-  ws.onopen = () => { view.state = "open"; ws.send(JSON.stringify({ filtered: document.getElementById("filtered").checked })); };
+  ws.onopen = () => { view.state = "open"; received = acked = 0; ws.send(JSON.stringify({ filtered: document.getElementById("filtered").checked })); };
   ws.onmessage = ev => {
-    if (typeof ev.data !== "string") { drawBeam(ev.data); return; }
+    if (typeof ev.data !== "string") { drawBeam(ev.data); received++; return; }
     const m = JSON.parse(ev.data);
     if (m.kind === "detections") view.detections = m.detections;
     else if (m.kind === "tracks") {
