@@ -585,14 +585,10 @@ static int parse_discovery(void *base, const char *v, char *err, size_t n)
 static int parse_mac(void *base, const char *v, char *err, size_t n)
 {
     struct feed *f = base;
-    unsigned m[6];
-    int used = 0, i;
-    if (sscanf(v, "%2x-%2x-%2x-%2x-%2x-%2x%n", &m[0], &m[1], &m[2], &m[3], &m[4], &m[5], &used) != 6 || v[used] != '\0') {
+    if (strchr(v, ' ') != NULL || discover_parse_mac(v, f->mac) != 0) {
         snprintf(err, n, "--mac: '%s' is not six hex pairs like 54-10-EC-00-00-01", v);
         return HOST_ERR_CONFIG;
     }
-    for (i = 0; i < 6; i++)
-        f->mac[i] = (uint8_t)m[i];
     return HOST_OK;
 }
 

@@ -129,7 +129,14 @@ int64_t sonar_ping360_deadline(const struct sonar_ping360 *d);
 /* Stops the head: motor_off (after a line break in auto mode), then waits for its ack. */
 SONAR_CHECK int sonar_ping360_stop(struct sonar_ping360 *d, int64_t now);
 
-/* Modelled beam time in us: 19.4 ms + 6 ms per gradian stepped + 2R/c + transfer at the baud rate. */
+/*
+ * The device's timing model (ping.md, section 3), in us: 19.4 ms + 6 ms per gradian stepped (step
+ * 0 counts as 1) + 2R/c (range_m metres, speed_of_sound m/s, > 0) + the serial transfer of request
+ * and reply at baud bits/s (0: no transfer counted, e.g. UDP or a recording whose transport is unknown).
+ */
+uint32_t sonar_ping360_model_us(unsigned step, float range_m, float speed_of_sound, uint32_t baud, uint16_t samples);
+
+/* Modelled beam time in us of d's settings: sonar_ping360_model_us at its step, range, c, baud and samples. */
 uint32_t sonar_ping360_beam_time_us(const struct sonar_ping360 *d);
 
 #endif

@@ -79,12 +79,17 @@ int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_confi
     return SONAR_OK;
 }
 
+uint32_t sonar_ping360_model_us(unsigned step, float range_m, float speed_of_sound, uint32_t baud, uint16_t samples)
+{
+    double us = 19400.0 + 6000.0 * (step ? step : 1u) + 2.0 * (double)range_m / (double)speed_of_sound * 1e6;
+    if (baud > 0) /* 10 bits a byte: the reply (10 + 14 + samples) and the 24-byte request */
+        us += 10.0 * (24.0 + 24.0 + samples) * 1e6 / (double)baud;
+    return (uint32_t)us;
+}
+
 uint32_t sonar_ping360_beam_time_us(const struct sonar_ping360 *d)
 {
-    double us = 19400.0 + 6000.0 * d->cfg.step + 2.0 * (double)d->cfg.range_m / (double)d->cfg.speed_of_sound * 1e6;
-    if (d->cfg.baud > 0) /* 10 bits a byte: the reply (10 + 14 + samples) and the 24-byte request */
-        us += 10.0 * (24.0 + 24.0 + d->samples) * 1e6 / (double)d->cfg.baud;
-    return (uint32_t)us;
+    return sonar_ping360_model_us(d->cfg.step, d->cfg.range_m, d->cfg.speed_of_sound, d->cfg.baud, d->samples);
 }
 
 /* Adaptive: the model or the measured latency, whichever is longer, plus half of it (>= 15 ms). */

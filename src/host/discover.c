@@ -32,7 +32,7 @@ static const char *after_key(const char *line, const char *key)
     return line;
 }
 
-static int parse_mac(const char *s, uint8_t mac[6])
+int discover_parse_mac(const char *s, uint8_t mac[6])
 {
     unsigned v[6];
     int used = 0, i;
@@ -91,7 +91,7 @@ int discover_parse_reply(const uint8_t *buf, size_t len, struct discover_device 
             }
             snprintf(d->name, sizeof(d->name), "%s", line);
         } else if ((v = after_key(line, "MAC Address:-")) != NULL) {
-            if (parse_mac(v, d->mac) != 0) {
+            if (discover_parse_mac(v, d->mac) != 0) {
                 snprintf(err, errlen, "MAC '%.30s' is not six hex pairs like 54-10-EC-79-7D-C5", v);
                 return HOST_ERR_ROW;
             }
@@ -197,14 +197,15 @@ static void ask_firmware(int fd, uint32_t from, int port)
 }
 
 /* A datagram on the data socket: device_information from a device already found. */
-static void take_firmware(struct discover_device *dev, int ndev, const uint8_t *buf, size_t len, uint32_t from)
+static void take_firmware(struct sonar_ping_parser *p, struct discover_device *dev, int ndev, const uint8_t *buf,
+                          size_t len, uint32_t from)
 {
-    static struct sonar_ping_parser p; /* per call: reset below; static only to keep 1.3 KB off the stack */
     struct sonar_ping_frame f;
     int i;
-    if (sonar_ping_parser_init(&p, 0) != SONAR_OK)
+    /* reset for each datagram: one device's bytes never complete another's frame */
+    if (sonar_ping_parser_init(p, 0) != SONAR_OK)
         return;
-    while (sonar_ping_parser_next(&p, &buf, &len, &f) == 1) {
+    while (sonar_ping_parser_next(p, &buf, &len, &f) == 1) {
         struct sonar_ping_device_info info;
         if (f.id != SONAR_PING_DEVICE_INFORMATION || sonar_ping_decode_device_info(&f, &info) != SONAR_OK)
             continue;
@@ -222,6 +223,7 @@ static void take_firmware(struct discover_device *dev, int ndev, const uint8_t *
 int discover_run(const struct discover_config *c, FILE *out, FILE *errf)
 {
     struct discover_device dev[DISCOVER_MAX_DEVICES];
+    struct sonar_ping_parser parser;
     struct sockaddr_in to;
     char err[160];
     int fd, dfd, one = 1, ndev = 0, more = 0, bad = 0, i;
@@ -280,7 +282,7 @@ int discover_run(const struct discover_config *c, FILE *out, FILE *errf)
             if (got < 0)
                 continue;
             if (i == 1) {
-                take_firmware(dev, ndev, buf, (size_t)got, ntohl(from.sin_addr.s_addr));
+                take_firmware(&parser, dev, ndev, buf, (size_t)got, ntohl(from.sin_addr.s_addr));
             } else {
                 struct discover_device d;
                 int k;

@@ -1,4 +1,4 @@
-/* discover.h -- finds Ethernet Ping360s the way Blue Robotics' software does ("Discovery" to UDP 30303, the device's text reply), then asks each for its firmware; ~6 KB of stack, no heap. */
+/* discover.h -- finds Ethernet Ping360s the way Blue Robotics' software does ("Discovery" to UDP 30303, the device's text reply), then asks each for its firmware; ~8 KB of stack (one Ping Protocol parser), no heap. */
 #ifndef SONARD_DISCOVER_H
 #define SONARD_DISCOVER_H
 
@@ -30,6 +30,9 @@ struct discover_device {
  * reason in err ("no 'MAC Address:-' line", "not text: byte 3 is 0x00", ...).
  */
 HOST_CHECK int discover_parse_reply(const uint8_t *buf, size_t len, struct discover_device *d, char *err, size_t errlen);
+
+/* "54-10-EC-79-7D-C5" (hex pairs, either case, then the end or a blank) into mac. Returns 0, or -1 with mac unspecified. */
+int discover_parse_mac(const char *s, uint8_t mac[6]);
 
 /* The reply a Ping360 sends (sonar-feed answers with it): "SONAR PING360  \r\nBlue Robotics\r\n...". Returns its length. */
 size_t discover_format_reply(char *buf, size_t cap, const uint8_t mac[6], uint32_t ip);

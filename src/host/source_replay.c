@@ -8,6 +8,20 @@
 #include <time.h>
 
 #include "sonar/geometry.h"
+#include "sonar/ping360.h"
+
+/* Everything but the reader: the caller's range and c, no pose file, no pacing, the untimed clock at 0. */
+static void reset(struct source_replay *r, double range_m, double speed_of_sound)
+{
+    r->range_m = range_m;
+    r->speed_of_sound = speed_of_sound;
+    r->pose = NULL;
+    r->beam_ms = 0.0;
+    r->speed = 0.0;
+    r->progress = r->quiet = 0;
+    r->clock_us = 0;
+    r->prev_angle = -1;
+}
 
 int source_replay_open(struct source_replay *r, const char *path, double range_m, double speed_of_sound, char *err,
                        size_t errlen)
@@ -16,34 +30,14 @@ int source_replay_open(struct source_replay *r, const char *path, double range_m
         snprintf(err, errlen, "%s: %s", path, strerror(errno));
         return HOST_ERR_IO;
     }
-    r->range_m = range_m;
-    r->speed_of_sound = speed_of_sound;
-    r->pose = NULL;
-    r->beam_ms = 0.0;
-    r->speed = 0.0;
-    r->progress = r->quiet = 0;
-    r->clock_us = 0;
-    r->prev_angle = -1;
+    reset(r, range_m, speed_of_sound);
     return HOST_OK;
 }
 
 void source_replay_stream(struct source_replay *r, FILE *f, const char *name, double range_m, double speed_of_sound)
 {
     csv_open_stream(&r->csv, f, name);
-    r->range_m = range_m;
-    r->speed_of_sound = speed_of_sound;
-    r->pose = NULL;
-    r->beam_ms = 0.0;
-    r->speed = 0.0;
-    r->progress = r->quiet = 0;
-    r->clock_us = 0;
-    r->prev_angle = -1;
-}
-
-int64_t source_replay_beam_us(unsigned step, double range_m, double speed_of_sound)
-{
-    double us = 19400.0 + 6000.0 * (step ? step : 1u) + 2.0 * range_m / speed_of_sound * 1e6;
-    return (int64_t)us;
+    reset(r, range_m, speed_of_sound);
 }
 
 /* Range of a row: --range, else the row's range_m or sample_period metadata, else 2 m. */
@@ -67,13 +61,12 @@ static int32_t meta_int(double v)
 /* Untimed rows: each one a modelled beam (or --beam-ms) after the previous, from 0. */
 static int64_t untimed_utime(struct source_replay *r, float range_m, double c)
 {
-    unsigned step = 1;
     if (r->prev_angle >= 0) {
         unsigned d = (unsigned)(r->row.angle > r->prev_angle ? r->row.angle - r->prev_angle : r->prev_angle - r->row.angle);
-        step = d > 200u ? 400u - d : d; /* the short way round */
+        unsigned step = d > 200u ? 400u - d : d; /* the short way round */
+        r->clock_us += r->beam_ms > 0.0 ? (int64_t)(r->beam_ms * 1000.0 + 0.5)
+                                        : (int64_t)sonar_ping360_model_us(step, range_m, (float)c, 0, r->row.n);
     }
-    if (r->prev_angle >= 0)
-        r->clock_us += r->beam_ms > 0.0 ? (int64_t)(r->beam_ms * 1000.0 + 0.5) : source_replay_beam_us(step, range_m, c);
     r->prev_angle = r->row.angle;
     return r->clock_us;
 }

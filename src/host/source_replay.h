@@ -22,9 +22,6 @@ struct source_replay {
     int prev_angle;        /* the previous untimed row's angle, -1 before the first */
 };
 
-/* Model time of one untimed beam in us: 19.4 ms + 6 ms per gradian stepped + 2R/c (ping.md, section 3;
- * the serial transfer is left out, the transport being unknown). step 0 counts as 1. */
-int64_t source_replay_beam_us(unsigned step, double range_m, double speed_of_sound);
 
 /* path: a file or "-". Returns HOST_OK or HOST_ERR_IO with "PATH: reason" in err. */
 HOST_CHECK int source_replay_open(struct source_replay *r, const char *path, double range_m, double speed_of_sound,

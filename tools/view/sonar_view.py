@@ -35,7 +35,6 @@ class Client:
         self.texts = []       # detections / tracks / status JSON, at most 16 kept
         self.wake = asyncio.Event()
         self.dropped = 0
-        self.sent = 0
         self.sent_beams = 0   # beams sent to the page
         self.acked = 0        # beams the page says it has received (it tells at each animation frame)
         self.acked_ev = asyncio.Event()
@@ -161,7 +160,6 @@ async def sender(c):
                 c.sent_beams += 1
             # a page that stops reading is closed rather than buffered for
             await asyncio.wait_for(c.ws.send(msg), timeout=10)
-            c.sent += 1
 
 
 async def handler(ws, hub):
