@@ -114,9 +114,9 @@ $(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUIL
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-wallfit: tools/wallfit.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-wallfit: tools/wallfit.c tools/scene.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Itools -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/pvbin2csv: tools/pvbin2csv.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)

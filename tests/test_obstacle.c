@@ -1,8 +1,9 @@
-/* test_obstacle.c -- the sector map for OBSTACLE_DISTANCE: noise floor, nearest echo, clear and unknown sectors, passes, ageing, bad input. */
+/* test_obstacle.c -- the sector map for OBSTACLE_DISTANCE: noise floor, nearest echo, lines between beams, clear and unknown sectors, passes, ageing, the ring, bad input. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <math.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -14,7 +15,7 @@
 static struct sonar_obstacle ob;
 static const struct sonar_pose *pose_; /* the vehicle's, for beam(); NULL: none */
 
-/* Noise 10..18; a wall 150 from sample k (k < 0: none), and the ring-down in the first 6 samples. */
+/* Noise 10..18; a wall 150 over samples k - 1 to k + 1, centred on k (k < 0: none), and the ring-down in the first 6 samples. */
 static void beam(int64_t t, float bearing, int k)
 {
     uint8_t s[N];
@@ -24,7 +25,7 @@ static void beam(int64_t t, float bearing, int k)
     for (i = 0; i < 6; i++)
         s[i] = 220;
     if (k >= 0)
-        for (i = k; i < k + 3 && i < N; i++)
+        for (i = k - 1; i <= k + 1 && i < N; i++)
             s[i] = 150;
     assert_int_equal(sonar_obstacle_beam(&ob, t, bearing, pose_, s, N, 10.0f), SONAR_OK);
 }
@@ -47,7 +48,7 @@ static void test_sectors(void **state)
     assert_int_equal(mx, 1000);
     for (k = 0; k < SONAR_OBS_SECTORS; k++) {
         if (k >= 19 && k <= 35)
-            assert_int_equal(d[k], 603); /* sample 120's centre: 6.025 m */
+            assert_int_equal(d[k], 602); /* sample 120's centre, 6.025 m; the chord to the next beam's echo sags to 6.025 cos 0.45 */
         else if (k < 17 || k > 37)
             assert_int_equal(d[k], 1001); /* scanned and clear: max + 1, never the ring-down */
     }
@@ -119,15 +120,137 @@ static void test_world_memory(void **state)
     }
     pose_ = NULL;
     sonar_obstacle_map(&ob, 17000000, 20000000, &p, d, &mn, &mx);
-    assert_int_equal(d[0], 603);
+    assert_int_equal(d[0], 602); /* 6.025 m, and the chords between the three beams */
     assert_int_equal(d[36], 1001);
     sonar_obstacle_map(&ob, 17000000, 20000000, &now, d, &mn, &mx);
-    assert_int_equal(d[54], 503); /* 5.025 m on the left */
+    assert_int_equal(d[54], 502); /* 5.025 m on the left, and the chords */
     assert_int_equal(d[0], 1001);  /* east, where the vehicle now faces: scanned, clear */
     assert_int_equal(d[18], 1001);
     sonar_obstacle_map(&ob, 17000000, 20000000, NULL, d, &mn, &mx);
     assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
     assert_int_equal(d[54], SONAR_OBS_UNKNOWN);
+}
+
+/* Noise only, a few beams at bearing: the floor learns it (an unseeded floor has no echo). */
+static void seed(int64_t t, float bearing)
+{
+    int i;
+    for (i = 0; i < 8; i++)
+        beam(t + i * 20000, bearing, -1);
+}
+
+/*
+ * A flat wall 4 m ahead (x = 4) seen by beams 4.5 degrees apart: sector 8 (37.5 to 42.5 degrees)
+ * holds one beam, at 40.5 degrees and 5.26 m, but the wall's nearest point in it is at its edge,
+ * 4 / cos 37.5 = 5.04 m; the line between the beams at 36 and 40.5 degrees puts it there.
+ */
+static void test_oblique_wall(void **state)
+{
+    struct sonar_obstacle_config c;
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    int a;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 300.0f);
+    for (a = -10; a <= 10; a++) {
+        double th = a * 4.5 * 3.14159265358979 / 180.0;
+        /* The sample whose centre, (k + 0.5) x 5 cm, is nearest 4 / cos(th). */
+        beam(2000000 + (a + 10) * 20000, (float)(a * 4.5), (int)floor(4.0 / cos(th) / 0.05));
+    }
+    sonar_obstacle_map(&ob, 3000000, 8000000, NULL, d, &mn, &mx);
+    assert_in_range(d[0], 399, 403);       /* straight ahead: 4 m */
+    assert_in_range(d[8], 501, 507);       /* 5.04 m at the sector's near edge, not the beam's 5.26 */
+    assert_in_range(d[72 - 8], 501, 507);  /* and on the other side */
+    assert_in_range(d[4], 416, 423);       /* 4 / cos 17.5 = 4.19 m */
+}
+
+/*
+ * Consecutive beams' echoes are joined only when a surface could run between them: 9 degrees
+ * apart at 6 m, the sector between them (5 degrees) holds the line; 6 m then 3 m is two objects,
+ * and 12.6 degrees apart is more than SONAR_OBS_LINK_DEG: the sectors between stay unknown.
+ */
+static void test_linking(void **state)
+{
+    struct sonar_obstacle_config c;
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 200.0f);
+    beam(2000000, 0.0f, 120);   /* 6.025 m */
+    beam(2020000, 9.0f, 121);   /* 6.075 m: the wall x = 6 */
+    sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
+    assert_int_equal(d[0], 602);
+    assert_in_range(d[1], 602, 605); /* the line at 2.5 degrees */
+    assert_in_range(d[2], 605, 608); /* the line at 7.5 degrees, or the echo at 9 */
+
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 200.0f);
+    beam(2000000, 0.0f, 120);
+    beam(2020000, 9.0f, 60);    /* 3.025 m: something else */
+    sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
+    assert_int_equal(d[0], 603); /* no chord: the echo itself, 6.025 m */
+    assert_int_equal(d[1], SONAR_OBS_UNKNOWN);
+    assert_in_range(d[2], 302, 303);
+
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 200.0f);
+    beam(2000000, 0.0f, 120);
+    beam(2020000, 12.6f, 120);
+    sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
+    assert_int_equal(d[1], SONAR_OBS_UNKNOWN);
+    assert_int_equal(d[2], SONAR_OBS_UNKNOWN);
+    assert_int_equal(d[3], 603);
+}
+
+/*
+ * More echoes than the ring holds: the oldest makes way. Its sector, which had an echo in its
+ * pass, is then unknown (not clear: nothing says it is clear); the sector still being swept
+ * keeps its nearest echo among those held.
+ */
+static void test_ring_overflow(void **state)
+{
+    struct sonar_obstacle_config c;
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    int j;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 180.0f);
+    beam(2000000, 0.0f, 30);
+    sonar_obstacle_map(&ob, 2000000, 60000000, NULL, d, &mn, &mx);
+    assert_in_range(d[0], 152, 153); /* 1.525 m, kept as a float */
+    /* The echo moves along the beam so the floor does not learn it: 2.025 m at its nearest. */
+    for (j = 0; j < SONAR_MAX_OBS_ECHOES + 8; j++)
+        beam(2020000 + j * 20000, 180.0f, 40 + 3 * (j % 40));
+    assert_int_equal(ob.count, SONAR_MAX_OBS_ECHOES);
+    sonar_obstacle_map(&ob, 2020000 + j * 20000, 60000000, NULL, d, &mn, &mx);
+    assert_int_equal(d[0], SONAR_OBS_UNKNOWN);
+    assert_in_range(d[36], 202, 203);
+}
+
+/*
+ * A speckled return, 60 140 120 150 60 over samples 99 to 103: its peak is sample 102 (5.125 m),
+ * its centre weighted by the level above the floor (~14) is sample 101.0, 5.075 m.
+ */
+static void test_echo_centre(void **state)
+{
+    static const uint8_t ret[5] = {60, 140, 120, 150, 60};
+    struct sonar_obstacle_config c;
+    uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+    uint8_t s[N];
+    int i;
+    (void)state;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
+    seed(1000000, 0.0f);
+    for (i = 0; i < N; i++)
+        s[i] = (uint8_t)(10 + (i * 7) % 9);
+    memcpy(&s[99], ret, sizeof(ret));
+    assert_int_equal(sonar_obstacle_beam(&ob, 2000000, 180.0f, NULL, s, N, 10.0f), SONAR_OK);
+    sonar_obstacle_map(&ob, 2000000, 8000000, NULL, d, &mn, &mx);
+    assert_in_range(d[36], 506, 509);
 }
 
 int main(void)
@@ -136,6 +259,10 @@ int main(void)
         cmocka_unit_test(test_sectors),
         cmocka_unit_test(test_bad_input_and_resets),
         cmocka_unit_test(test_world_memory),
+        cmocka_unit_test(test_oblique_wall),
+        cmocka_unit_test(test_linking),
+        cmocka_unit_test(test_ring_overflow),
+        cmocka_unit_test(test_echo_centre),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -271,6 +271,27 @@ int main(int argc, char **argv)
         }
         printf("world_background_beam_us %.3f\n", median_of(t_w, REPS));
         printf("obstacle_beam_us %.3f\n", median_of(t_o, REPS));
+        /* One message's map from a full ring of world points: a sweep with the vehicle's poses, then 200 maps. */
+        {
+            uint16_t d[SONAR_OBS_SECTORS], mn, mx;
+            double t_m[REPS];
+            int64_t t = (int64_t)k * 20000 + 100000000;
+            for (i = 0; i < BEAMS + SONAR_MAX_OBS_ECHOES; i++, t += 20000) {
+                struct sonar_pose q = {t, 0.01f * (float)i, 0.0f, 0.3f * (float)i};
+                sink += sonar_obstacle_beam(&obstacles, t, 0.9f * (float)(i % BEAMS), &q, sweep[i % BEAMS], N, 20.0f);
+            }
+            for (r = 0; r < REPS; r++) {
+                struct sonar_pose q = {t, 0.01f * (float)i, 0.0f, 0.3f * (float)i};
+                double t0 = now();
+                for (j = 0; j < 200; j++) {
+                    sonar_obstacle_map(&obstacles, t, 9600000, &q, d, &mn, &mx);
+                    sink += d[j % SONAR_OBS_SECTORS];
+                }
+                t_m[r] = (now() - t0) / 200 * 1e6;
+            }
+            printf("obstacle_map_us %.3f\n", median_of(t_m, REPS));
+            printf("obstacle_map_echoes %u\n", (unsigned)obstacles.count);
+        }
     }
     printf("median5_ns_per_sample %.4f\n", median_of(t_med, REPS));
     printf("median5x5_ns_per_sample %.4f\n", median_of(t_2d, REPS));

@@ -25,7 +25,8 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
     -v det="$(v sweep_detect_ms)" -v detw="$(v sweep_detect_worst_ms)" -v km="$(v kmeans_hull_5000_ms)" \
     -v cvkm="$(v cv_kmeans_hull_5000_ms)" -v rep="$best" -v rows="$rows" -v pyt="$py_total" -v pyf="$py_filt" \
     -v cvv="$(v cv_version)" -v trk="$(v tracker_sweep_us)" -v ntrk="$(v tracker_tracks)" \
-    -v wbg="$(v world_background_beam_us)" -v obs="$(v obstacle_beam_us)" 'BEGIN {
+    -v wbg="$(v world_background_beam_us)" -v obs="$(v obstacle_beam_us)" \
+    -v obsmap="$(v obstacle_map_us)" -v obsn="$(v obstacle_map_echoes)" 'BEGIN {
     beam_ms = 19.4 + 6.0 + 2.0 * 12 / 1500 * 1000;   # device timing model at 12 m, 1-grad steps (ping.md section 3)
     printf "sonard bench (one run; 400 x 1200 sweep, gcc -O2, OpenCV %s single-threaded)\n", cvv
     printf "%-46s %14s %14s %10s\n", "stage", "sonard", "reference", "ratio"
@@ -41,6 +42,7 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
     printf "%-46s %11.3f us %11.3f us %9.1fx  (the per-angle model on the same beams)\n", "background in the world grid (moving), per beam", wbg, bg, wbg / bg
     printf "%-46s %11.3f us %11.3f ms %9.0fx  (device: one beam at 12 m)\n", "  the same against the device", wbg, beam_ms, beam_ms * 1000 / wbg
     printf "%-46s %11.3f us %11.3f ms %9.0fx  (device: one beam at 12 m)\n", "OBSTACLE_DISTANCE map (nearest echo), per beam", obs, beam_ms, beam_ms * 1000 / obs
+    printf "%-46s %11.3f us %11.3f ms %9.0fx  (its period at 20 Hz)\n", "  one message'"'"'s map from " obsn " world points", obsmap, 50.0, 50000 / obsmap
     printf "%-46s %11.1f ms %11.1f ms %9.0fx  (the study'"'"'s Python pipeline, load to detections)\n", "--replay of " rows " rows (whole process)", rep, pyt * 1000, pyt * 1000 / rep
     printf "%-46s %14s %11.1f ms\n", "  Python load to end of filtering (paper'"'"'s def.)", "", pyf * 1000
     printf "targets: tracker <= 50 us a sweep: %s; per-beam step <= 0.5 us: %s; <= OpenCV medianBlur alone: %s; 5x5 median at least as fast as OpenCV: %s; sweep detection <= 1 ms: %s; replay >= 100x Python: %s\n",

@@ -313,9 +313,9 @@ def main():
         det_line, trk_line = r.strip().splitlines()[-2:]
         veh[frame] = (label, " ".join(["--min-points", "8"] + (["--pose FILE"] if extra else [])), det_line, trk_line, secs)
     # The walls as the world grid learnt them: each fitted across, every 0.2 m (tools/wallfit.c).
-    walls = json.load(open(f"{W}/vehicle.json")).get("walls", [])
-    wallfit = sh([f"{B}/sonar-wallfit", "--replay", f"{W}/vehicle.csv", "--pose", f"{W}/vehicle.pose.csv"] +
-                 sum([["--wall", ",".join(f"{v:g}" for v in w)] for w in walls], [])).strip().splitlines()
+    # Its walls and objects are the scene's (sonar-sim --scene vehicle wrote vehicle.csv).
+    wallfit = sh([f"{B}/sonar-wallfit", "--replay", f"{W}/vehicle.csv", "--pose", f"{W}/vehicle.pose.csv",
+                  "--scene", "vehicle"]).strip().splitlines()
     # Static speed once a track has settled (5+ hits), beside score.py's 3+.
     settled = []
     truth_v = {s["sweep"]: s["objects"] for s in json.load(open(f"{W}/vehicle.json"))["sweeps"]}
@@ -482,11 +482,16 @@ def main():
         L.append(f"\nStatic speed of settled tracks (5+ hits) in the world frame: {sum(settled) / len(settled):.3f} m/s "
                  f"(n={len(settled)}, largest {max(settled):.3f}), beside the 3+ figure in the table.\n")
     if wallfit:
-        L.append("The pool's walls as the world grid learnt them (`sonar-wallfit --replay vehicle.csv --pose vehicle.pose.csv "
-                 "--wall ...`): across each wall every 0.2 m, a metre clear of the corners, the model-weighted centre of the "
-                 "cells above half the largest within ±1 m, against the wall's true line; and, once a second from the third "
-                 "sweep on, each OBSTACLE_DISTANCE sector with an echo against the nearest wall in it from where the vehicle "
-                 "then is, with the map's world memory (docs/mavlink.md) and without it.\n")
+        L.append("The pool's walls as the world frame rebuilt them (`sonar-wallfit --replay vehicle.csv --pose vehicle.pose.csv "
+                 "--scene vehicle`). The background's grid: across each wall every 0.2 m, a metre clear of the corners, the "
+                 "model-weighted centre of the cells above half the largest within ±1 m, against the wall's true line; each "
+                 "beam paints its whole 3.6° wedge (4 gradians a step), so a wall seen obliquely smears across cells. The "
+                 "obstacle map's echo points (one a beam, kept as world points): their distance from the nearest wall, all of "
+                 "them and those seen within 30° of the wall's normal (beyond that, the 2° beam spreads a wall's return over "
+                 "r · tan(incidence) · 2°, 35 cm at 10 m and 45°). And, once a second from the third sweep on, each "
+                 "OBSTACLE_DISTANCE sector with an echo against the nearest wall or object in it from where the vehicle then "
+                 "is (an object where it was when the head last looked its way), with the map's world memory "
+                 "(docs/mavlink.md) and without it.\n")
         L.append("```\n" + "\n".join(wallfit) + "\n```\n")
     L.append("Targets (issue 11): detection F1 ≥ 0.9 with the pose; a static wall rebuilt in the world frame within one range "
              "cell RMS; static objects tracked at ≤ 0.05 m/s while the vehicle moves.\n")

@@ -1,4 +1,4 @@
-/* wallfit.c -- what a moving sonar's world makes of a scene's walls: the world-frame background's grid fitted across each wall, and the OBSTACLE_DISTANCE map's sectors against the walls as the vehicle moves, with its world memory and without. */
+/* wallfit.c -- what a moving sonar's world makes of a scene's walls: the world-frame background's grid and the obstacle map's echo points fitted across each wall, and the OBSTACLE_DISTANCE map's sectors against the scene's walls and objects as the vehicle moves, with its world memory and without. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -8,10 +8,12 @@
 
 #include "app.h"
 #include "posefile.h"
+#include "scene.h"
 #include "sonar/obstacle.h"
 #include "source_replay.h"
 
 #define MAX_WALLS 8
+#define PI 3.14159265358979323846
 
 static int64_t mono_ns(void *u)
 {
@@ -61,16 +63,87 @@ static double ray_wall(double n, double e, double ux, double uy, const double *w
     return t > 0.0 && s >= 0.0 && s <= 1.0 ? t : -1.0;
 }
 
-/* The obstacle map's check: two maps fed the filtered beams, one with the poses (world memory), one without. */
+/* Distance along the unit ray (ux, uy) from (n, e) to the circle of radius r at (cn, ce); < 0 if missed. */
+static double ray_circle(double n, double e, double ux, double uy, double cn, double ce, double r)
+{
+    double px = cn - n, py = ce - e, along = px * ux + py * uy, miss2 = px * px + py * py - along * along, h;
+    if (miss2 > r * r)
+        return -1.0;
+    h = sqrt(r * r - miss2);
+    return along - h > 0.0 ? along - h : along + h > 0.0 ? 0.0 : -1.0;
+}
+
+/*
+ * The obstacle map's check: two maps fed the filtered beams, one with the poses (world memory),
+ * one without. With the scene, its objects are obstacles too, placed where they were when the
+ * head last looked their way (what the sonar can know of a moving one).
+ */
 struct probe {
     struct app_sink sink;
     struct sonar_obstacle with, without;
     const double (*walls)[4];
     int nw;
+    const struct scene *scene; /* NULL: walls only */
     int64_t next_us, start_us;
-    long n[2], within[2];
+    int sweep, prev_angle;
+    int64_t seen_us[SONAR_OBS_SECTORS]; /* by world bearing: the last beam's time, and its sweep */
+    int seen_sweep[SONAR_OBS_SECTORS];
+    long n[2], within[2], missed[2];
+    long on_obj[2], obj_within[2]; /* of n, within: sectors whose nearest obstacle is an object */
     double abs_err[2];
+    long points[2];     /* the map's world echo points within 1 m of a wall, 1 m clear of its ends: all; seen within 30 degrees of its normal */
+    double point_sum[2], point_sum2[2];
 };
+
+static int world_sector(double deg)
+{
+    deg = fmod(deg, 360.0);
+    deg = deg < 0.0 ? deg + 360.0 : deg;
+    return (int)floor(deg / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
+}
+
+/* The nearest obstacle along the world ray th (radians) from (n, e); < 0 if none; *object = 1 if it is one of the scene's objects. */
+static double nearest(const struct probe *p, double n, double e, double th, int *object)
+{
+    double best = -1.0, t;
+    *object = 0;
+    int w, k, at = world_sector(th * 180.0 / PI);
+    for (w = 0; w < p->nw; w++)
+        if ((t = ray_wall(n, e, cos(th), sin(th), p->walls[w])) > 0.0 && (best < 0.0 || t < best))
+            best = t;
+    for (k = 0; p->scene != NULL && k < p->scene->nobj && p->seen_us[at] != 0; k++) {
+        double x, y, vx, vy, ts = (double)(p->seen_us[at] - p->start_us) / 1e6;
+        int sw = p->seen_sweep[at];
+        if (!scene_object_at(p->scene, k, sw, ts, &x, &y, &vx, &vy) || (sw < 64 && (p->scene->obj[k].fade >> sw & 1u)))
+            continue;
+        if ((t = ray_circle(n, e, cos(th), sin(th), x, y, p->scene->obj[k].r)) >= 0.0 && (best < 0.0 || t < best)) {
+            best = t;
+            *object = 1;
+        }
+    }
+    return best;
+}
+
+/*
+ * *off = the signed distance (m) of (n, e) from the nearest wall within 1 m, a metre clear of its
+ * ends, *cosinc = |cos| of the incidence of the ray to it from (vn, ve); returns 0 if none.
+ */
+static int near_wall(const struct probe *p, double n, double e, double vn, double ve, double *off, double *cosinc)
+{
+    int w, found = 0;
+    for (w = 0; w < p->nw; w++) {
+        const double *q = p->walls[w];
+        double dn = q[2] - q[0], de = q[3] - q[1], len = sqrt(dn * dn + de * de);
+        double s = ((n - q[0]) * dn + (e - q[1]) * de) / len, d = (-(n - q[0]) * de + (e - q[1]) * dn) / len;
+        double rn = n - vn, re = e - ve, r = sqrt(rn * rn + re * re);
+        if (s < 1.0 || s > len - 1.0 || fabs(d) > 1.0 || (found && fabs(d) >= fabs(*off)))
+            continue;
+        *off = d;
+        *cosinc = r > 0.0 ? fabs(-rn * de + re * dn) / (r * len) : 1.0;
+        found = 1;
+    }
+    return found;
+}
 
 static int probe_beam(void *self, const struct app_beam *b)
 {
@@ -83,8 +156,31 @@ static int probe_beam(void *self, const struct app_beam *b)
         return HOST_ERR_IO;
     if (p->start_us == 0)
         p->start_us = b->utime;
-    /* Once a second after the first two sweeps (the floor's warm-up): every sector with an echo against the walls from here. */
-    if (!b->has_pose || b->utime < p->start_us + 13000000 || b->utime < p->next_us)
+    if ((int)b->angle < p->prev_angle)
+        p->sweep++;
+    p->prev_angle = b->angle;
+    if (b->has_pose) {
+        int at = world_sector((double)bearing + (double)b->yaw_deg);
+        p->seen_us[at] = b->utime;
+        p->seen_sweep[at] = p->sweep;
+    }
+    if (!b->has_pose || b->utime < p->start_us + 13000000)
+        return HOST_OK;
+    /* From the third sweep on (the floor's warm-up): this beam's echo, as the world map keeps it, against the walls. */
+    if (p->with.count > 0) {
+        const struct sonar_obstacle_echo *e = &p->with.echo[(p->with.head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
+        double off = 0.0, c = 1.0;
+        int j;
+        if (e->utime == b->utime && e->world && near_wall(p, (double)e->x_m, (double)e->y_m, b->north_m, b->east_m, &off, &c))
+            for (j = 0; j < 2; j++)
+                if (j == 0 || c >= cos(30.0 * PI / 180.0)) {
+                    p->points[j]++;
+                    p->point_sum[j] += off;
+                    p->point_sum2[j] += off * off;
+                }
+    }
+    /* And once a second, every sector against the nearest obstacle in it from here. */
+    if (b->utime < p->next_us)
         return HOST_OK;
     p->next_us = b->utime + 1000000;
     for (m = 0; m < 2; m++) {
@@ -92,21 +188,26 @@ static int probe_beam(void *self, const struct app_beam *b)
         sonar_obstacle_map(m == 0 ? &p->with : &p->without, b->utime, 7600000, m == 0 ? &q : NULL, d, &mn, &mx);
         for (k = 0; k < SONAR_OBS_SECTORS; k++) {
             double best = -1.0, a;
-            int w;
-            if (d[k] == SONAR_OBS_UNKNOWN || d[k] > mx)
+            int obj = 0, is_obj;
+            if (d[k] == SONAR_OBS_UNKNOWN)
                 continue;
             for (a = -2.5; a <= 2.5; a += 0.1) {
-                double th = ((double)k * 5.0 + a + (double)b->yaw_deg) * 3.14159265358979323846 / 180.0;
-                for (w = 0; w < p->nw; w++) {
-                    double t = ray_wall(b->north_m, b->east_m, cos(th), sin(th), p->walls[w]);
-                    if (t > 0.0 && (best < 0.0 || t < best))
-                        best = t;
+                double t = nearest(p, b->north_m, b->east_m, ((double)k * 5.0 + a + (double)b->yaw_deg) * PI / 180.0, &is_obj);
+                if (t > 0.0 && (best < 0.0 || t < best)) {
+                    best = t;
+                    obj = is_obj;
                 }
             }
             if (best < 0.0 || best > (double)mx / 100.0)
                 continue;
+            if (d[k] > mx) {
+                p->missed[m]++; /* reported clear with an obstacle in range */
+                continue;
+            }
             p->n[m]++;
             p->within[m] += fabs((double)d[k] / 100.0 - best) <= 0.1;
+            p->on_obj[m] += obj;
+            p->obj_within[m] += obj && fabs((double)d[k] / 100.0 - best) <= 0.1;
             p->abs_err[m] += fabs((double)d[k] / 100.0 - best);
         }
     }
@@ -120,25 +221,45 @@ int main(int argc, char **argv)
     static struct app app;
     static struct source_replay rp;
     static struct posefile pf;
+    static struct scene scene;
     struct sonar_pipeline_config c;
     struct app_clock clk = {mono_ns, wall_us, NULL};
     double walls[MAX_WALLS][4], all2 = 0.0;
     int nw = 0, i, nall = 0;
-    const char *csv = NULL, *pose = NULL;
+    const char *csv = NULL, *pose = NULL, *scene_name = NULL;
     char err[300];
     for (i = 1; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--replay") == 0)
             csv = argv[i + 1];
         else if (strcmp(argv[i], "--pose") == 0)
             pose = argv[i + 1];
+        else if (strcmp(argv[i], "--scene") == 0)
+            scene_name = argv[i + 1];
         else if (strcmp(argv[i], "--wall") == 0 && nw < MAX_WALLS &&
                  sscanf(argv[i + 1], "%lf,%lf,%lf,%lf", &walls[nw][0], &walls[nw][1], &walls[nw][2], &walls[nw][3]) == 4)
             nw++;
         else
             break;
     }
-    if (csv == NULL || pose == NULL || nw == 0 || i < argc) {
-        fprintf(stderr, "usage: sonar-wallfit --replay FILE.csv --pose POSE.csv --wall N0,E0,N1,E1 [--wall ...]\n");
+    if (i < argc) {
+        fprintf(stderr, "sonar-wallfit: %s: unknown or bad option\n", argv[i]);
+        return 2;
+    }
+    if (scene_name != NULL && scene_make(&scene, scene_name) != 0) {
+        fprintf(stderr, "sonar-wallfit: --scene %s: no such scene\n", scene_name);
+        return 2;
+    }
+    /* The scene's walls unless some are given. */
+    if (scene_name != NULL && nw == 0)
+        for (; nw < scene.nwall; nw++) {
+            walls[nw][0] = scene.wall[nw].x0;
+            walls[nw][1] = scene.wall[nw].y0;
+            walls[nw][2] = scene.wall[nw].x1;
+            walls[nw][3] = scene.wall[nw].y1;
+        }
+    if (csv == NULL || pose == NULL || nw == 0) {
+        fprintf(stderr, "usage: sonar-wallfit --replay FILE.csv --pose POSE.csv {--scene NAME | --wall N0,E0,N1,E1 [--wall ...]}\n"
+                        "  --scene: its walls, and its objects as obstacles too (sonar-sim's scenes; its recording from the first beam)\n");
         return 2;
     }
     sonar_pipeline_defaults(&c);
@@ -154,6 +275,8 @@ int main(int argc, char **argv)
         return 2;
     probe.walls = (const double(*)[4])walls;
     probe.nw = nw;
+    probe.scene = scene_name != NULL ? &scene : NULL;
+    probe.prev_angle = -1;
     probe.sink.name = "probe";
     probe.sink.self = &probe;
     probe.sink.stages = 1u << SONAR_STAGE_MEDIAN;
@@ -188,11 +311,23 @@ int main(int argc, char **argv)
     }
     printf("all walls: %d points, rms %.4f m\n", nall, nall ? sqrt(all2 / nall) : 0.0);
     for (i = 0; i < 2; i++)
-        printf("OBSTACLE_DISTANCE map %s: %ld sectors with a wall echo checked once a second, %.1f %% within 0.1 m "
-               "of the nearest wall in the sector, mean |error| %.3f m\n",
+        printf("obstacle map's world echo points (one a beam, from the third sweep) within 1 m of a wall%s: %ld, offset mean "
+               "%+.4f m, rms %.4f m\n", i ? ", seen within 30 degrees of its normal" : "", probe.points[i],
+               probe.points[i] ? probe.point_sum[i] / (double)probe.points[i] : 0.0,
+               probe.points[i] ? sqrt(probe.point_sum2[i] / (double)probe.points[i]) : 0.0);
+    for (i = 0; i < 2; i++) {
+        long nw_ = probe.n[i] - probe.on_obj[i], ww = probe.within[i] - probe.obj_within[i];
+        printf("OBSTACLE_DISTANCE map %s: %ld sectors with an echo and an obstacle in range checked once a second, %.1f %% "
+               "within 0.1 m of the nearest %s in the sector, mean |error| %.3f m; %ld reported clear with one in range\n",
                i == 0 ? "with the poses (world memory)" : "without (the sonar frame as seen)", probe.n[i],
                probe.n[i] ? 100.0 * (double)probe.within[i] / (double)probe.n[i] : 0.0,
-               probe.n[i] ? probe.abs_err[i] / (double)probe.n[i] : 0.0);
+               probe.scene != NULL ? "wall or object" : "wall", probe.n[i] ? probe.abs_err[i] / (double)probe.n[i] : 0.0,
+               probe.missed[i]);
+        if (probe.scene != NULL)
+            printf("  of which the nearest is a wall: %ld, %.1f %% within 0.1 m; an object: %ld, %.1f %% within 0.1 m\n", nw_,
+                   nw_ ? 100.0 * (double)ww / (double)nw_ : 0.0, probe.on_obj[i],
+                   probe.on_obj[i] ? 100.0 * (double)probe.obj_within[i] / (double)probe.on_obj[i] : 0.0);
+    }
     posefile_close(&pf);
     source_replay_close(&rp);
     return nall > 0 ? 0 : 1;

@@ -80,10 +80,20 @@
 #define SONAR_MAX_POSES 1024
 #endif
 
+/*
+ * Echoes the obstacle map (obstacle.h) remembers: one a beam, so a sweep of 1-gradian beams and a
+ * fifth more, as the map ages them after 1.2 sweeps. RAM: 24 bytes each (12 288 B at 512) in
+ * struct sonar_obstacle, which only the host's MAVLink endpoint holds.
+ */
+#ifndef SONAR_MAX_OBS_ECHOES
+#define SONAR_MAX_OBS_ECHOES 512
+#endif
+
 /* C99 has no _Static_assert: a negative array size stops the build when a relation fails. */
 #define SONAR_STATIC_ASSERT(cond, name) typedef char sonar_static_assert_##name[(cond) ? 1 : -1]
 
 SONAR_STATIC_ASSERT(SONAR_MAX_ANGLES >= 1 && SONAR_MAX_ANGLES <= 400, angles_in_1_400);
+SONAR_STATIC_ASSERT(SONAR_MAX_OBS_ECHOES >= 2 && SONAR_MAX_OBS_ECHOES <= 65535, obs_echoes_in_2_65535);
 SONAR_STATIC_ASSERT(SONAR_MAX_SAMPLES >= 16 && SONAR_MAX_SAMPLES <= 4096, samples_in_16_4096);
 SONAR_STATIC_ASSERT(SONAR_MAX_MEDIAN == 3 || SONAR_MAX_MEDIAN == 5 || SONAR_MAX_MEDIAN == 7 || SONAR_MAX_MEDIAN == 9, median_3_to_9);
 SONAR_STATIC_ASSERT(SONAR_MAX_MEDIAN2D == 3 || SONAR_MAX_MEDIAN2D == 5, median2d_3_or_5);

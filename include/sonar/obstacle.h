@@ -1,4 +1,4 @@
-/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 72 x 24 B + 40 B (~4.2 KB at 1200). */
+/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 24 x SONAR_MAX_OBS_ECHOES + 72 x 24 B + 64 B (~16.5 KB at 1200 and 512). */
 #ifndef SONAR_OBSTACLE_H
 #define SONAR_OBSTACLE_H
 
@@ -32,16 +32,34 @@ struct sonar_obstacle_config {
 };
 
 /*
- * With the vehicle's pose, the map remembers the world: sector k of the memory is the world
- * bearing k x 5 degrees, an echo is kept as the world point it came from, and each message turns
- * the memory into the body frame at the pose then, so a sector swept seconds ago on a turning,
- * moving vehicle still points at its wall. Without a pose, sectors are the body frame's, as seen.
+ * Each beam's echo is remembered as a point: with the vehicle's pose, the world point it came from
+ * (north, east), so a sector swept seconds ago on a turning, moving vehicle still points at its
+ * wall from where the vehicle is now; without one, the point in the sonar frame as seen. Two
+ * echoes of consecutive beams at most SONAR_OBS_LINK_DEG apart, whose points are no further
+ * apart than a surface at up to ~70 degrees of incidence would put them (0.2 m + 3 x the arc
+ * between the beams), are joined: the surface between them is taken as the straight line, so a
+ * sector that the line crosses reports its nearest point there, not only where a beam happened to
+ * land (a wall seen obliquely changes range by metres across one 5-degree sector).
+ *
+ * Sectors track passes by world bearing (with a pose) or body bearing (without): a sector's pass
+ * is its run of beams less than SONAR_OBS_PASS_US apart; the echoes of its current pass stand, a
+ * new pass retires the old one's, and a pass without an echo makes the sector clear.
  */
+#define SONAR_OBS_LINK_DEG 10.0
+
+struct sonar_obstacle_echo {
+    int64_t utime;      /* us since the epoch of its beam */
+    float x_m, y_m;     /* world: north, east; else the sonar frame's x forward, y right; metres */
+    uint8_t sector;     /* the sector of its beam's pass (world bearing with a pose) */
+    uint8_t world;      /* 1: x_m, y_m are north, east */
+    uint8_t linked;     /* 1: joined to the echo before it in the ring (see above) */
+};
+
 struct sonar_obstacle_sector {
     int64_t utime;      /* us since the epoch of the last beam through it; 0 = never */
-    uint16_t cm;        /* its nearest echo, cm; 0 = none (clear) */
-    uint8_t world;      /* 1: a world bearing, and north_m, east_m hold the echo (or, clear, the sonar then) */
-    float north_m, east_m;
+    int64_t pass_us;    /* utime of its current pass's first beam */
+    uint8_t echo;       /* 1: the current pass has an echo; 0: clear */
+    uint8_t world;      /* 1: a world bearing (the last beam had a pose) */
 };
 
 struct sonar_obstacle {
@@ -51,6 +69,10 @@ struct sonar_obstacle {
     float range_m;                    /* the range of the beams so far (a new one resets the map) */
     uint32_t beams, echoes;           /* beams taken, beams with an echo */
     int64_t newest;                   /* utime of the newest beam taken */
+    double prev_bearing;              /* the previous beam's bearing (world with a pose), degrees 0..360 */
+    uint8_t prev_echo;                /* 1: the previous beam's echo is the newest in the ring */
+    uint16_t head, count;             /* the ring: next slot, echoes held (<= SONAR_MAX_OBS_ECHOES) */
+    struct sonar_obstacle_echo echo[SONAR_MAX_OBS_ECHOES];
     struct sonar_obstacle_sector sector[SONAR_OBS_SECTORS];
 };
 
@@ -63,8 +85,8 @@ SONAR_CHECK int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar
 /*
  * One beam (filtered samples, n 1..SONAR_MAX_SAMPLES over range_m metres, (0, 1000]) at bearing_deg
  * in the body frame (any value; taken modulo 360), seen at utime with the vehicle at pose (NULL:
- * unknown): its nearest echo beyond min_range goes into its sector (the nearest of one pass), or
- * the sector is marked clear; the floor then learns the beam. A new n or range_m starts the map
+ * unknown): its nearest echo beyond min_range is remembered (the oldest echo held making way), or
+ * its sector's pass is marked clear; the floor then learns the beam. A new n or range_m starts the map
  * afresh. Returns SONAR_OK or SONAR_ERR_ARG (nothing changed).
  */
 SONAR_CHECK int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg,
@@ -72,8 +94,9 @@ SONAR_CHECK int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, flo
 
 /*
  * The whole map at now_us for one message, in the body frame at pose (NULL: unknown; then what was
- * kept in the world cannot be placed and is left out): dist_cm[k] = the nearest echo in sector k
- * (one that came nearer than min_range since is reported at min_range), max_cm + 1 where it was
+ * kept in the world cannot be placed and is left out): dist_cm[k] = the nearest point in sector k
+ * of the standing echoes and the lines joining them (one that came nearer than min_range since is
+ * reported at min_range), max_cm + 1 where it was
  * scanned and clear, SONAR_OBS_UNKNOWN where it was not scanned within max_age_us (a sweep, say).
  * *min_cm = min_range in cm (at least 1), *max_cm = the range in cm (0 before any beam).
  */
