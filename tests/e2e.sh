@@ -38,9 +38,9 @@ for sc in sector moving; do
     python3 tools/score.py "$T/$sc.json" "$T/$sc.jsonl" --tracks --label "  $sc: " | tail -1
 done
 check "tracking, sector scene (back and forth, 26 passes): IDF1 >= 0.85, MOTA >= 0.75, no ID switch" \
-    python3 tools/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.85 --min-mota 0.75 --max-idsw-per-100 0
+    python3 tools/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.90 --min-mota 0.80 --max-idsw-per-100 0
 check "tracking, moving scene (24 turns: crossing, turning, fading, 1.5 m/s): IDF1 >= 0.60, MOTA >= 0.50, velocity error <= 0.4 m/s" \
-    python3 tools/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.60 --min-mota 0.50 --max-vel-error 0.4
+    python3 tools/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.65 --min-mota 0.60 --max-vel-error 0.4
 check "tracks: IDs never reused, each line's tracks carry id/state/x_m/y_m/vx_mps/vy_mps/age/hits" python3 -c "
 import json, sys
 seen_ids, last = set(), {}

@@ -42,7 +42,7 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
     cfg->gate = 9.21f;
     cfg->confirm_m = 2;
     cfg->confirm_n = 3;
-    cfg->max_misses = 3;
+    cfg->max_misses = 2;
     cfg->max_dt_s = 120.0f;
 }
 

@@ -224,7 +224,7 @@ static const struct opt_spec spec[] = {
      "hits in the last --track-window visible sweeps that confirm a track", NULL, NULL},
     {"track-window", "N", OPT_U8, 1, 1, T(confirm_n), 1, SONAR_TRK_WINDOW_MAX, "sweeps", "3",
      "visible sweeps --track-confirm counts over", NULL, NULL},
-    {"track-misses", "N", OPT_U8, 1, 1, T(max_misses), 1, 127, "sweeps", "3",
+    {"track-misses", "N", OPT_U8, 1, 1, T(max_misses), 1, 127, "sweeps", "2",
      "visible sweeps in a row without a detection that end a confirmed track\n(twice as many without one, in view or not, also do)", NULL, NULL},
     SECTION("output"),
     {"json", NULL, OPT_FLAG, 1, 0, F(json), 0, 0, NULL, "off", "one JSON line per sweep on stdout", NULL, NULL},
