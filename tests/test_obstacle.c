@@ -131,12 +131,15 @@ static void test_world_memory(void **state)
     assert_int_equal(d[54], SONAR_OBS_UNKNOWN);
 }
 
-/* Noise only, a few beams at bearing: the floor learns it (an unseeded floor has no echo). */
-static void seed(int64_t t, float bearing)
+/* A map afresh with the defaults, and noise only for a few beams at bearing from 1 s: the floor learns it (an unseeded floor has no echo). */
+static void fresh(float bearing)
 {
+    struct sonar_obstacle_config c;
     int i;
+    sonar_obstacle_defaults(&c);
+    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
     for (i = 0; i < 8; i++)
-        beam(t + i * 20000, bearing, -1);
+        beam(1000000 + i * 20000, bearing, -1);
 }
 
 /*
@@ -146,13 +149,10 @@ static void seed(int64_t t, float bearing)
  */
 static void test_oblique_wall(void **state)
 {
-    struct sonar_obstacle_config c;
     uint16_t d[SONAR_OBS_SECTORS], mn, mx;
     int a;
     (void)state;
-    sonar_obstacle_defaults(&c);
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 300.0f);
+    fresh(300.0f);
     for (a = -10; a <= 10; a++) {
         double th = a * 4.5 * 3.14159265358979 / 180.0;
         /* The sample whose centre, (k + 0.5) x 5 cm, is nearest 4 / cos(th). */
@@ -172,12 +172,9 @@ static void test_oblique_wall(void **state)
  */
 static void test_linking(void **state)
 {
-    struct sonar_obstacle_config c;
     uint16_t d[SONAR_OBS_SECTORS], mn, mx;
     (void)state;
-    sonar_obstacle_defaults(&c);
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 200.0f);
+    fresh(200.0f);
     beam(2000000, 0.0f, 120);   /* 6.025 m */
     beam(2020000, 9.0f, 121);   /* 6.075 m: the wall x = 6 */
     sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
@@ -185,8 +182,7 @@ static void test_linking(void **state)
     assert_in_range(d[1], 602, 605); /* the line at 2.5 degrees */
     assert_in_range(d[2], 605, 608); /* the line at 7.5 degrees, or the echo at 9 */
 
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 200.0f);
+    fresh(200.0f);
     beam(2000000, 0.0f, 120);
     beam(2020000, 9.0f, 60);    /* 3.025 m: something else */
     sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
@@ -194,8 +190,7 @@ static void test_linking(void **state)
     assert_int_equal(d[1], SONAR_OBS_UNKNOWN);
     assert_in_range(d[2], 302, 303);
 
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 200.0f);
+    fresh(200.0f);
     beam(2000000, 0.0f, 120);
     beam(2020000, 12.6f, 120);
     sonar_obstacle_map(&ob, 2100000, 8000000, NULL, d, &mn, &mx);
@@ -211,13 +206,10 @@ static void test_linking(void **state)
  */
 static void test_ring_overflow(void **state)
 {
-    struct sonar_obstacle_config c;
     uint16_t d[SONAR_OBS_SECTORS], mn, mx;
     int j;
     (void)state;
-    sonar_obstacle_defaults(&c);
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 180.0f);
+    fresh(180.0f);
     beam(2000000, 0.0f, 30);
     sonar_obstacle_map(&ob, 2000000, 60000000, NULL, d, &mn, &mx);
     assert_in_range(d[0], 152, 153); /* 1.525 m, kept as a float */
@@ -237,14 +229,11 @@ static void test_ring_overflow(void **state)
 static void test_echo_centre(void **state)
 {
     static const uint8_t ret[5] = {60, 140, 120, 150, 60};
-    struct sonar_obstacle_config c;
     uint16_t d[SONAR_OBS_SECTORS], mn, mx;
     uint8_t s[N];
     int i;
     (void)state;
-    sonar_obstacle_defaults(&c);
-    assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
-    seed(1000000, 0.0f);
+    fresh(0.0f);
     for (i = 0; i < N; i++)
         s[i] = (uint8_t)(10 + (i * 7) % 9);
     memcpy(&s[99], ret, sizeof(ret));

@@ -106,8 +106,8 @@ static int world_sector(double deg)
 static double nearest(const struct probe *p, double n, double e, double th, int *object)
 {
     double best = -1.0, t;
-    *object = 0;
     int w, k, at = world_sector(th * 180.0 / PI);
+    *object = 0;
     for (w = 0; w < p->nw; w++)
         if ((t = ray_wall(n, e, cos(th), sin(th), p->walls[w])) > 0.0 && (best < 0.0 || t < best))
             best = t;

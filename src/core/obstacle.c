@@ -34,6 +34,14 @@ int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_co
     return SONAR_OK;
 }
 
+/* The sector of a bearing in degrees (any value): round(bearing / 5) modulo 72. */
+static int sector_at(double bearing_deg)
+{
+    double b = fmod(bearing_deg, 360.0);
+    b = b < 0.0 ? b + 360.0 : b;
+    return (int)floor(b / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
+}
+
 /* Sample i stands above the floor f by max(min_level, f x margin / 16); an unseeded floor has no echo. */
 static int above_floor(const struct sonar_obstacle *o, const uint8_t *s, uint16_t i)
 {
@@ -84,7 +92,7 @@ int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_d
     /* With a pose, the memory is kept by world bearing. */
     b = fmod((double)bearing_deg + (pose != NULL ? (double)pose->yaw_deg : 0.0), 360.0);
     b = b < 0.0 ? b + 360.0 : b;
-    k = (int)floor(b / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
+    k = sector_at(b);
     sec = &o->sector[k];
     if (!(sec->utime != 0 && utime >= sec->utime && utime - sec->utime < SONAR_OBS_PASS_US)) {
         /* A new pass retires the old one's echoes (they stay in the ring, older than pass_us). */
@@ -94,7 +102,7 @@ int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_d
     sec->utime = utime;
     sec->world = pose != NULL;
     if (hit >= 0) {
-        /* The echo's range: the sample's centre. */
+        /* Sample position at covers (at + 0.5) range / n. */
         double d = (at + 0.5) * range_m / n, th = b * SONAR_PI / 180.0;
         struct sonar_obstacle_echo *e = &o->echo[o->head];
         const struct sonar_obstacle_echo *prev = &o->echo[(o->head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
@@ -152,9 +160,7 @@ static void body(const struct sonar_obstacle_echo *e, const struct sonar_pose *p
 
 static int sector_of(double x, double y)
 {
-    double bearing = x == 0.0 && y == 0.0 ? 0.0 : atan2(y, x) * 180.0 / SONAR_PI;
-    bearing = bearing < 0.0 ? bearing + 360.0 : bearing;
-    return (int)floor(bearing / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
+    return sector_at(x == 0.0 && y == 0.0 ? 0.0 : atan2(y, x) * 180.0 / SONAR_PI);
 }
 
 /* Sector at takes a point d metres away if nearer than what it holds; beyond the range it is not an echo. */
@@ -209,43 +215,39 @@ static void offer_line(uint16_t *dist_cm, double ax, double ay, double bx, doubl
 void sonar_obstacle_map(const struct sonar_obstacle *o, int64_t now_us, int64_t max_age_us, const struct sonar_pose *pose,
                         uint16_t *dist_cm, uint16_t *min_cm, uint16_t *max_cm)
 {
-    double mx = floor((double)o->range_m * 100.0 + 0.5);
+    double mx = floor((double)o->range_m * 100.0 + 0.5), px = 0.0, py = 0.0;
     uint16_t i;
-    int k;
+    int k, prev_ok = 0;
     *max_cm = (uint16_t)(mx > 65533.0 ? 65533.0 : mx);
     *min_cm = (uint16_t)fmax(1.0, floor((double)o->cfg.min_range_m * 100.0 + 0.5));
     for (k = 0; k < SONAR_OBS_SECTORS; k++)
         dist_cm[k] = SONAR_OBS_UNKNOWN;
-    /* Echoes first, each and the line to the one before it, from the oldest held on. */
+    /*
+     * Echoes first, each and the line to the one before it, from the oldest held on. The one
+     * before it in the ring is the previous iteration's: it must be held (i > 0) and standing.
+     */
     for (i = 0; i < o->count; i++) {
-        uint16_t at = (uint16_t)((o->head + SONAR_MAX_OBS_ECHOES - o->count + i) % SONAR_MAX_OBS_ECHOES);
-        const struct sonar_obstacle_echo *e = &o->echo[at], *p = &o->echo[(at + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
-        double x, y, px, py;
-        if (!standing(o, e, now_us, max_age_us, pose))
+        const struct sonar_obstacle_echo *e = &o->echo[(o->head + SONAR_MAX_OBS_ECHOES - o->count + i) % SONAR_MAX_OBS_ECHOES];
+        double x, y;
+        if (!standing(o, e, now_us, max_age_us, pose)) {
+            prev_ok = 0;
             continue;
+        }
         body(e, pose, &x, &y);
         offer(dist_cm, sector_of(x, y), sqrt(x * x + y * y), *min_cm, *max_cm);
-        /* The one before it must still be held (i > 0) and standing. */
-        if (e->linked && i > 0 && standing(o, p, now_us, max_age_us, pose)) {
-            body(p, pose, &px, &py);
+        if (e->linked && prev_ok)
             offer_line(dist_cm, px, py, x, y, *min_cm, *max_cm);
-        }
+        px = x;
+        py = y;
+        prev_ok = 1;
     }
     /* Then "clear" where a pass without an echo was the last, and no echo landed. */
     for (k = 0; k < SONAR_OBS_SECTORS; k++) {
         const struct sonar_obstacle_sector *sec = &o->sector[k];
-        double bearing = (double)k * SONAR_OBS_SECTOR_DEG;
         int at;
-        if (sec->utime == 0 || now_us - sec->utime > max_age_us || sec->echo)
+        if (sec->utime == 0 || now_us - sec->utime > max_age_us || sec->echo || (sec->world && pose == NULL))
             continue;
-        if (sec->world) {
-            if (pose == NULL)
-                continue;
-            bearing -= (double)pose->yaw_deg;
-        }
-        bearing = fmod(bearing, 360.0);
-        bearing = bearing < 0.0 ? bearing + 360.0 : bearing;
-        at = (int)floor(bearing / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
+        at = sector_at((double)k * SONAR_OBS_SECTOR_DEG - (sec->world ? (double)pose->yaw_deg : 0.0));
         if (dist_cm[at] == SONAR_OBS_UNKNOWN)
             dist_cm[at] = (uint16_t)(*max_cm + 1u);
     }
