@@ -140,7 +140,7 @@ static void test_obstacle_distance_encoded(void **state)
     assert_true(od.increment == 5 && od.increment_f == 5.0f && od.angle_offset == 0.0f);
     assert_true(od.frame == MAV_FRAME_BODY_FRD && od.sensor_type == MAV_DISTANCE_SENSOR_ULTRASOUND);
     assert_true(od.min_distance == 50 && od.max_distance == 1000);
-    assert_int_equal(od.distances[0], 397); /* the return over samples 78 to 80 is centred on 79: 3.975 m */
+    assert_int_equal(od.distances[0], 390); /* the return over samples 78 to 80 starts at 78: 3.90 m */
     assert_int_equal(od.distances[36], 1001); /* clear: max + 1 */
 }
 

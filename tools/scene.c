@@ -200,6 +200,10 @@ int scene_angle(const struct scene *s, int sweep, int i)
     return sweep % 2 ? s->stop - (i + 1) * s->step : s->start + (i + 1) * s->step;
 }
 
+#define HALF_BEAM (1.0 * PI / 180.0) /* the 2-degree beam's half-power half-width */
+#define WALL_PULSE_M 0.04             /* a wall's return lasts this past its footprint (the pulse) ... */
+#define WALL_TAIL_M 0.05              /* ... then decays over this (reverberation in the wall's roughness) */
+
 /* Distance along the unit ray (ux, uy) to a wall segment, and |cos| of the incidence; < 0 if missed. */
 static double ray_wall(const struct scene_wall *w, double ux, double uy, double *cosinc)
 {
@@ -217,12 +221,41 @@ static double ray_wall(const struct scene_wall *w, double ux, double uy, double 
     return t;
 }
 
+/* The nearest point of a wall segment (origin-relative) inside the cone th +- hw; < 0 if none. */
+static double cone_near(const struct scene_wall *w, double th, double hw)
+{
+    double best = -1.0, c, ex = w->x1 - w->x0, ey = w->y1 - w->y0, len2 = ex * ex + ey * ey, t, px, py;
+    double cand[3][2];
+    int k, m = 0;
+    for (k = -1; k <= 1; k += 2) {
+        double d = ray_wall(w, cos(th + k * hw), sin(th + k * hw), &c);
+        if (d > 0.0) {
+            cand[m][0] = d * cos(th + k * hw);
+            cand[m++][1] = d * sin(th + k * hw);
+        }
+    }
+    /* The foot of the normal from the sonar, and the segment's ends, where the cone holds them. */
+    t = len2 > 0.0 ? -(w->x0 * ex + w->y0 * ey) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    px = w->x0 + t * ex;
+    py = w->y0 + t * ey;
+    cand[m][0] = px;
+    cand[m++][1] = py;
+    for (k = 0; k < m; k++) {
+        double d = sqrt(cand[k][0] * cand[k][0] + cand[k][1] * cand[k][1]);
+        double off = fabs(remainder(atan2(cand[k][1], cand[k][0]) - th, 2.0 * PI));
+        if (off <= hw + 1e-9 && (best < 0.0 || d < best))
+            best = d;
+    }
+    return best;
+}
+
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
                 uint8_t *out)
 {
     double vn, ve, yaw, th, ux, uy;
     double sig_beam = 0.85 * PI / 180.0; /* 2 degree beam: Gaussian sigma of the two-way pattern */
-    double wall_d = -1.0, wall_cos = 1.0;
+    double wall_d = -1.0, wall_cos = 1.0, wall_near = -1.0, wall_far = -1.0;
     double buf[1200];
     int i, k;
     /* The ray in the scene's frame: from the vehicle, along the beam turned by its heading. */
@@ -244,18 +277,48 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
             wall_d = d;
             wall_cos = c;
         }
+        d = cone_near(&rel, th, HALF_BEAM);
+        if (d > 0.0 && (wall_near < 0.0 || d < wall_near))
+            wall_near = d;
+    }
+    if (wall_d > 0.0) {
+        /* The far side of the footprint: the farther beam edge, on whichever wall each edge meets first. */
+        int side;
+        wall_far = wall_d;
+        for (side = -1; side <= 1; side += 2) {
+            double e = -1.0, c;
+            for (k = 0; k < s->nwall; k++) {
+                struct scene_wall rel = s->wall[k];
+                double d;
+                rel.x0 -= vn;
+                rel.x1 -= vn;
+                rel.y0 -= ve;
+                rel.y1 -= ve;
+                d = ray_wall(&rel, cos(th + side * HALF_BEAM), sin(th + side * HALF_BEAM), &c);
+                if (d > 0.0 && (e < 0.0 || d < e))
+                    e = d;
+            }
+            if (e > wall_far && e < wall_d * 1.5)
+                wall_far = e;
+        }
+        if (wall_near < 0.0 || wall_near > wall_d)
+            wall_near = wall_d;
     }
     for (i = 0; i < n; i++) {
         double r = (i + 0.5) * range_m / n;
         double sigma = 7.0 + 22.0 * exp(-r / 2.0);
         double v = sigma * rayleigh(g) + 230.0 * exp(-r / 0.12);
         if (wall_d > 0.0) {
-            double tanv = sqrt(1.0 - wall_cos * wall_cos) / (wall_cos > 0.05 ? wall_cos : 0.05);
-            double sr = 0.04 + fmin(0.4, wall_d * 0.0175 * tanv);
-            double a = 70.0 * sqrt(wall_cos) + 50.0;
-            v += a * exp(-0.5 * pow((r - wall_d) / sr, 2.0)) * (0.6 + 0.8 * scene_uniform(g));
-            if (r > wall_d + 2.0 * sr)
-                v *= 0.3;
+            /*
+             * Causal, as an echo is: the return starts at the nearest point of wall inside the beam
+             * (its half-power edges, or the foot of the normal when the beam holds it) and lasts
+             * across the footprint to the far edge, plus the pulse; the wall shadows what lies behind.
+             */
+            double a = 70.0 * sqrt(wall_cos) + 50.0, end = wall_far + WALL_PULSE_M;
+            if (r >= wall_near && r <= end)
+                v += a * (0.6 + 0.8 * scene_uniform(g));
+            else if (r > end)
+                v = v * 0.3 + a * exp(-(r - end) / WALL_TAIL_M) * (0.6 + 0.8 * scene_uniform(g));
         }
         buf[i] = v;
     }

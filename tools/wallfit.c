@@ -166,12 +166,17 @@ static int probe_beam(void *self, const struct app_beam *b)
     }
     if (!b->has_pose || b->utime < p->start_us + 13000000)
         return HOST_OK;
-    /* From the third sweep on (the floor's warm-up): this beam's echo, as the world map keeps it, against the walls. */
-    if (p->with.count > 0) {
-        const struct sonar_obstacle_echo *e = &p->with.echo[(p->with.head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
+    /*
+     * From the third sweep on (the floor's warm-up): the echo before this beam's, as the world map
+     * keeps it, against the walls (this beam's echo settles where that one lies in its beam).
+     */
+    if (p->with.count > 1 &&
+        p->with.echo[(p->with.head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES].utime == b->utime) {
+        const struct sonar_obstacle_echo *e = &p->with.echo[(p->with.head + SONAR_MAX_OBS_ECHOES - 2u) % SONAR_MAX_OBS_ECHOES];
         double off = 0.0, c = 1.0;
         int j;
-        if (e->utime == b->utime && e->world && near_wall(p, (double)e->x_m, (double)e->y_m, b->north_m, b->east_m, &off, &c))
+        if (e->world && e->utime >= p->start_us + 13000000 &&
+            near_wall(p, (double)e->x_m, (double)e->y_m, (double)e->ox, (double)e->oy, &off, &c))
             for (j = 0; j < 2; j++)
                 if (j == 0 || c >= cos(30.0 * PI / 180.0)) {
                     p->points[j]++;

@@ -82,7 +82,7 @@
 
 /*
  * Echoes the obstacle map (obstacle.h) remembers: one a beam, so a sweep of 1-gradian beams and a
- * fifth more, as the map ages them after 1.2 sweeps. RAM: 24 bytes each (12 288 B at 512) in
+ * fifth more, as the map ages them after 1.2 sweeps. RAM: 40 bytes each (20 480 B at 512) in
  * struct sonar_obstacle, which only the host's MAVLink endpoint holds.
  */
 #ifndef SONAR_MAX_OBS_ECHOES

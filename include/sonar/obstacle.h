@@ -1,4 +1,4 @@
-/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 24 x SONAR_MAX_OBS_ECHOES + 72 x 24 B + 64 B (~16.5 KB at 1200 and 512). */
+/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 40 x SONAR_MAX_OBS_ECHOES + 72 x 24 B + 64 B (~24.7 KB at 1200 and 512). */
 #ifndef SONAR_OBSTACLE_H
 #define SONAR_OBSTACLE_H
 
@@ -17,8 +17,9 @@
  * eighth of a level a beam toward each), so the ring-down and the gain curve are floor, and a
  * wall, seen in a run of beams at one range, is not (a level a beam learnt a 90-degree wall within
  * its own sweep). An echo exceeds the floor f by max(min_level, f x margin / 16): three times the
- * floor by default, as speckle's median-filtered tail stays under it. A beam's echo is the peak
- * of its first return above the floor beyond min_range.
+ * floor by default, as speckle's median-filtered tail stays under it. A beam's echo is the leading
+ * edge of its first return above the floor beyond min_range (where it first reaches half the
+ * return's mean level): the nearest surface inside the beam, which an echo starts at.
  */
 #define SONAR_OBS_SECTORS 72
 #define SONAR_OBS_SECTOR_DEG 5
@@ -39,7 +40,10 @@ struct sonar_obstacle_config {
  * apart than a surface at up to ~70 degrees of incidence would put them (0.2 m + 3 x the arc
  * between the beams), are joined: the surface between them is taken as the straight line, so a
  * sector that the line crosses reports its nearest point there, not only where a beam happened to
- * land (a wall seen obliquely changes range by metres across one 5-degree sector).
+ * land (a wall seen obliquely changes range by metres across one 5-degree sector). That nearest
+ * surface lies at the beam's edge, not its axis, where the range changes across the beam: a
+ * joined echo is placed SONAR_OBS_HALF_BEAM_DEG toward its neighbour of smaller range (on its
+ * axis when its two neighbours disagree: the surface's nearest point is inside that beam).
  *
  * Sectors track passes by world bearing (with a pose) or body bearing (without): a sector's pass
  * is its run of beams less than SONAR_OBS_PASS_US apart; the echoes of its current pass stand, a
@@ -47,9 +51,16 @@ struct sonar_obstacle_config {
  */
 #define SONAR_OBS_LINK_DEG 10.0
 
+/* The Ping360's beam is 2 degrees wide: an echo's leading edge may lie up to this far off its axis. */
+#define SONAR_OBS_HALF_BEAM_DEG 1.0
+
 struct sonar_obstacle_echo {
     int64_t utime;      /* us since the epoch of its beam */
-    float x_m, y_m;     /* world: north, east; else the sonar frame's x forward, y right; metres */
+    float x_m, y_m;     /* its point: world north, east; else the sonar frame's x forward, y right; metres */
+    float ox, oy;       /* the sonar at utime, same frame (0, 0 without a pose), metres */
+    float range_m;      /* the leading edge's range from there, metres */
+    float bearing_deg;  /* the beam's bearing, world with a pose, degrees 0..360 */
+    int8_t side;        /* the point lies SONAR_OBS_HALF_BEAM_DEG this way off the axis: -1, 0, +1 */
     uint8_t sector;     /* the sector of its beam's pass (world bearing with a pose) */
     uint8_t world;      /* 1: x_m, y_m are north, east */
     uint8_t linked;     /* 1: joined to the echo before it in the ring (see above) */

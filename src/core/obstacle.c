@@ -42,11 +42,25 @@ static int sector_at(double bearing_deg)
     return (int)floor(b / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
 }
 
+/* Sample i's level above the floor, in grey levels (negative below it). */
+static double excess(const struct sonar_obstacle *o, const uint8_t *s, uint16_t i)
+{
+    return (double)s[i] - (double)((o->floor[i] + 4u) >> 3);
+}
+
 /* Sample i stands above the floor f by max(min_level, f x margin / 16); an unseeded floor has no echo. */
 static int above_floor(const struct sonar_obstacle *o, const uint8_t *s, uint16_t i)
 {
     unsigned f = (o->floor[i] + 4u) >> 3, gate = (f * o->cfg.margin) >> 4;
     return f != 0 && s[i] > f + (gate > o->cfg.min_level ? gate : o->cfg.min_level);
+}
+
+/* e's point from its origin, range, bearing and side (a beam half-width toward it). */
+static void place(struct sonar_obstacle_echo *e)
+{
+    double th = ((double)e->bearing_deg + (double)e->side * SONAR_OBS_HALF_BEAM_DEG) * SONAR_PI / 180.0;
+    e->x_m = (float)((double)e->ox + (double)e->range_m * cos(th));
+    e->y_m = (float)((double)e->oy + (double)e->range_m * sin(th));
 }
 
 int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg, const struct sonar_pose *pose,
@@ -70,24 +84,25 @@ int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_d
         if (above_floor(o, s, i))
             hit = i;
     /*
-     * The echo's range is the centre of that first return (a one-sample dip does not end it),
-     * weighted by how far each sample stands above the floor. Its rising edge lies 7 to 14 cm
-     * before a wall seen head-on (the pulse and the median), and the peak of a speckled return
-     * jumps between its samples: on sonar-sim's vehicle scene (sonar-wallfit), the world echo
-     * points lie 3.9 cm RMS from the walls with the centre, 5.4 cm with the peak, and wall sectors
-     * are within 0.1 m 94.5 % of the time against 91.6 %. The cost: an object's return, which
-     * starts at its face, is read ~0.16 m deep (docs/results.md).
+     * An echo starts at the nearest surface inside the beam, and that is what the autopilot must
+     * keep clear of: the echo's range is its return's leading edge, where the level first reaches
+     * half the return's mean above the floor (a one-sample dip does not end the return),
+     * interpolated between samples. Neither the peak nor the centre: both lie inside the return,
+     * which runs past the surface by the pulse and the footprint (docs/results.md).
      */
     if (hit >= 0) {
-        double sw = 0.0, swi = 0.0;
+        double sw = 0.0, half, lo;
+        unsigned cnt = 0;
         for (i = (uint16_t)hit; i < n && (above_floor(o, s, i) || (i + 1u < n && above_floor(o, s, (uint16_t)(i + 1u)))); i++) {
-            double w = (double)s[i] - (double)((o->floor[i] + 4u) >> 3);
-            if (w > 0.0) {
-                sw += w;
-                swi += w * i;
-            }
+            sw += fmax(0.0, excess(o, s, i));
+            cnt++;
         }
-        at = sw > 0.0 ? swi / sw : (double)hit;
+        half = 0.5 * sw / (double)cnt;
+        for (i = (uint16_t)hit; excess(o, s, i) < half; i++)
+            ; /* ends: the return's mean is reached by at least one of its samples */
+        lo = i > first ? fmax(0.0, excess(o, s, (uint16_t)(i - 1u))) : 0.0;
+        /* Between sample i - 1 and i, where the level crosses half (lo < half <= excess(i)). */
+        at = lo < half ? (double)i - 1.0 + (half - lo) / (excess(o, s, i) - lo) : (double)i - 1.0;
     }
     /* With a pose, the memory is kept by world bearing. */
     b = fmod((double)bearing_deg + (pose != NULL ? (double)pose->yaw_deg : 0.0), 360.0);
@@ -103,20 +118,40 @@ int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_d
     sec->world = pose != NULL;
     if (hit >= 0) {
         /* Sample position at covers (at + 0.5) range / n. */
-        double d = (at + 0.5) * range_m / n, th = b * SONAR_PI / 180.0;
         struct sonar_obstacle_echo *e = &o->echo[o->head];
-        const struct sonar_obstacle_echo *prev = &o->echo[(o->head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
-        double step = fabs(remainder(b - o->prev_bearing, 360.0));
+        struct sonar_obstacle_echo *prev = &o->echo[(o->head + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES];
+        double step = remainder(b - o->prev_bearing, 360.0);
         e->utime = utime;
         e->world = pose != NULL;
-        e->x_m = (float)((pose != NULL ? (double)pose->north_m : 0.0) + d * cos(th));
-        e->y_m = (float)((pose != NULL ? (double)pose->east_m : 0.0) + d * sin(th));
+        e->ox = pose != NULL ? pose->north_m : 0.0f;
+        e->oy = pose != NULL ? pose->east_m : 0.0f;
+        e->range_m = (float)((at + 0.5) * range_m / n);
+        e->bearing_deg = (float)b;
+        e->side = 0;
         e->sector = (uint8_t)k;
         e->linked = 0;
-        if (o->prev_echo && prev->world == e->world && utime >= prev->utime && step <= SONAR_OBS_LINK_DEG) {
+        place(e);
+        if (o->prev_echo && prev->world == e->world && utime >= prev->utime && fabs(step) <= SONAR_OBS_LINK_DEG) {
             double dx = (double)e->x_m - (double)prev->x_m, dy = (double)e->y_m - (double)prev->y_m;
             /* A surface at incidence a puts two beams' echoes r x step / cos(a) apart: 3 x the arc is ~70 degrees. */
-            e->linked = sqrt(dx * dx + dy * dy) <= 0.2 + 3.0 * d * step * SONAR_PI / 180.0;
+            e->linked = sqrt(dx * dx + dy * dy) <= 0.2 + 3.0 * (double)e->range_m * fabs(step) * SONAR_PI / 180.0;
+        }
+        if (e->linked) {
+            /*
+             * The leading edge is the nearest surface anywhere in the beam: on a surface whose range
+             * grows from prev to this beam, that is each beam's edge toward prev. Placed there, the
+             * two echoes lie on the surface, not a beam half-width nearer (17 cm at 10 m and 45
+             * degrees). An echo whose two pairs disagree (the beam holding the surface's nearest
+             * point) stays on its axis.
+             */
+            int side = e->range_m > prev->range_m ? (step > 0.0 ? -1 : 1) : e->range_m < prev->range_m ? (step > 0.0 ? 1 : -1) : 0;
+            e->side = (int8_t)side;
+            place(e);
+            if (!prev->linked)
+                prev->side = (int8_t)side;
+            else if (prev->side != side)
+                prev->side = 0;
+            place(prev);
         }
         o->head = (uint16_t)((o->head + 1u) % SONAR_MAX_OBS_ECHOES);
         o->count = (uint16_t)(o->count < SONAR_MAX_OBS_ECHOES ? o->count + 1u : o->count);
