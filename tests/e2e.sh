@@ -14,6 +14,8 @@ trap 'rm -rf "$T"' EXIT
 "$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json"
 "$B/sonar-sim" --scene open --seed 7 --out "$T/open.csv" --truth "$T/open.json"
 "$B/sonard" --replay "$T/pool.csv" --json > "$T/pool.jsonl" 2> "$T/pool.err"
+check "sonar-sim: each wall's return starts at the nearest wall inside the 2-degree beam (causal, as an echo is)" \
+    python3 tests/scene_check.py "$T/pool.csv" "$T/pool.json"
 check "pool scene, default config: precision/recall >= 0.95, error <= 0.3 m" \
     python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
 "$B/sonard" --replay "$T/open.csv" --json --background range > "$T/open.jsonl" 2>/dev/null

@@ -250,10 +250,37 @@ static double cone_near(const struct scene_wall *w, double th, double hw)
     return best;
 }
 
+/* A wall made relative to the vehicle at (vn, ve). */
+static void relative(struct scene_wall *w, double vn, double ve)
+{
+    w->x0 -= vn;
+    w->x1 -= vn;
+    w->y0 -= ve;
+    w->y1 -= ve;
+}
+
+/* Distance from the vehicle at (vn, ve) along bearing th to the first wall, and |cos| of its incidence; < 0 if none. */
+static double walls_ray(const struct scene *s, double vn, double ve, double th, double *cosinc)
+{
+    double best = -1.0, ux = cos(th), uy = sin(th);
+    int k;
+    for (k = 0; k < s->nwall; k++) {
+        struct scene_wall rel = s->wall[k];
+        double c, d;
+        relative(&rel, vn, ve);
+        d = ray_wall(&rel, ux, uy, &c);
+        if (d > 0.0 && (best < 0.0 || d < best)) {
+            best = d;
+            *cosinc = c;
+        }
+    }
+    return best;
+}
+
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
                 uint8_t *out)
 {
-    double vn, ve, yaw, th, ux, uy;
+    double vn, ve, yaw, th;
     double sig_beam = 0.85 * PI / 180.0; /* 2 degree beam: Gaussian sigma of the two-way pattern */
     double wall_d = -1.0, wall_cos = 1.0, wall_near = -1.0, wall_far = -1.0;
     double buf[1200];
@@ -261,22 +288,13 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
     /* The ray in the scene's frame: from the vehicle, along the beam turned by its heading. */
     scene_vehicle_at(s, t, &vn, &ve, &yaw);
     th = angle * PI / 200.0 + yaw * PI / 180.0;
-    ux = cos(th);
-    uy = sin(th);
     if (n > 1200)
         n = 1200;
+    wall_d = walls_ray(s, vn, ve, th, &wall_cos);
     for (k = 0; k < s->nwall; k++) {
         struct scene_wall rel = s->wall[k];
-        double c, d;
-        rel.x0 -= vn;
-        rel.x1 -= vn;
-        rel.y0 -= ve;
-        rel.y1 -= ve;
-        d = ray_wall(&rel, ux, uy, &c);
-        if (d > 0.0 && (wall_d < 0.0 || d < wall_d)) {
-            wall_d = d;
-            wall_cos = c;
-        }
+        double d;
+        relative(&rel, vn, ve);
         d = cone_near(&rel, th, HALF_BEAM);
         if (d > 0.0 && (wall_near < 0.0 || d < wall_near))
             wall_near = d;
@@ -286,18 +304,7 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
         int side;
         wall_far = wall_d;
         for (side = -1; side <= 1; side += 2) {
-            double e = -1.0, c;
-            for (k = 0; k < s->nwall; k++) {
-                struct scene_wall rel = s->wall[k];
-                double d;
-                rel.x0 -= vn;
-                rel.x1 -= vn;
-                rel.y0 -= ve;
-                rel.y1 -= ve;
-                d = ray_wall(&rel, cos(th + side * HALF_BEAM), sin(th + side * HALF_BEAM), &c);
-                if (d > 0.0 && (e < 0.0 || d < e))
-                    e = d;
-            }
+            double c, e = walls_ray(s, vn, ve, th + side * HALF_BEAM, &c);
             if (e > wall_far && e < wall_d * 1.5)
                 wall_far = e;
         }
@@ -312,7 +319,8 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
             /*
              * Causal, as an echo is: the return starts at the nearest point of wall inside the beam
              * (its half-power edges, or the foot of the normal when the beam holds it) and lasts
-             * across the footprint to the far edge, plus the pulse; the wall shadows what lies behind.
+             * across the footprint to the far edge, plus the pulse, then decays (reverberation in the
+             * wall's roughness); the wall shadows what lies behind.
              */
             double a = 70.0 * sqrt(wall_cos) + 50.0, end = wall_far + WALL_PULSE_M;
             if (r >= wall_near && r <= end)
