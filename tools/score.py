@@ -2,8 +2,8 @@
 """score.py -- scores sonard --json detections against a simulator truth file (stdlib only).
 
 A detection is a true positive when its centroid lies within --gate metres of a not yet matched
-truth object of the same sweep (closest pairs first); other detections are false positives,
-unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
+truth object of the same sweep (closest pairs first); other detections are false positives (but
+one within the gate of a "hidden" object, below, is don't-care), unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
 per sweep; with --min-precision/--min-recall/--min-f1/--max-error it exits 1 when a target is missed.
 
 With --tracks it also scores the "tracks" of each line (confirmed and coasting ones; each predicted
@@ -39,7 +39,18 @@ def match(dets, objs, gate):
         used_d.add(i)
         used_o.add(j)
         errs.append(dist)
-    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs
+    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs, used_d
+
+
+def ignored(dets, used, hidden, gate):
+    """Detections left unmatched within the gate of an object that is there but unseen this sweep
+    by the simulator's schedule (faded, or no beam crossed it): don't-care, as for tracks. Live, the
+    beams' times follow the machine's clock, so a beam can cross an object the schedule says none did."""
+    n = 0
+    for i, d in enumerate(dets):
+        if i not in used and any(math.hypot(d["x_m"] - o["x"], d["y_m"] - o["y"]) <= gate for o in hidden):
+            n += 1
+    return n
 
 
 def assign(cost):
@@ -247,7 +258,8 @@ def main():
     errs = []
     for k in sorted(truth):
         dets = sweeps.get(k, [])
-        t, f, m, e = match(dets, truth[k], a.gate)
+        t, f, m, e, used = match(dets, truth[k], a.gate)
+        f -= ignored(dets, used, hidden.get(k, []), a.gate)
         tp, fp, fn = tp + t, fp + f, fn + m
         errs += e
         if a.verbose:
