@@ -60,23 +60,25 @@ check "echo to message: at most 100 ms" sh -c "
 
 # 2. A moving, turning vehicle: sonar-feed is its autopilot (ATTITUDE, LOCAL_POSITION_NED at 20 Hz) and its
 #    sonar; the checker listens as a ground station for the tracks' OBSTACLE_DISTANCE_3D.
-"$B/sonar-sim" --scene vehicle --out "$T/veh.csv" --truth "$T/veh.json" --sweeps 7
+"$B/sonar-sim" --scene vehicle --out "$T/veh.csv" --truth "$T/veh.json" --sweeps 10
 "$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 2))" --scene vehicle --mavlink "udpout:127.0.0.1:$((PORT + 3))" \
     --max-seconds 90 2> "$T/vfeed.err" & FEEDPID=$!
 sleep 0.3
-timeout 90 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 15 --samples 600 --step 4 --sweeps 7 --json --no-lcm \
+timeout 90 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 15 --samples 600 --step 4 --sweeps 10 --json --no-lcm \
     --min-points 8 --mavlink "udpin:127.0.0.1:$((PORT + 3))" > "$T/veh.jsonl" 2> "$T/veh.err" & SONARD=$!
-$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 46 --listen-only --out "$T/veh.rep" > "$T/vchk.out" 2>&1
+$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 66 --listen-only --out "$T/veh.rep" > "$T/vchk.out" 2>&1
 wait $SONARD; rc=$?
 kill $FEEDPID 2>/dev/null; wait $FEEDPID 2>/dev/null; FEEDPID=""
 cat "$T/vchk.out"
 grep '^sonard: mavlink' "$T/veh.err"
 python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --label "  live vehicle, world frame: " | tail -1
-check "vehicle: exit 0, 7 sweeps, all in the world frame from the autopilot's pose" sh -c "test $rc -eq 0 &&
-    test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 7 && grep -qE 'in [0-9]+ messages \([0-9]{3,} attitudes, [0-9]{3,} positions, 0 poses refused' '$T/veh.err'"
+check "vehicle: exit 0, 10 sweeps, all in the world frame from the autopilot's pose" sh -c "test $rc -eq 0 &&
+    test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 10 && grep -qE 'in [0-9]+ messages \([0-9]{3,} attitudes, [0-9]{3,} positions, 0 poses refused' '$T/veh.err'"
 # Live, the beams' times follow a loaded machine's clock, not the simulator's schedule: the diver is
 # where the truth says only roughly (recall 0.67 to 0.92 over runs), and a still object can be missed
 # for a look. What stands still is where it is: two sightings of them, in any sweeps, must be there.
+# Ten sweeps (63 s), not seven: precision over ~25 detections, not ~12, so one speckled wall residue
+# more or less does not decide the check.
 check "vehicle, live: world-frame detection precision >= 0.8; a still object found where it stands (0.5 m)" sh -c "
     python3 tools/score.py '$T/veh.json' '$T/veh.jsonl' --frame world --min-precision 0.8 && python3 -c \"
 import json, math
@@ -87,7 +89,7 @@ for l in open('$T/veh.jsonl'):
         for k, (n, e) in still.items():
             if math.hypot(d['north_m'] - n, d['east_m'] - e) < 0.5:
                 seen[k] += 1
-assert sum(seen.values()) >= 2, seen  # one look each may be missed live (post_b has two, in sweeps 5 and 6)\""
+assert sum(seen.values()) >= 2, seen  # one look each may be missed live\""
 check "OBSTACLE_DISTANCE_3D: one burst a sweep with one time_boot_ms, IDs = the confirmed tracks', body FRD" $PY -c "
 import json
 r = json.load(open('$T/veh.rep'))
