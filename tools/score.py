@@ -3,8 +3,10 @@
 
 A detection is a true positive when its centroid lies within --gate metres of a not yet matched
 truth object of the same sweep (closest pairs first); other detections are false positives (but
-one within the gate of a "hidden" object, below, is don't-care), unmatched objects false negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall, F1, centroid error and false alarms
-per sweep; with --min-precision/--min-recall/--min-f1/--max-error it exits 1 when a target is missed.
+one within the gate of a "hidden" object, below, is don't-care), unmatched objects false
+negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall,
+F1, centroid error and false alarms per sweep; with --min-precision/--min-recall/--min-f1/
+--max-error it exits 1 when a target is missed.
 
 With --tracks it also scores the "tracks" of each line (confirmed and coasting ones; each predicted
 to the time its truth object was seen, "t_us", when the truth has it) against the truth IDs: MOTA
@@ -12,9 +14,9 @@ to the time its truth object was seen, "t_us", when the truth has it) against th
 distance), IDF1 (one global truth-ID to track-ID assignment), ID switches (also per 100
 track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the mean velocity
 error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s, and their mean speed on
-objects that stand still (static speed, --max-static-speed), and the ceiling on MOTA of any tracker
-that confirms a track on its second hit (each object's first sighting is then a miss). --min-idf1, --min-mota,
---max-idsw-per-100 and --max-vel-error then also decide the exit status. A track left unmatched
+objects that stand still (static speed, --max-static-speed), and the ceiling on MOTA of any
+tracker that confirms a track on its second hit (each object's first sighting is then a miss).
+--min-idf1, --min-mota, --max-idsw-per-100 and --max-vel-error then also decide the exit status. A track left unmatched
 within the gate of a "hidden" truth object (there but unseen that sweep: faded, or no beam crossed
 it) is don't-care, as MOTChallenge treats ignored regions: not a false positive, not counted.
 
