@@ -22,15 +22,7 @@ import time
 
 from pymavlink.dialects.v20 import ardupilotmega as apm
 
-
-def ray_segment(ux, uy, x0, y0, x1, y1):
-    ex, ey = x1 - x0, y1 - y0
-    den = ux * ey - uy * ex
-    if abs(den) < 1e-12:
-        return None
-    t = (x0 * ey - y0 * ex) / den
-    s = (x0 * uy - y0 * ux) / den
-    return t if t > 0 and 0 <= s <= 1 else None
+from sim_geom import ray_segment
 
 
 def nearest_in_sector(k, walls, objects, rmax):

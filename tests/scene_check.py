@@ -11,16 +11,7 @@ import json
 import math
 import sys
 
-
-def ray(ux, uy, w):
-    x0, y0, x1, y1 = w
-    ex, ey = x1 - x0, y1 - y0
-    den = ux * ey - uy * ex
-    if abs(den) < 1e-12:
-        return None
-    t = (x0 * ey - y0 * ex) / den
-    s = (x0 * uy - y0 * ux) / den
-    return t if t > 0 and 0 <= s <= 1 else None
+from sim_geom import ray_segment
 
 
 def cone_near(th, hw, walls):
@@ -29,7 +20,7 @@ def cone_near(th, hw, walls):
     for i in range(201):
         a = th - hw + 2 * hw * i / 200
         for w in walls:
-            t = ray(math.cos(a), math.sin(a), w)
+            t = ray_segment(math.cos(a), math.sin(a), *w)
             if t is not None and (best is None or t < best):
                 best = t
     return best
