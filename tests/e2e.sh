@@ -120,6 +120,20 @@ for x, y in zip(a, b):
     for p, q in zip(x['detections'], y['detections']):
         assert abs(p['north_m'] - q['north_m']) < 0.01 and abs(p['east_m'] - q['east_m']) < 0.01, (x['sweep'], p, q)
 "
+# The obstacle map on the same run against the scene's walls and objects (tools/wallfit.c; the
+# figures are in docs/results.md section 6): regression guards below today's 0.021 m and 92.5 %.
+"$B/sonar-wallfit" --replay "$T/veh.csv" --pose "$T/veh.pose.csv" --scene vehicle > "$T/wallfit.out" 2>/dev/null
+check "vehicle scene: the obstacle map's world echo points lie within one range cell (0.025 m) RMS of the walls" \
+    awk '/world echo points .* of a wall: / { ok = $NF == "m" && $(NF-1) + 0 <= 0.025 && $(NF-1) + 0 > 0 } END { exit !ok }' \
+    "$T/wallfit.out"
+check "vehicle scene: >= 90 % of OBSTACLE_DISTANCE sectors within 0.1 m, <= 4 % farther than the obstacle (the unsafe side)" \
+    python3 -c "
+import re, sys
+t = open('$T/wallfit.out').read()
+w = re.search(r'map with the poses \(world memory\): (\d+) sectors .*?, ([\d.]+) % within 0.1 m', t)
+f = re.search(r'beyond 0.1 m: \d+ nearer than the obstacle \(the safe side\), \d+ farther \(([\d.]+) % of the sectors\)', t)
+print('  world memory: %s sectors, %s %% within 0.1 m, %s %% farther' % (w.group(1), w.group(2), f.group(1)))
+sys.exit(not (int(w.group(1)) > 3000 and float(w.group(2)) >= 90.0 and float(f.group(1)) <= 4.0))"
 head -301 "$T/veh.pose.csv" > "$T/short.pose.csv" # 30 s of a 113 s run
 "$B/sonard" --replay "$T/veh.csv" --pose "$T/short.pose.csv" --json --min-points 8 > "$T/short.jsonl" 2> "$T/short.err"
 check "a pose that stops: said once, body-frame processing from then on, the tracks keep their IDs" sh -c "

@@ -499,7 +499,9 @@ def main():
                  "(docs/mavlink.md) and without it.\n")
         L.append("```\n" + "\n".join(wallfit) + "\n```\n")
     L.append("Targets (issue 11): detection F1 ≥ 0.9 with the pose; a static wall rebuilt in the world frame within one range "
-             "cell RMS; static objects tracked at ≤ 0.05 m/s while the vehicle moves.\n")
+             "cell RMS; static objects tracked at ≤ 0.05 m/s while the vehicle moves; OBSTACLE_DISTANCE at ≥ 5 Hz, within "
+             "100 ms of the echo, each sector within 0.1 m of the nearest simulated obstacle in it (the lines above; "
+             "`make mavlink` for the rate and the latency, docs/mavlink.md).\n")
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:

@@ -90,6 +90,9 @@ struct probe {
     int seen_sweep[SONAR_OBS_SECTORS];
     long n[2], within[2], missed[2];
     long on_obj[2], obj_within[2]; /* of n, within: sectors whose nearest obstacle is an object */
+    long missed_stale;            /* of missed[0]: beyond the range from where the sonar was at the sector's last pass */
+    long nearer[2], farther[2];   /* of n: more than 0.1 m nearer than the obstacle (the safe side), farther */
+    long far_obj, far_obj_held;   /* of farther[0]: an object nearest; the map holds an echo within 0.5 m of its centre */
     double abs_err[2];
     long points[2];     /* the map's world echo points within 1 m of a wall, 1 m clear of its ends: all; seen within 30 degrees of its normal */
     double point_sum[2], point_sum2[2];
@@ -102,8 +105,11 @@ static int world_sector(double deg)
     return (int)floor(deg / SONAR_OBS_SECTOR_DEG + 0.5) % SONAR_OBS_SECTORS;
 }
 
-/* The nearest obstacle along the world ray th (radians) from (n, e); < 0 if none; *object = 1 if it is one of the scene's objects. */
-static double nearest(const struct probe *p, double n, double e, double th, int *object)
+/*
+ * The nearest obstacle along the world ray th (radians) from (n, e); < 0 if none; *object = 1 if
+ * it is one of the scene's objects, then at (*on, *oe).
+ */
+static double nearest(const struct probe *p, double n, double e, double th, int *object, double *on, double *oe)
 {
     double best = -1.0, t;
     int w, k, at = world_sector(th * 180.0 / PI);
@@ -119,9 +125,24 @@ static double nearest(const struct probe *p, double n, double e, double th, int 
         if ((t = ray_circle(n, e, cos(th), sin(th), x, y, p->scene->obj[k].r)) >= 0.0 && (best < 0.0 || t < best)) {
             best = t;
             *object = 1;
+            *on = x;
+            *oe = y;
         }
     }
     return best;
+}
+
+/* 1 if the world map o holds an echo standing at now_us (as sonar_obstacle_map keeps them) within d metres of (n, e). */
+static int holds(const struct sonar_obstacle *o, int64_t now_us, int64_t max_age_us, double n, double e, double d)
+{
+    uint16_t i;
+    for (i = 0; i < o->count; i++) {
+        const struct sonar_obstacle_echo *x = &o->echo[i];
+        if (x->world && now_us - x->utime <= max_age_us && x->utime >= o->sector[x->sector].pass_us &&
+            hypot((double)x->x_m - n, (double)x->y_m - e) <= d)
+            return 1;
+    }
+    return 0;
 }
 
 /*
@@ -143,6 +164,25 @@ static int near_wall(const struct probe *p, double n, double e, double vn, doubl
         found = 1;
     }
     return found;
+}
+
+/*
+ * 1 if body sector k at heading yaw_deg was clear out to range_m from where the sonar was when the
+ * head last looked that way (the world memory's "clear" is of that pass; the vehicle moves on).
+ */
+static int beyond_then(const struct probe *p, int k, double yaw_deg, double range_m)
+{
+    int at = world_sector((double)k * 5.0 + yaw_deg), obj;
+    double vn, ve, yaw, a, on, oe, best = -1.0;
+    if (p->seen_us[at] == 0)
+        return 0;
+    scene_vehicle_at(p->scene, (double)(p->seen_us[at] - p->start_us) / 1e6, &vn, &ve, &yaw);
+    for (a = -2.5; a <= 2.5; a += 0.1) {
+        double t = nearest(p, vn, ve, ((double)k * 5.0 + a + yaw_deg) * PI / 180.0, &obj, &on, &oe);
+        if (t > 0.0 && (best < 0.0 || t < best))
+            best = t;
+    }
+    return best < 0.0 || best > range_m;
 }
 
 static int probe_beam(void *self, const struct app_beam *b)
@@ -192,28 +232,42 @@ static int probe_beam(void *self, const struct app_beam *b)
         uint16_t d[SONAR_OBS_SECTORS], mn, mx;
         sonar_obstacle_map(m == 0 ? &p->with : &p->without, b->utime, 7600000, m == 0 ? &q : NULL, d, &mn, &mx);
         for (k = 0; k < SONAR_OBS_SECTORS; k++) {
-            double best = -1.0, a;
+            double best = -1.0, a, on = 0.0, oe = 0.0, err;
             int obj = 0, is_obj;
             if (d[k] == SONAR_OBS_UNKNOWN)
                 continue;
             for (a = -2.5; a <= 2.5; a += 0.1) {
-                double t = nearest(p, b->north_m, b->east_m, ((double)k * 5.0 + a + (double)b->yaw_deg) * PI / 180.0, &is_obj);
+                double tn = 0.0, te = 0.0;
+                double t = nearest(p, b->north_m, b->east_m, ((double)k * 5.0 + a + (double)b->yaw_deg) * PI / 180.0, &is_obj,
+                                   &tn, &te);
                 if (t > 0.0 && (best < 0.0 || t < best)) {
                     best = t;
                     obj = is_obj;
+                    on = tn;
+                    oe = te;
                 }
             }
             if (best < 0.0 || best > (double)mx / 100.0)
                 continue;
             if (d[k] > mx) {
                 p->missed[m]++; /* reported clear with an obstacle in range */
+                if (m == 0 && p->scene != NULL)
+                    p->missed_stale += beyond_then(p, k, (double)b->yaw_deg, (double)mx / 100.0);
                 continue;
             }
+            err = (double)d[k] / 100.0 - best;
             p->n[m]++;
-            p->within[m] += fabs((double)d[k] / 100.0 - best) <= 0.1;
+            p->within[m] += fabs(err) <= 0.1;
             p->on_obj[m] += obj;
-            p->obj_within[m] += obj && fabs((double)d[k] / 100.0 - best) <= 0.1;
-            p->abs_err[m] += fabs((double)d[k] / 100.0 - best);
+            p->obj_within[m] += obj && fabs(err) <= 0.1;
+            p->abs_err[m] += fabs(err);
+            p->nearer[m] += err < -0.1;
+            if (err > 0.1) {
+                /* The unsafe side. An object missed here may still be in the map, its echo a sector over. */
+                p->farther[m]++;
+                p->far_obj += obj && m == 0;
+                p->far_obj_held += obj && m == 0 && holds(&p->with, b->utime, 7600000, on, oe, 0.5);
+            }
         }
     }
     return HOST_OK;
@@ -332,6 +386,15 @@ int main(int argc, char **argv)
             printf("  of which the nearest is a wall: %ld, %.1f %% within 0.1 m; an object: %ld, %.1f %% within 0.1 m\n", nw_,
                    nw_ ? 100.0 * (double)ww / (double)nw_ : 0.0, probe.on_obj[i],
                    probe.on_obj[i] ? 100.0 * (double)probe.obj_within[i] / (double)probe.on_obj[i] : 0.0);
+        printf("  beyond 0.1 m: %ld nearer than the obstacle (the safe side), %ld farther (%.1f %% of the sectors)", probe.nearer[i],
+               probe.farther[i], probe.n[i] ? 100.0 * (double)probe.farther[i] / (double)probe.n[i] : 0.0);
+        if (probe.scene != NULL && i == 0)
+            printf(", %ld of them where an object is nearest (for %ld of those the map holds an echo within 0.5 m of the object)",
+                   probe.far_obj, probe.far_obj_held);
+        putchar('\n');
+        if (probe.scene != NULL && i == 0)
+            printf("  reported clear with one in range: %ld of the %ld were beyond the range from where the sonar was at the "
+                   "sector's last pass\n", probe.missed_stale, probe.missed[0]);
     }
     posefile_close(&pf);
     source_replay_close(&rp);
