@@ -456,11 +456,12 @@ def main():
         trk = trk_line.split("tracking:", 1)[1].strip()
         L.append(f"| {name} | `{cfg or '(defaults)'}` | {det} | {trk} |")
     L.append("\nTargets (issue 10): IDF1 ≥ 0.95, MOTA ≥ 0.95, ≤ 1 ID switch per 100 track-sweeps and velocity error "
-             "≤ 0.1 m/s on the moving scenes; detection F1 ≥ 0.90 on each AquaScan recording. The MOTA ceiling beside "
-             "each row is what a tracker that confirms on its second hit (sonard's `--track-confirm` 2) could score with "
+             "≤ 0.1 m/s on the moving scenes; detection F1 ≥ 0.90 on each AquaScan recording. The ceilings beside "
+             "each row are what a tracker that confirms on its second hit (sonard's `--track-confirm` 2) could score with "
              "every other sweep perfect: each object's first sighting is then a miss, and a look comes only every 5–6 s. "
-             "Confirming on the first hit removes the ceiling and publishes "
-             "every false detection as a track.\n")
+             "With G object-sweeps and O objects, MOTA ≤ 1 − O / G, and IDF1 ≤ 2 (G − O) / (2 G − O) (at most G − O "
+             "true IDs, among at least as many published tracks). Confirming on the first hit removes the ceilings and "
+             "publishes every false detection as a track.\n")
     if oracle:
         L.append(f"A bound on `moving`'s velocity error: an estimate that knows every association and every true position, "
                  f"and takes the difference of an object's last two looks, scores {sum(oracle) / len(oracle):.3f} m/s "

@@ -14,8 +14,8 @@ to the time its truth object was seen, "t_us", when the truth has it) against th
 distance), IDF1 (one global truth-ID to track-ID assignment), ID switches (also per 100
 track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the mean velocity
 error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s, and their mean speed on
-objects that stand still (static speed, --max-static-speed), and the ceiling on MOTA of any
-tracker that confirms a track on its second hit (each object's first sighting is then a miss).
+objects that stand still (static speed, --max-static-speed), and the ceilings on MOTA and IDF1 of
+any tracker that confirms a track on its second hit (each object's first sighting is then a miss).
 --min-idf1, --min-mota, --max-idsw-per-100 and --max-vel-error then also decide the exit status. A track left unmatched
 within the gate of a "hidden" truth object (there but unseen that sweep: faded, or no beam crossed
 it) is don't-care, as MOTChallenge treats ignored regions: not a false positive, not counted.
@@ -203,7 +203,10 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
             "tp": tp, "fp": fp, "fn": fn, "gt": gt, "track_sweeps": hyp_total,
             # A tracker that publishes a track once it has M hits misses at least each object's
             # first M - 1 sightings: with sonard's 2, MOTA cannot pass 1 - objects / object-sweeps.
-            "objects": len(present), "mota_ceiling": 1 - len(present) / gt if gt else 1.0}
+            # IDF1 then has at most G - O true IDs among at least as many published, of G truths:
+            # 2 (G - O) / (2 G - O), with no false track and no other miss.
+            "objects": len(present), "mota_ceiling": 1 - len(present) / gt if gt else 1.0,
+            "idf1_ceiling": 2 * (gt - len(present)) / (2 * gt - len(present)) if gt else 1.0}
 
 
 def main():
@@ -294,8 +297,8 @@ def main():
               f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
               f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  static speed {t['still']:.3f} m/s "
               f"(n={t['still_n']})  (TP {t['tp']} FP {t['fp']} FN {t['fn']}, "
-              f"{t['track_sweeps']} track-sweeps; MOTA ceiling {t['mota_ceiling']:.3f} with 2 hits to confirm: "
-              f"{t['objects']} objects' first sightings)")
+              f"{t['track_sweeps']} track-sweeps; with 2 hits to confirm, ceilings MOTA {t['mota_ceiling']:.3f} "
+              f"IDF1 {t['idf1_ceiling']:.3f}: {t['objects']} objects' first sightings)")
         for key, lim, worse in (("idf1", a.min_idf1, lambda v, l: v < l), ("mota", a.min_mota, lambda v, l: v < l),
                                 ("idsw_per_100", a.max_idsw_per_100, lambda v, l: v > l),
                                 ("vel_err", a.max_vel_error, lambda v, l: not (v <= l)),
