@@ -39,10 +39,15 @@ for sc in sector moving; do
     "$B/sonard" --replay "$T/$sc.csv" --json --quiet --min-points 8 > "$T/$sc.jsonl" 2>/dev/null
     python3 tools/score.py "$T/$sc.json" "$T/$sc.jsonl" --tracks --label "  $sc: " | tail -1
 done
-check "tracking, sector scene (back and forth, 26 passes): IDF1 >= 0.85, MOTA >= 0.75, no ID switch" \
+check "tracking, sector scene (back and forth, 26 passes): IDF1 >= 0.90, MOTA >= 0.80, no ID switch" \
     python3 tools/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.90 --min-mota 0.80 --max-idsw-per-100 0
-check "tracking, moving scene (24 turns: crossing, turning, fading, 1.5 m/s): IDF1 >= 0.60, MOTA >= 0.50, velocity error <= 0.4 m/s" \
+check "tracking, moving scene (24 turns: crossing, turning, fading, 1.5 m/s): IDF1 >= 0.65, MOTA >= 0.60, velocity error <= 0.4 m/s" \
     python3 tools/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.65 --min-mota 0.60 --max-vel-error 0.4
+# Published on the first hit, a track has no velocity yet: it is assigned after those that have one
+# (IDF1 0.956 and MOTA 0.909 today; assigned with them, 0.737 / 0.855 and two ID switches).
+"$B/sonard" --replay "$T/sector.csv" --json --quiet --min-points 8 --track-confirm 1 > "$T/sector1.jsonl" 2>/dev/null
+check "tracking, sector scene, --track-confirm 1: IDF1 >= 0.93, MOTA >= 0.88, no ID switch" \
+    python3 tools/score.py "$T/sector.json" "$T/sector1.jsonl" --tracks --min-idf1 0.93 --min-mota 0.88 --max-idsw-per-100 0
 check "tracks: IDs never reused, each line's tracks carry id/state/x_m/y_m/vx_mps/vy_mps/age/hits" python3 -c "
 import json, sys
 seen_ids, last = set(), {}

@@ -440,6 +440,55 @@ static void test_established_tracks_assign_first(void **state)
     }
 }
 
+/*
+ * With --track-confirm 1 a track is confirmed at birth, but one hit gives it no velocity: it is
+ * assigned after the tracks that have one. In one joint assignment with them, a new track whose
+ * wide gate holds an established track's detection can win it (here A, whose own gate is wide
+ * too, was left with nothing), and the established track coasts or takes a farther one (on the
+ * sector scene two ID switches at sweep 15).
+ */
+static void test_one_hit_tracks_assign_after_established(void **state)
+{
+    struct sonar_tracker_config c;
+    struct sonar_tracker_obs o[2];
+    int s;
+    (void)state;
+    sonar_tracker_defaults(&c);
+    c.confirm_m = 1;
+    c.accel_mps2 = 0.5f;    /* a wide gate around A's prediction: both detections are in it */
+    c.manoeuvre_mps2 = 0.0f;
+    c.max_speed_mps = 0.4f; /* 2.45 m in 5 s: B reaches X, not Y */
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
+    for (s = 0; s < 5; s++) {
+        /* A: east at 0.2 m/s, (0, 0) to (4, 0); B born at (6.5, -1.5) in the last of these sweeps */
+        struct sonar_tracker_sweep sw = everywhere((int64_t)s * 5000000 + 1000000);
+        o[0].utime = (int64_t)s * 5000000;
+        o[0].x_m = 0.2f * 5.0f * (float)s;
+        o[0].y_m = 0.0f;
+        o[1].utime = o[0].utime;
+        o[1].x_m = 6.5f;
+        o[1].y_m = -1.5f;
+        assert_int_equal(sonar_tracker_update(&tk, o, s == 4 ? 2 : 1, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.n, 2);
+    assert_int_equal(by_id(2)->hits, 1);
+    assert_int_equal(by_id(2)->state, SONAR_TRACK_CONFIRMED);
+    {
+        /* X on A's prediction (5, 0) and 2.1 m from B; Y 1.3 m off A's prediction, 3.2 m from B */
+        struct sonar_tracker_sweep sw = everywhere(26000000);
+        o[0].utime = o[1].utime = 25000000;
+        o[0].x_m = 5.05f;
+        o[0].y_m = 0.0f;
+        o[1].x_m = 5.0f;
+        o[1].y_m = 1.3f;
+        assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+        assert_int_equal(by_id(1)->det, 0);
+        assert_int_equal(by_id(2)->det, -1);
+        assert_non_null(by_id(3));
+        assert_int_equal(by_id(3)->det, 1);
+    }
+}
+
 static void test_bad_input_is_counted(void **state)
 {
     struct sonar_tracker_obs o[SONAR_MAX_CLUSTERS];
@@ -615,6 +664,7 @@ int main(void)
         cmocka_unit_test(test_sector_out_of_view_is_not_a_miss),
         cmocka_unit_test(test_manoeuvre_pass_keeps_a_turning_track),
         cmocka_unit_test(test_established_tracks_assign_first),
+        cmocka_unit_test(test_one_hit_tracks_assign_after_established),
         cmocka_unit_test(test_bad_input_is_counted),
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_config_check_names_fields),

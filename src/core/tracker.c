@@ -503,22 +503,24 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
      * detections that belong to them); then a second chance for manoeuvres, in which a track hit
      * in its last visible sweep that found nothing is gated with the larger manoeuvre noise and
      * adapts its velocity with it (not coasting ones: over two revisits that noise would gate half
-     * the scene); then the tentative tracks. What is left starts new tracks.
+     * the scene); then the tentative tracks, and those of one hit (confirmed at birth when
+     * confirm_m is 1: no velocity either; in one assignment with the established ones they won
+     * detections from them, two ID switches on the sector scene). What is left starts new tracks.
      */
     for (k = 0; k < tk->n; k++)
-        if (tk->t[k].state != SONAR_TRACK_TENTATIVE)
+        if (tk->t[k].state != SONAR_TRACK_TENTATIVE && tk->t[k].hits > 1)
             cand[nc++] = k;
     nl = pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 1, &clipped);
     if (qm > q) {
         for (k = 0, nc = 0; k < tk->n; k++)
-            if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED)
+            if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED && tk->t[k].hits > 1)
                 cand[nc++] = k;
         j = nl;
         nl = pass(tk, cost, cand, nc, obs, left, nl, qm, r2, 1, 0, &clipped);
         tk->manoeuvres += (uint32_t)(j - nl);
     }
     for (k = 0, nc = 0; k < tk->n; k++)
-        if (tk->t[k].state == SONAR_TRACK_TENTATIVE)
+        if (tk->t[k].state == SONAR_TRACK_TENTATIVE || tk->t[k].hits <= 1)
             cand[nc++] = k;
     (void)pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 0, &clipped);
     for (k = 0; k < tk->n; k++)
