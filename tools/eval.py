@@ -291,8 +291,8 @@ def main():
             tracking.append((f"AquaScan {sonar}", f"{W}/aq/{sonar}.csv", f"{W}/aq/{sonar}.truth.json",
                              presets["occupied-pool"]))
     track_rows = []
-    for n_, (name, path, truth_path, args) in enumerate(tracking):
-        out = f"{W}/track{n_}-{os.path.basename(path)}.jsonl"
+    for idx, (name, path, truth_path, args) in enumerate(tracking):
+        out = f"{W}/track{idx}-{os.path.basename(path)}.jsonl"
         with open(out, "w") as f:
             subprocess.run([f"{B}/sonard", "--replay", path, "--json", "--quiet"] + args, stdout=f, check=True)
         r = sh([sys.executable, os.path.join(os.path.dirname(__file__), "score.py"), truth_path, out, "--tracks"])
