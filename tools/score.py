@@ -8,17 +8,18 @@ negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints p
 F1, centroid error and false alarms per sweep; with --min-precision/--min-recall/--min-f1/
 --max-error it exits 1 when a target is missed.
 
-With --tracks it also scores the "tracks" of each line (confirmed and coasting ones; each predicted
-to the time its truth object was seen, "t_us", when the truth has it) against the truth IDs: MOTA
-(CLEAR MOT: a match kept while it stays within the gate, the rest assigned at least total
-distance), IDF1 (one global truth-ID to track-ID assignment), ID switches (also per 100
-track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the mean velocity
-error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s, and their mean speed on
-objects that stand still (static speed, --max-static-speed), and the ceilings on MOTA and IDF1 of
-any tracker that confirms a track on its second hit (each object's first sighting is then a miss).
---min-idf1, --min-mota, --max-idsw-per-100 and --max-vel-error then also decide the exit status. A track left unmatched
-within the gate of a "hidden" truth object (there but unseen that sweep: faded, or no beam crossed
-it) is don't-care, as MOTChallenge treats ignored regions: not a false positive, not counted.
+With --tracks it also scores the "tracks" of each line (confirmed and coasting ones, or those of
+--states; each predicted to the time its truth object was seen, "t_us", when the truth has it)
+against the truth IDs: MOTA (CLEAR MOT: a match kept while it stays within the gate, the rest
+assigned at least total distance), IDF1 (one global truth-ID to track-ID assignment), ID switches
+(also per 100 track-sweeps), fragmentations, OSPA (cut-off 2 m, p = 2, mean over sweeps) and the
+mean velocity error of matched tracks with 3+ hits on objects moving at 0.5..1.5 m/s, and their mean
+speed on objects that stand still (static speed, --max-static-speed), and the ceilings on MOTA and
+IDF1 of any tracker that confirms a track on its second hit (each object's first sighting is then a
+miss). --min-idf1, --min-mota, --max-idsw-per-100 and --max-vel-error then also decide the exit
+status. A track left unmatched within the gate of a "hidden" truth object (there but unseen that
+sweep: faded, or no beam crossed it) is don't-care, as MOTChallenge treats ignored regions: not a
+false positive, not counted.
 
 --frame picks the frame scored when the sonar moves (truth with "bx", "by"): body (default) compares
 the sonar-frame positions (x_m, y_m) with the truth's bx, by, and leaves velocity out; world compares
@@ -107,7 +108,7 @@ def track_at(h, o):
     return h["x_m"] + h["vx_mps"] * dt, h["y_m"] + h["vy_mps"] * dt
 
 
-def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
+def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None, states=("confirmed", "coasting")):
     hidden = hidden or {}
     gt = fp = fn = idsw = frag = tp = hyp_total = 0
     last = {}          # truth id -> track id it was last matched to
@@ -118,7 +119,7 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None):
     truth_total = 0
     for k in sorted(truth):
         objs = truth[k]
-        hyps = [h for h in lines.get(k, {}).get("tracks", []) if h["state"] in ("confirmed", "coasting")]
+        hyps = [h for h in lines.get(k, {}).get("tracks", []) if h["state"] in states]
         gt += len(objs)
         truth_total += len(objs)
         present.update(o["id"] for o in objs)
@@ -220,6 +221,9 @@ def main():
     ap.add_argument("--max-error", type=float, help="largest mean centroid error, metres")
     ap.add_argument("--label", default="")
     ap.add_argument("--tracks", action="store_true", help="also score the tracks (MOTA, IDF1, OSPA, ...)")
+    ap.add_argument("--states", default="confirmed,coasting",
+                    help="the track states scored (default confirmed,coasting; confirmed alone: the tracks hit that sweep, "
+                         "which OBSTACLE_DISTANCE_3D sends the autopilot)")
     ap.add_argument("--min-idf1", type=float)
     ap.add_argument("--min-mota", type=float)
     ap.add_argument("--max-idsw-per-100", type=float)
@@ -229,6 +233,9 @@ def main():
     ap.add_argument("--frame", choices=("body", "world"), default="body", help="frame to score a moving sonar in")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
+    bad = [x for x in a.states.split(",") if x not in ("tentative", "confirmed", "coasting")]
+    if bad:
+        ap.error(f"--states: {bad[0]!r} is not tentative, confirmed or coasting")
     # sweeps marked "labelled": false have unknown truth: neither their detections nor their objects count
     tj = json.load(open(a.truth))["sweeps"]
     truth = {s["sweep"]: s["objects"] for s in tj if s.get("labelled", True)}
@@ -292,7 +299,7 @@ def main():
         print(f"FAIL: centroid error {err:.3f} m > {a.max_error} m")
         ok = False
     if a.tracks:
-        t = score_tracks(truth, lines, a.gate, hidden=hidden)
+        t = score_tracks(truth, lines, a.gate, hidden=hidden, states=tuple(a.states.split(",")))
         print(f"{a.label}tracking: MOTA {t['mota']:.3f}  IDF1 {t['idf1']:.3f}  ID switches {t['idsw']} "
               f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
               f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  static speed {t['still']:.3f} m/s "
