@@ -302,8 +302,7 @@ def main():
         # What the autopilot is sent: OBSTACLE_DISTANCE_3D carries the tracks hit that sweep, not coasting ones.
         r = sh([sys.executable, os.path.join(os.path.dirname(__file__), "score.py"), truth_path, out, "--tracks",
                 "--states", "confirmed"])
-        sent_rows.append((name, "occupied-pool preset" if args is presets["occupied-pool"] else " ".join(args),
-                          r.strip().splitlines()[-1]))
+        sent_rows.append((name, " ".join(args), r.strip().splitlines()[-1]))
 
     # ---------------- 6. a moving vehicle: the pool from a vehicle that moves and turns, with and without its pose
     veh = {}

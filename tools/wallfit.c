@@ -14,6 +14,7 @@
 
 #define MAX_WALLS 8
 #define PI 3.14159265358979323846
+#define MAP_AGE_US 7600000 /* how old a sector may be: 1.2 sweeps of 6.3 s, as src/host/mav.c asks of the map */
 
 static int64_t mono_ns(void *u)
 {
@@ -167,21 +168,40 @@ static int near_wall(const struct probe *p, double n, double e, double vn, doubl
 }
 
 /*
+ * The nearest obstacle in body sector k (5 degrees, rays 0.1 degree apart) from (n, e) at heading
+ * yaw_deg; < 0 if none; *object and (*on, *oe) as nearest() has them for that obstacle.
+ */
+static double sector_nearest(const struct probe *p, double n, double e, double yaw_deg, int k, int *object, double *on,
+                             double *oe)
+{
+    double best = -1.0, a;
+    *object = 0;
+    for (a = -2.5; a <= 2.5; a += 0.1) {
+        double tn = 0.0, te = 0.0;
+        int is_obj;
+        double t = nearest(p, n, e, ((double)k * 5.0 + a + yaw_deg) * PI / 180.0, &is_obj, &tn, &te);
+        if (t > 0.0 && (best < 0.0 || t < best)) {
+            best = t;
+            *object = is_obj;
+            *on = tn;
+            *oe = te;
+        }
+    }
+    return best;
+}
+
+/*
  * 1 if body sector k at heading yaw_deg was clear out to range_m from where the sonar was when the
  * head last looked that way (the world memory's "clear" is of that pass; the vehicle moves on).
  */
 static int beyond_then(const struct probe *p, int k, double yaw_deg, double range_m)
 {
     int at = world_sector((double)k * 5.0 + yaw_deg), obj;
-    double vn, ve, yaw, a, on, oe, best = -1.0;
+    double vn, ve, yaw, on, oe, best;
     if (p->seen_us[at] == 0)
         return 0;
     scene_vehicle_at(p->scene, (double)(p->seen_us[at] - p->start_us) / 1e6, &vn, &ve, &yaw);
-    for (a = -2.5; a <= 2.5; a += 0.1) {
-        double t = nearest(p, vn, ve, ((double)k * 5.0 + a + yaw_deg) * PI / 180.0, &obj, &on, &oe);
-        if (t > 0.0 && (best < 0.0 || t < best))
-            best = t;
-    }
+    best = sector_nearest(p, vn, ve, yaw_deg, k, &obj, &on, &oe);
     return best < 0.0 || best > range_m;
 }
 
@@ -230,23 +250,13 @@ static int probe_beam(void *self, const struct app_beam *b)
     p->next_us = b->utime + 1000000;
     for (m = 0; m < 2; m++) {
         uint16_t d[SONAR_OBS_SECTORS], mn, mx;
-        sonar_obstacle_map(m == 0 ? &p->with : &p->without, b->utime, 7600000, m == 0 ? &q : NULL, d, &mn, &mx);
+        sonar_obstacle_map(m == 0 ? &p->with : &p->without, b->utime, MAP_AGE_US, m == 0 ? &q : NULL, d, &mn, &mx);
         for (k = 0; k < SONAR_OBS_SECTORS; k++) {
-            double best = -1.0, a, on = 0.0, oe = 0.0, err;
-            int obj = 0, is_obj;
+            double best, on = 0.0, oe = 0.0, err;
+            int obj;
             if (d[k] == SONAR_OBS_UNKNOWN)
                 continue;
-            for (a = -2.5; a <= 2.5; a += 0.1) {
-                double tn = 0.0, te = 0.0;
-                double t = nearest(p, b->north_m, b->east_m, ((double)k * 5.0 + a + (double)b->yaw_deg) * PI / 180.0, &is_obj,
-                                   &tn, &te);
-                if (t > 0.0 && (best < 0.0 || t < best)) {
-                    best = t;
-                    obj = is_obj;
-                    on = tn;
-                    oe = te;
-                }
-            }
+            best = sector_nearest(p, b->north_m, b->east_m, (double)b->yaw_deg, k, &obj, &on, &oe);
             if (best < 0.0 || best > (double)mx / 100.0)
                 continue;
             if (d[k] > mx) {
@@ -266,7 +276,7 @@ static int probe_beam(void *self, const struct app_beam *b)
                 /* The unsafe side. An object missed here may still be in the map, its echo a sector over. */
                 p->farther[m]++;
                 p->far_obj += obj && m == 0;
-                p->far_obj_held += obj && m == 0 && holds(&p->with, b->utime, 7600000, on, oe, 0.5);
+                p->far_obj_held += obj && m == 0 && holds(&p->with, b->utime, MAP_AGE_US, on, oe, 0.5);
             }
         }
     }
