@@ -31,7 +31,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover
+UNIT      = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover
 UNIT_LIVE = app sinks mav source_pose_lcm
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
@@ -320,7 +320,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 cpframe geometry median background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline
+MCU_UNIT = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
 	@mkdir -p $(dir $@)
 	$(ARM_CC) -std=c99 -Wall -Wextra -Werror -Wshadow $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/core -Wl,--defsym=STACK_SIZE=0x20000 \

@@ -214,7 +214,7 @@ check "--range error names unit" grep -q -- "--range: '0' is not a number in 1..
 "$B/sonard" --replay "$T/pool.csv" --median 4 2> "$T/err" > /dev/null
 check "--median 4 rejected" grep -q -- "--median: '4' is even" "$T/err"
 "$B/sonard" --replay "$T/pool.csv" --background median 2> "$T/err" > /dev/null
-check "--background typo rejected" grep -q -- "--background: 'median' is not per-angle, range or off" "$T/err"
+check "--background typo rejected" grep -q -- "--background: 'median' is not auto, per-angle, range or off" "$T/err"
 "$B/sonard" --replay "$T/pool.csv" --clusters 2> "$T/err" > /dev/null
 check "missing value rejected" grep -q -- "--clusters: needs a value" "$T/err"
 "$B/sonard" --replay /nonexistent.csv 2> "$T/err" > /dev/null; rc=$?

@@ -1,4 +1,4 @@
-/* test_background.c -- seeding, convergence to the median, clamping, contrast margin, range mode, resets, and the world grid of a moving sonar. */
+/* test_background.c -- seeding, convergence to the median, clamping, contrast margin, range mode, resets, auto mode's across-beam start and kept objects, and the world grid of a moving sonar. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -24,7 +24,7 @@ static void test_config_validation(void **state)
     c.step = 65;
     assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
     c.step = 1;
-    c.mode = 3;
+    c.mode = 4; /* 3 is auto */
     assert_int_equal(sonar_background_init(&bg, &c), SONAR_ERR_ARG);
     c.mode = 1;
     c.margin = 65;
@@ -252,6 +252,100 @@ static void test_world_grid(void **state)
     assert_memory_equal(fg, s, 200);
 }
 
+/*
+ * A sweep of 20 beams 10 gradians apart, 100 samples: water 10, a wall (150) at samples 70..74 on
+ * every beam, and a person (120) at samples 30..39 on beams 4..6, there from the first ping.
+ */
+static void pool_beam(int beam, uint8_t *s)
+{
+    memset(s, 10, 100);
+    memset(s + 70, 150, 5);
+    if (beam >= 4 && beam <= 6)
+        memset(s + 30, 120, 10);
+}
+
+static int sum_fg(const uint8_t *fg, int lo, int hi)
+{
+    int i, t = 0;
+    for (i = lo; i < hi; i++)
+        t += fg[i];
+    return t;
+}
+
+static void test_auto_starts_from_the_across_beam_model(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_AUTO, 2, 1, 8};
+    uint8_t s[100], fg[100];
+    int b;
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    /*
+     * First sweep: the rows are seeding, so each beam is compared with the across-beam model.
+     * Its own first SONAR_BG_ACROSS_WARMUP beams seed that: nothing. Then the person, on 3 of
+     * 20 beams, stands out against it; the wall, on every beam at one range, is in it.
+     */
+    for (b = 0; b < 20; b++) {
+        pool_beam(b, s);
+        assert_int_equal(sonar_background_apply(&bg, (uint16_t)(b * 10), s, fg, 100), SONAR_OK);
+        if (b < SONAR_BG_ACROSS_WARMUP)
+            assert_int_equal(sum_fg(fg, 0, 100), 0);
+    }
+    assert_int_equal(bg.across_visits, 20);
+    /*
+     * The person was in 3 of the across model's 8 seeding beams (a mean of 51 there, falling a level
+     * a beam since): on the second sweep it still stands out until the rows are ready.
+     */
+    pool_beam(5, s);
+    assert_int_equal(sonar_background_apply(&bg, 50, s, fg, 100), SONAR_OK);
+    assert_true(sum_fg(fg, 30, 40) > 10 * 40);
+    assert_int_equal(sum_fg(fg, 70, 75), 0);
+    /* The per-angle model seeded meanwhile: with no track kept, the third visit learnt the person too. */
+    assert_int_equal(sonar_background_apply(&bg, 50, s, fg, 100), SONAR_OK);
+    assert_int_equal(sum_fg(fg, 0, 100), 0);
+}
+
+static void test_auto_keeps_tracked_objects_out_of_the_model(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_AUTO, 2, 1, 8};
+    struct sonar_bg_span keep = {28, 42};
+    uint8_t s[100], fg[100], before[100];
+    int sweep, b;
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    for (sweep = 0; sweep < 40; sweep++)
+        for (b = 0; b < 20; b++) {
+            /* From the second sweep a tracker has the person: its span is kept on beams 4..6. */
+            int kept = sweep >= 1 && b >= 4 && b <= 6;
+            pool_beam(b, s);
+            if (b == 5)
+                memcpy(before, bg.cell[50], 100);
+            assert_int_equal(sonar_background_apply_keep(&bg, (uint16_t)(b * 10), s, fg, 100, &keep, kept), SONAR_OK);
+            if (b == 5 && sweep >= 2) {
+                /* The person stays foreground sweep after sweep; the wall beside it does not. */
+                assert_true(sum_fg(fg, 30, 40) > 10 * 80);
+                assert_int_equal(sum_fg(fg, 70, 75), 0);
+                /* Under the span the row holds the across-beam level it was given, and keeps it. */
+                if (sweep >= 3)
+                    assert_memory_equal(bg.cell[50] + 28, before + 28, 14);
+            }
+        }
+    assert_true(bg.cell[50][35] < 60); /* the across-beam level, not the person's 120 */
+    /* Released (the track ended), the person is learnt like anything else that stands still. */
+    for (sweep = 0; sweep < 200; sweep++) {
+        pool_beam(5, s);
+        assert_int_equal(sonar_background_apply_keep(&bg, 50, s, fg, 100, NULL, 0), SONAR_OK);
+    }
+    assert_int_equal(sum_fg(fg, 30, 40), 0);
+    /* Spans are checked: reversed ones are refused, long ones clipped. */
+    keep.lo = 50;
+    keep.hi = 40;
+    assert_int_equal(sonar_background_apply_keep(&bg, 50, s, fg, 100, &keep, 1), SONAR_ERR_ARG);
+    assert_int_equal(sonar_background_apply_keep(&bg, 50, s, fg, 100, NULL, 1), SONAR_ERR_ARG);
+    keep.lo = 90;
+    keep.hi = 5000;
+    assert_int_equal(sonar_background_apply_keep(&bg, 50, s, fg, 100, &keep, 1), SONAR_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -263,6 +357,8 @@ int main(void)
         cmocka_unit_test(test_margin_scales_with_background),
         cmocka_unit_test(test_range_mode_shares_bins_across_angles),
         cmocka_unit_test(test_off_and_reset),
+        cmocka_unit_test(test_auto_starts_from_the_across_beam_model),
+        cmocka_unit_test(test_auto_keeps_tracked_objects_out_of_the_model),
         cmocka_unit_test(test_world_grid),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

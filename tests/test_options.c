@@ -205,6 +205,21 @@ static void test_whole_config_checks_name_the_field(void **state)
         assert_int_equal(o.pipeline.background.warmup, 8); /* a beam per bin in range mode */
     }
     {
+        const char *argv[] = {"sonard", "--replay", "x", "--background", "auto", "--threshold-mode", "cfar",
+                              "--cfar-scale", "3", "--cfar-rank", "10"};
+        assert_int_equal(parse(11, argv), 0);
+        assert_int_equal(o.pipeline.background.mode, SONAR_BACKGROUND_AUTO);
+        assert_int_equal(o.pipeline.background.warmup, 2); /* a visit per row, as per-angle */
+        assert_int_equal(o.pipeline.detector.threshold_mode, SONAR_DET_CFAR);
+        assert_true(o.pipeline.detector.cfar.scale == 3.0f);
+        assert_int_equal(o.pipeline.detector.cfar.rank16, 10);
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--background", "world"};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--background"));
+    }
+    {
         const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--pose", "p.csv"};
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
         assert_non_null(strstr(err, "--pose FILE.csv goes with --replay"));

@@ -1,4 +1,4 @@
-/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, manoeuvres, the assignment cascade, bad input, determinism. */
+/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, manoeuvres, the assignment cascade, bad input, determinism, and how long a track has stood still. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -120,7 +120,7 @@ static void test_confirm_velocity_and_one_id(void **state)
 /* Gone: coasting, then deleted after max_misses; a new object later gets a new ID. */
 static void test_coast_delete_and_ids_never_reused(void **state)
 {
-    struct sonar_tracker_obs o = {3.0f, 3.0f, 0};
+    struct sonar_tracker_obs o = {3.0f, 3.0f, 0, 0.0f};
     int s;
     (void)state;
     init();
@@ -254,7 +254,7 @@ static void test_sector_out_of_view_is_not_a_miss(void **state)
 {
     uint8_t cover[50];
     uint16_t beams[34];
-    struct sonar_tracker_obs o = {0.0f, 5.0f, 0}; /* bearing 100 gradians */
+    struct sonar_tracker_obs o = {0.0f, 5.0f, 0, 0.0f}; /* bearing 100 gradians */
     struct sonar_tracker_sweep sw;
     int s, i;
     (void)state;
@@ -351,7 +351,7 @@ static void test_manoeuvre_pass_keeps_a_turning_track(void **state)
 static void far_second_look(void)
 {
     struct sonar_tracker_sweep sw = everywhere(4000000);
-    struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000};
+    struct sonar_tracker_obs a = {3.96f, 4.91f, 3000000, 0.0f};
     assert_int_equal(sonar_tracker_update(&tk, &a, 1, &sw), SONAR_OK);
     sw = everywhere(8000000);
     a.x_m = 2.52f;
@@ -367,7 +367,7 @@ static void far_second_look(void)
  */
 static void test_kinematic_bounds(void **state)
 {
-    struct sonar_tracker_obs o = {0.0f, 5.0f, 0};
+    struct sonar_tracker_obs o = {0.0f, 5.0f, 0, 0.0f};
     struct sonar_tracker_config c;
     int s;
     (void)state;
@@ -607,7 +607,7 @@ static void test_config_check_names_fields(void **state)
  */
 static void test_reframe_and_origin(void **state)
 {
-    struct sonar_tracker_obs o = {3.0f, 0.0f, 0};
+    struct sonar_tracker_obs o = {3.0f, 0.0f, 0, 0.0f};
     struct sonar_pose p = {0, 100.0f, 50.0f, 90.0f};
     struct sonar_tracker_sweep sw;
     uint8_t cover[50];
@@ -654,6 +654,56 @@ static void test_reframe_and_origin(void **state)
     assert_true(fabsf(tk.t[0].vx - 0.5f) < 0.05f && fabsf(tk.t[0].vy) < 0.05f);
 }
 
+/*
+ * A swimmer at 0.5 m/s for 60 s (a look every 5 s, detections with 5 cm of jitter), then floating
+ * still for 3 minutes with the same jitter: still_s counts from when it stopped, in both frames,
+ * and the size of its last detection is kept.
+ */
+static void test_still_seconds(void **state)
+{
+    struct sonar_pose p = {0, 20.0f, -5.0f, 45.0f};
+    int s;
+    float stop_x = 0.0f;
+    (void)state;
+    init();
+    for (s = 0; s < 48; s++) {
+        struct sonar_tracker_obs o;
+        int64_t t = (int64_t)s * 5000000 + 2000000;
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 5000000);
+        float jitter = (float)((s * 37) % 11 - 5) * 0.01f;
+        o.utime = t;
+        o.x_m = 2.0f + 0.5f * (float)(s < 12 ? s * 5 : 60) + jitter;
+        o.y_m = 4.0f - jitter;
+        o.size_m = s == 47 ? 0.6f : 0.4f;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        if (s <= 12)
+            /* swimming: it moved at its last look or the one before (2.5 m between looks, less once filtered in) */
+            assert_true(sonar_track_still_s(&tk.t[0], t) <= 5.0f);
+        if (s == 12)
+            stop_x = 32.0f;
+    }
+    /* It stopped at the look of 62 s (s = 12), give or take the filter's settling: still for about 175 s at the last look. */
+    assert_true(fabsf(tk.t[0].px - stop_x) < 0.3f);
+    assert_true(sonar_track_still_s(&tk.t[0], (int64_t)47 * 5000000 + 2000000) > 160.0f);
+    assert_true(sonar_track_still_s(&tk.t[0], (int64_t)47 * 5000000 + 2000000) <= 175.0f);
+    assert_true(sonar_track_still_s(&tk.t[0], 0) == 0.0f); /* before it stood still: none */
+    assert_int_equal(tk.t[0].size_dm, 6);
+    /* Into the world frame and back: where it stopped moves with it, so it has not moved. */
+    sonar_tracker_reframe(&tk, &p, 1);
+    assert_true(fabsf(tk.t[0].ax - tk.t[0].px) < 0.3f && fabsf(tk.t[0].ay - tk.t[0].py) < 0.3f);
+    {
+        struct sonar_tracker_obs o;
+        struct sonar_tracker_sweep sw = everywhere((int64_t)49 * 5000000);
+        o.utime = (int64_t)48 * 5000000 + 2000000;
+        sonar_pose_to_world(&p, 32.0f, 4.0f, &o.x_m, &o.y_m);
+        o.size_m = NAN; /* a bad size is kept as 0, not as NaN */
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_true(sonar_track_still_s(&tk.t[0], o.utime) > 165.0f);
+        assert_int_equal(tk.t[0].size_dm, 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -671,6 +721,7 @@ int main(void)
         cmocka_unit_test(test_reframe_and_origin),
         cmocka_unit_test(test_kinematic_bounds),
         cmocka_unit_test(test_merged_echo_coasts),
+        cmocka_unit_test(test_still_seconds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -224,6 +224,7 @@ int main(int argc, char **argv)
                 ob[k2].x_m = (float)(k2 % 4) * 4.0f - 6.0f + (float)s2 * 20.0f;
                 ob[k2].y_m = (float)(k2 / 4) * 4.0f - 6.0f;
                 ob[k2].utime = 1000000 + (int64_t)k2 * 10000;
+                ob[k2].size_m = 0.3f;
             }
             tsw.utime = 2000000;
             sink += sonar_tracker_update(&tk0, ob, 16, &tsw);

@@ -1,4 +1,4 @@
-/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: SONAR_MAX_ANGLES * (SONAR_MAX_SAMPLES + 1) + 16 B. */
+/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: (SONAR_MAX_ANGLES + 1) * (SONAR_MAX_SAMPLES + 1) + 16 B. */
 #ifndef SONAR_BACKGROUND_H
 #define SONAR_BACKGROUND_H
 
@@ -10,7 +10,9 @@
 enum sonar_background_mode {
     SONAR_BACKGROUND_OFF = 0,       /* foreground = input */
     SONAR_BACKGROUND_PER_ANGLE = 1, /* one model per (angle, range) cell, updated once per visit */
-    SONAR_BACKGROUND_RANGE = 2      /* the study's: one model per range bin, across the beams */
+    SONAR_BACKGROUND_RANGE = 2,     /* the study's: one model per range bin, across the beams */
+    SONAR_BACKGROUND_AUTO = 3       /* per-angle, with the across-beam model where a row is still warming up
+                                       and under tracked objects (sonar_background_apply_keep) */
 };
 
 /*
@@ -28,6 +30,22 @@ enum sonar_background_mode {
 #define SONAR_BG_WARMUP_MAX 64 /* warmup 1..64 */
 #define SONAR_BG_STEP_MAX 64   /* step 1..64 */
 #define SONAR_BG_MARGIN_MAX 64 /* margin 0..64 */
+
+/*
+ * Auto mode keeps both models: the per-angle one, and beside it the across-beam one (one row, every
+ * beam observes it, seeded over SONAR_BG_ACROSS_WARMUP beams). A row still being seeded is compared
+ * with the across-beam model instead of reporting nothing, so objects there from the first ping are
+ * found in the first sweep. Under a tracked object (the keep spans the caller passes, from its
+ * tracks) the row is set to the across-beam model before the comparison and after the update: an
+ * object that stands still is never learnt, static structure elsewhere still is, and when the object
+ * leaves its place holds the water's level, not its echo.
+ */
+#define SONAR_BG_ACROSS_WARMUP 8
+
+/* Samples [lo, hi) of a beam: a tracked object's extent along it. */
+struct sonar_bg_span {
+    uint16_t lo, hi;
+};
 
 struct sonar_background_config {
     uint8_t mode;   /* enum sonar_background_mode */
@@ -66,7 +84,9 @@ struct sonar_bg_ray {
 
 struct sonar_background {
     uint8_t cell[SONAR_MAX_ANGLES][SONAR_MAX_SAMPLES];
+    uint8_t across[SONAR_MAX_SAMPLES]; /* auto mode: the across-beam model */
     uint8_t visits[SONAR_MAX_ANGLES]; /* observations so far per row, saturating at 255 */
+    uint8_t across_visits;            /* observations of across, saturating at 255 */
     uint16_t n;                       /* samples per beam the model holds; 0 = empty */
     uint8_t mode;
     uint8_t warmup;
@@ -100,6 +120,15 @@ void sonar_background_reset(struct sonar_background *bg);
  */
 SONAR_CHECK int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
                                        uint16_t n);
+
+/*
+ * sonar_background_apply with the spans of the beam that lie under tracked objects (nkeep of them,
+ * keep may be NULL when 0): in auto mode those samples are compared with the across-beam model and
+ * their row takes its values (above); other modes ignore them. Returns as sonar_background_apply
+ * (SONAR_ERR_ARG also for a span with lo > hi; spans beyond n are clipped).
+ */
+SONAR_CHECK int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
+                                            uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep);
 
 /*
  * The world-frame form of sonar_background_apply for per-angle mode (other modes: as

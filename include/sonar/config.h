@@ -57,13 +57,13 @@
 #define SONAR_MAX_HULL 16
 #endif
 
-/* Points the incremental hull holds before it folds them into the hull so far. RAM: 24 bytes each. */
+/* Points the incremental hull holds before it folds them into the hull so far. Stack: 24 bytes each, while a detection is made. */
 #ifndef SONAR_HULL_WORK
 #define SONAR_HULL_WORK 64
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: 56 bytes each (1 792 B at 32); an update's
+ * Tracks the tracker keeps (tracker.h). RAM: 64 bytes each (2 048 B at 32); an update's
  * SONAR_MAX_CLUSTERS x SONAR_MAX_TRACKS float cost matrix is on the stack (2 048 B).
  */
 #ifndef SONAR_MAX_TRACKS

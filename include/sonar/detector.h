@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 
+#include "sonar/cfar.h"
 #include "sonar/config.h"
 #include "sonar/err.h"
 #include "sonar/hull.h"
@@ -23,11 +24,19 @@
  * times its width across, is no wider than max_extent_m, and, when cut from a wider group, has
  * >= split_points cells. At most max_clusters detections, the largest first.
  *
- * Threshold: a cell is foreground when its value > T, T = max(min_threshold, floor(mean + k std))
- * over the foreground cells of the previous sweep (the study's rule, one sweep behind so it can
- * be applied as beams arrive); when there is no previous sweep, or it had no foreground at all
- * (the background was still seeding), over the current sweep's cells seen so far.
+ * Threshold, SONAR_DET_GLOBAL: a cell is foreground when its value > T, T = max(min_threshold,
+ * floor(mean + k std)) over the foreground cells of the previous sweep (the study's rule, one
+ * sweep behind so it can be applied as beams arrive); when there is no previous sweep, or it had
+ * no foreground at all (the background was still seeding), over the current sweep's cells seen so
+ * far. SONAR_DET_CFAR: a cell is foreground when its value is > 0 and its block passes the
+ * range-adaptive test of cfar.h (threshold_k and min_threshold are then unused, and the sweep's
+ * reported threshold is the CFAR floor).
  */
+enum sonar_det_threshold {
+    SONAR_DET_GLOBAL = 0, /* mean + k std of the previous sweep (the study's) */
+    SONAR_DET_CFAR = 1    /* order-statistic CFAR along each beam (cfar.h) */
+};
+
 /* Ranges of the config fields: sonar_detector_config_check and sonard's option table both use these. */
 #define SONAR_DET_K_MAX 20            /* threshold_k 0..20 */
 #define SONAR_DET_MIN_THRESHOLD_MAX 254
@@ -41,6 +50,8 @@
 #define SONAR_DET_TRACK_M_MAX 100     /* metres */
 
 struct sonar_detector_config {
+    uint8_t threshold_mode; /* enum sonar_det_threshold */
+    struct sonar_cfar_config cfar; /* SONAR_DET_CFAR's test */
     float threshold_k;     /* k of mean + k std, 0..20 */
     uint8_t min_threshold; /* floor of T, 0..254 */
     uint8_t max_clusters;  /* 1..SONAR_MAX_CLUSTERS */
@@ -100,8 +111,6 @@ struct sonar_detector {
     struct sonar_detector_run runs[SONAR_MAX_RUNS];
     uint8_t labels[SONAR_MAX_RUNS];
     uint16_t angles[SONAR_MAX_SWEEP_BEAMS];
-    struct sonar_xy work[SONAR_HULL_WORK];
-    struct sonar_xy hull[2 * SONAR_HULL_WORK];
     uint64_t sum, sumsq, cells;
     float prev_mean, prev_std;
     float range_m;

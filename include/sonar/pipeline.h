@@ -47,6 +47,7 @@ struct sonar_pipeline_config {
 #define SONAR_PIPE_DUP_US 1000000   /* ... and more than this apart in time, us */
 #define SONAR_PIPE_NEAR_M 0.5f /* world grid: the ring-down moves with the sonar, so it is not modelled there */
 #define SONAR_PIPE_MAX_RANGE_M 1000 /* a beam's range_m must be in (0, 1000] metres: the detector's mm arithmetic */
+#define SONAR_PIPE_KEEP_MIN_M 0.3f /* auto background: the least radius about a track the per-angle model never learns, metres */
 
 struct sonar_pipeline {
     const struct sonar_pipeline_config *cfg;

@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker = 56 B per track (SONAR_MAX_TRACKS) + 48 B; stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker = 64 B per track (SONAR_MAX_TRACKS) + 48 B; stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -32,6 +32,8 @@ enum sonar_track_state {
 /* The manoeuvre pass pairs a track only with a detection it reaches at 3 x its speed + 0.3 m/s (+ 3 meas_m). */
 #define SONAR_TRK_TURN_SPEEDUP 3.0f
 #define SONAR_TRK_TURN_FROM_REST 0.3f
+/* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres. */
+#define SONAR_TRK_STILL_M 0.3f
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
@@ -58,15 +60,19 @@ struct sonar_track {
     uint16_t hits;       /* detections used (saturating) */
     uint16_t misses;     /* visible sweeps in a row without a hit */
     uint8_t unseen;      /* sweeps in a row without a hit, in view or not (saturating) */
+    uint8_t size_dm;     /* its last detection's radius, decimetres (sonar_tracker_obs.size_m; saturating at 25.5 m) */
     int64_t utime;       /* us since the epoch: the time of the state below */
     float px, py, vx, vy; /* m, m/s, in the tracker's frame (world: north, east) */
     float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
+    float ax, ay;        /* where it last moved: its filtered position then (same frame as px, py) */
+    uint32_t still_ms;   /* ms it had stood still at utime: since it last moved more than SONAR_TRK_STILL_M, or was born */
 };
 
 /* One detection handed to the tracker. */
 struct sonar_tracker_obs {
     float x_m, y_m; /* metres, in the tracks' frame */
     int64_t utime;  /* us since the epoch: when it was seen */
+    float size_m;   /* its radius (centroid to farthest hull vertex), metres, 0..100; kept by the track, else unused */
 };
 
 /* What the sweep looked at: a track outside it is neither hit nor missed. */
@@ -124,6 +130,13 @@ SONAR_CHECK int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_
  */
 SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
                                      const struct sonar_tracker_sweep *sw);
+
+/*
+ * Seconds t has stood still at utime (us since the epoch): since its filtered position last moved
+ * more than SONAR_TRK_STILL_M, or since its birth; 0 when utime is earlier. A pool watcher's alarm
+ * on a person who stopped moving reads this.
+ */
+float sonar_track_still_s(const struct sonar_track *t, int64_t utime);
 
 /* Position of t predicted to utime (us; earlier than t->utime gives t's own), metres. */
 void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_m, float *y_m);

@@ -11,8 +11,8 @@
 
 const char *sonar_background_config_check(const struct sonar_background_config *cfg)
 {
-    if (cfg->mode > SONAR_BACKGROUND_RANGE)
-        return "mode: off, per-angle or range";
+    if (cfg->mode > SONAR_BACKGROUND_AUTO)
+        return "mode: off, per-angle, range or auto";
     if (cfg->warmup < 1 || cfg->warmup > SONAR_BG_WARMUP_MAX)
         return "warmup: 1.." STR(SONAR_BG_WARMUP_MAX) " observations";
     if (cfg->step < 1 || cfg->step > SONAR_BG_STEP_MAX)
@@ -47,6 +47,7 @@ void sonar_background_reset(struct sonar_background *bg)
 {
     /* Only the visit counters matter: a row with 0 visits is reseeded before it is read. */
     memset(bg->visits, 0, sizeof(bg->visits));
+    bg->across_visits = 0;
     bg->n = 0;
     bg->world = 0;
 }
@@ -171,11 +172,87 @@ static void track(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *rest
     }
 }
 
-int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)
+/* One observation of a model row: seeded over its first warmup visits (no foreground then), then tracked. */
+static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_t *in, uint8_t *fg, uint16_t n,
+                    uint8_t step, uint8_t margin)
 {
-    unsigned row, v;
-    if (bg == NULL || in == NULL || fg == NULL || angle > SONAR_GRAD_MAX || n == 0 || n > SONAR_MAX_SAMPLES)
+    unsigned v = *visits < 255u ? (unsigned)*visits + 1u : 255u;
+    *visits = (uint8_t)v;
+    if (v <= warmup)
+        seed(row, in, fg, n, v);
+    else
+        track(row, in, fg, n, step, margin);
+}
+
+/* The running median's step alone, b moving step levels toward in: the tracking rule without a comparison. */
+#define STEP_SPAN(b, in, len, step)                                                                                \
+    for (i = 0; i < (len); i++) {                                                                                  \
+        uint8_t x = (in)[i], m = (b)[i];                                                                           \
+        uint8_t hi = x > m ? x : m, lo = x < m ? x : m;                                                            \
+        uint8_t up = (uint8_t)(hi - m), dn = (uint8_t)(m - lo);                                                    \
+        (b)[i] = (uint8_t)(m + (up < (step) ? up : (step)) - (dn < (step) ? dn : (step)));                         \
+    }
+
+static void step_toward(uint8_t *restrict b, const uint8_t *restrict in, uint16_t n, uint8_t step)
+{
+    int i, i0;
+    /* Constant-length blocks, so -O2 vectorises them (as track's). */
+    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
+        STEP_SPAN(b + i0, in + i0, BLOCK, step)
+    STEP_SPAN(b + i0, in + i0, (int)n - i0, step)
+}
+
+/* The keep spans clipped to the beam, applied as dst[span] = src[span]. */
+static void copy_spans(uint8_t *dst, const uint8_t *src, uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep)
+{
+    uint8_t k;
+    for (k = 0; k < nkeep; k++) {
+        uint16_t lo = keep[k].lo, hi = keep[k].hi < n ? keep[k].hi : n;
+        if (lo < hi)
+            memcpy(dst + lo, src + lo, (size_t)(hi - lo));
+    }
+}
+
+/*
+ * Auto mode. A row still seeding reports the across-beam model's foreground. The visit that first
+ * compares with the row sets the cells under the keep spans to the across-beam model: what the
+ * warm-up learnt there was the tracked object. From then on those cells keep their value (the
+ * object is never learnt); the rest of the row learns as in per-angle mode.
+ */
+static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t *in, uint8_t *fg, uint16_t n,
+                       const struct sonar_bg_span *keep, uint8_t nkeep)
+{
+    uint8_t held[SONAR_MAX_SAMPLES];
+    uint8_t *b = bg->cell[row];
+    unsigned seen = bg->visits[row];
+    if (seen < bg->warmup) {
+        observe(b, &bg->visits[row], bg->warmup, in, held, n, bg->step, bg->margin);
+        observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, fg, n, bg->step, bg->margin);
+        return;
+    }
+    if (seen == bg->warmup)
+        copy_spans(b, bg->across, n, keep, nkeep);
+    /* Only the across-beam model's learning is needed now: a pass without the comparison. */
+    if (bg->across_visits >= SONAR_BG_ACROSS_WARMUP)
+        step_toward(bg->across, in, n, bg->step);
+    else
+        observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, held, n, bg->step, bg->margin);
+    copy_spans(held, b, n, keep, nkeep);
+    observe(b, &bg->visits[row], bg->warmup, in, fg, n, bg->step, bg->margin);
+    copy_spans(b, held, n, keep, nkeep);
+}
+
+int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
+                                uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep)
+{
+    unsigned row;
+    uint8_t k;
+    if (bg == NULL || in == NULL || fg == NULL || angle > SONAR_GRAD_MAX || n == 0 || n > SONAR_MAX_SAMPLES ||
+        (nkeep > 0 && keep == NULL))
         return SONAR_ERR_ARG;
+    for (k = 0; k < nkeep; k++)
+        if (keep[k].lo > keep[k].hi)
+            return SONAR_ERR_ARG;
     if (bg->mode == SONAR_BACKGROUND_OFF) {
         memcpy(fg, in, n);
         return SONAR_OK;
@@ -190,13 +267,16 @@ int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const ui
         bg->n = n;
     }
     row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
-    v = bg->visits[row] < 255u ? (unsigned)bg->visits[row] + 1u : 255u;
-    bg->visits[row] = (uint8_t)v;
-    if (v <= bg->warmup)
-        seed(bg->cell[row], in, fg, n, v);
+    if (bg->mode == SONAR_BACKGROUND_AUTO)
+        apply_auto(bg, row, in, fg, n, keep, nkeep);
     else
-        track(bg->cell[row], in, fg, n, bg->step, bg->margin);
+        observe(bg->cell[row], &bg->visits[row], bg->warmup, in, fg, n, bg->step, bg->margin);
     return SONAR_OK;
+}
+
+int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)
+{
+    return sonar_background_apply_keep(bg, angle, in, fg, n, NULL, 0);
 }
 
 /* ---- the world grid ---- */
@@ -325,7 +405,7 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
     uint16_t i;
     if (bg == NULL || ray == NULL || in == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || !ray_ok(ray))
         return SONAR_ERR_ARG;
-    if (bg->mode != SONAR_BACKGROUND_PER_ANGLE)
+    if (bg->mode != SONAR_BACKGROUND_PER_ANGLE && bg->mode != SONAR_BACKGROUND_AUTO)
         return sonar_background_apply(bg, 0, in, fg, n);
     if (!bg->world || n != bg->n || ray->range_m != bg->grid_range_m) {
         if (!bg->world && bg->n != 0)

@@ -12,6 +12,10 @@
 const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
 {
     const struct sonar_detector_config *c = cfg;
+    if (c->threshold_mode > SONAR_DET_CFAR)
+        return "threshold_mode: global or cfar";
+    if (c->threshold_mode == SONAR_DET_CFAR && sonar_cfar_config_check(&c->cfar) != NULL)
+        return sonar_cfar_config_check(&c->cfar);
     if (!(c->threshold_k >= 0.0f && c->threshold_k <= (float)SONAR_DET_K_MAX))
         return "threshold_k: 0.." STR(SONAR_DET_K_MAX);
     if (c->min_threshold > SONAR_DET_MIN_THRESHOLD_MAX)

@@ -4,8 +4,14 @@
 
 #include "detector_internal.h"
 
+/* A cluster's hull being built: the points so far and the hull's vertices (1.5 KB, on the stack of one emission). */
+struct hull_scratch {
+    struct sonar_xy work[SONAR_HULL_WORK];
+    struct sonar_xy hull[2 * SONAR_HULL_WORK];
+};
+
 /* Folds the work points into their hull when full; thins a hull that alone nearly fills it. */
-static void hull_push(struct sonar_detector *d, uint16_t *nw, struct sonar_xy p)
+static void hull_push(struct hull_scratch *d, uint16_t *nw, struct sonar_xy p)
 {
     if (*nw == SONAR_HULL_WORK) {
         int h = sonar_hull_build(d->work, *nw, d->hull, 2 * SONAR_HULL_WORK);
@@ -66,6 +72,7 @@ static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, u
 
 int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
 {
+    struct hull_scratch hs;
     uint64_t w = 0, s = 0, st = 0;
     int64_t sx = 0, sy = 0;
     uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
@@ -88,8 +95,8 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
         /* Runs of one beam lie on one ray: only its nearest and farthest cells can be hull vertices. */
         if (r->beam != beam) {
             if (beam != 0xFFFFu) {
-                hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
-                hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
+                hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
+                hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
             }
             beam = r->beam;
             nbeams++;
@@ -106,9 +113,9 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
     at->y = (int32_t)(sy / (int64_t)w);
     if (!passes(d, w, nbeams, rlo, rhi, at->x, at->y, cut))
         return 0;
-    hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
-    hull_push(d, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
-    h = sonar_hull_build(d->work, nw, d->hull, 2 * SONAR_HULL_WORK);
+    hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
+    hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
+    h = sonar_hull_build(hs.work, nw, hs.hull, 2 * SONAR_HULL_WORK);
     if (h < 1)
         return 0;
     if (d->cfg.max_extent_m > 0.0f) {
@@ -117,7 +124,7 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
         int a, b;
         for (a = 0; a < h; a++)
             for (b = a + 1; b < h; b++) {
-                int64_t dx = (int64_t)d->hull[a].x - d->hull[b].x, dy = (int64_t)d->hull[a].y - d->hull[b].y;
+                int64_t dx = (int64_t)hs.hull[a].x - hs.hull[b].x, dy = (int64_t)hs.hull[a].y - hs.hull[b].y;
                 if (dx * dx + dy * dy > lim2)
                     return 0;
             }
@@ -128,10 +135,10 @@ int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_de
     o->mean_intensity = (float)((double)s / (double)w);
     o->x_m = (float)((double)sx / (double)w / 1000.0);
     o->y_m = (float)((double)sy / (double)w / 1000.0);
-    o->area_m2 = (float)((double)sonar_hull_area2(d->hull, (uint16_t)h) / 2.0e6);
+    o->area_m2 = (float)((double)sonar_hull_area2(hs.hull, (uint16_t)h) / 2.0e6);
     o->hull_count = (uint8_t)(h > SONAR_MAX_HULL ? SONAR_MAX_HULL : h);
     for (v = 0; v < o->hull_count; v++) {
-        const struct sonar_xy *p = &d->hull[(long)v * h / o->hull_count];
+        const struct sonar_xy *p = &hs.hull[(long)v * h / o->hull_count];
         o->hull_x[v] = (float)p->x / 1000.0f;
         o->hull_y[v] = (float)p->y / 1000.0f;
         if (d->cfg.angle_offset != 0.0f)

@@ -134,6 +134,28 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
     *q = bq;
 }
 
+/* CFAR mode: the runs of nonzero cells inside the blocks that pass (a run may span several). */
+static void cfar_runs(struct sonar_detector *d, uint16_t beam, const uint8_t *fg, uint16_t n)
+{
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+    uint16_t i = 0, start;
+    int r = sonar_cfar_blocks(&d->cfg.cfar, fg, n, on, NULL);
+    d->threshold = d->cfg.cfar.floor;
+    if (r <= 0)
+        return;
+    while (i < n) {
+        uint32_t sum = 0;
+        if (!on[i / SONAR_CFAR_BLOCK] || fg[i] == 0) {
+            i++;
+            continue;
+        }
+        start = i;
+        while (i < n && on[i / SONAR_CFAR_BLOCK] && fg[i] != 0)
+            sum += fg[i++];
+        add_run(d, beam, start, (uint16_t)(i - start), sum);
+    }
+}
+
 int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
                        int64_t utime)
 {
@@ -163,6 +185,10 @@ int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *
     d->sum += s;
     d->sumsq += q;
     d->cells += n;
+    if (d->cfg.threshold_mode == SONAR_DET_CFAR) {
+        cfar_runs(d, beam, fg, n);
+        return SONAR_OK;
+    }
     t = threshold_now(d);
     d->threshold = t;
     /* Runs: scan only the blocks whose maximum passes; a run may continue into the next block. */

@@ -6,6 +6,7 @@
 
 #include "sonar/frame.h"
 
+
 void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));
@@ -16,6 +17,13 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->background.warmup = 2;
     cfg->background.step = 1;
     cfg->background.margin = 8;
+    cfg->detector.threshold_mode = SONAR_DET_GLOBAL;
+    cfg->detector.cfar.cut = 1;
+    cfg->detector.cfar.guard = 1;
+    cfg->detector.cfar.train = 4;
+    cfg->detector.cfar.rank16 = 8;
+    cfg->detector.cfar.scale = 2.5f;
+    cfg->detector.cfar.floor = 16;
     cfg->detector.threshold_k = 3.0f;
     cfg->detector.min_threshold = 16;
     cfg->detector.max_clusters = 8;
@@ -91,7 +99,9 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     struct sonar_bg_ray ray;
     double d;
     *done = 0;
-    if (p->poses == NULL || p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE || !sonar_pose_at(p->poses, utime, &q)) {
+    if (p->poses == NULL || (p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE &&
+                             p->cfg->background.mode != SONAR_BACKGROUND_AUTO) ||
+        !sonar_pose_at(p->poses, utime, &q)) {
         p->have_prev_bearing = 0;
         return SONAR_OK;
     }
@@ -110,14 +120,55 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     return sonar_background_apply_world(&p->bg, &ray, p->filt, p->fg, p->n);
 }
 
+/*
+ * The auto background's keep spans for a beam at angle (body frame only): the samples within the
+ * disc about each confirmed or coasting track, where it was last seen, of its last detection's
+ * radius (at least SONAR_PIPE_KEEP_MIN_M), when the beam's axis crosses that disc. Computed here
+ * per beam from the tracks (a cosine and a sine, then a few products a track), so nothing is
+ * stored for it.
+ */
+static uint8_t keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp)
+{
+    double th, c, s, per_m;
+    uint8_t k, m = 0;
+    if (p->cfg->background.mode != SONAR_BACKGROUND_AUTO || !p->cfg->track || p->trk.world)
+        return 0;
+    th = sonar_frame_rad((double)angle + (double)p->cfg->detector.angle_offset);
+    c = cos(th);
+    s = sin(th);
+    per_m = (double)p->n / (double)p->range_m;
+    for (k = 0; k < p->trk.n && m < SONAR_MAX_TRACKS; k++) {
+        const struct sonar_track *t = &p->trk.t[k];
+        double rad = (double)t->size_dm * 0.1, along, perp, r, lo, hi;
+        if (t->state == SONAR_TRACK_TENTATIVE)
+            continue;
+        rad = rad > (double)SONAR_PIPE_KEEP_MIN_M ? rad : (double)SONAR_PIPE_KEEP_MIN_M;
+        along = (double)t->px * c + (double)t->py * s;
+        perp = fabs((double)t->py * c - (double)t->px * s);
+        if (!(along > 0.0) || !(perp <= rad))
+            continue;
+        r = sqrt((double)t->px * t->px + (double)t->py * t->py);
+        lo = (r - rad) * per_m;
+        hi = (r + rad) * per_m + 1.0;
+        if (hi <= 0.0 || lo >= (double)p->n)
+            continue;
+        sp[m].lo = (uint16_t)(lo > 0.0 ? lo : 0.0);
+        sp[m].hi = (uint16_t)(hi < (double)p->n ? hi : (double)p->n);
+        m++;
+    }
+    return m;
+}
+
 /* Median output -> background -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
+    struct sonar_bg_span sp[SONAR_MAX_TRACKS];
     int r, done;
     emit(p, SONAR_STAGE_MEDIAN, utime, angle, p->filt);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
-    if (!done && (r = sonar_background_apply(&p->bg, angle, p->filt, p->fg, p->n)) != SONAR_OK)
+    if (!done && (r = sonar_background_apply_keep(&p->bg, angle, p->filt, p->fg, p->n, sp, keep_spans(p, angle, sp))) !=
+                     SONAR_OK)
         return r;
     emit(p, SONAR_STAGE_FOREGROUND, utime, angle, p->fg);
     r = sonar_detector_add(&p->det, angle, p->fg, p->n, p->range_m, utime);
@@ -262,6 +313,18 @@ static int world_gates(struct sonar_pipeline *p)
     return sonar_detector_set_tracks(&p->det, gx, gy, m);
 }
 
+/* A detection's radius: centroid to its farthest hull vertex, metres. */
+static float det_radius(const struct sonar_detection *d)
+{
+    float best = 0.0f;
+    uint8_t v;
+    for (v = 0; v < d->hull_count; v++) {
+        float dx = d->hull_x[v] - d->x_m, dy = d->hull_y[v] - d->y_m, e = sqrtf(dx * dx + dy * dy);
+        best = e > best ? e : best;
+    }
+    return best;
+}
+
 /* Where a sweep's detections were in the world, when the poses say. */
 struct located {
     uint8_t world;                 /* every detection and the sweep's last beam have a pose */
@@ -351,6 +414,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
         obs[i].x_m = world ? w->north[i] : p->out.det[i].x_m;
         obs[i].y_m = world ? w->east[i] : p->out.det[i].y_m;
         obs[i].utime = p->out.det[i].utime;
+        obs[i].size_m = det_radius(&p->out.det[i]);
     }
     if (have_cover && world)
         world_cover(p, cover);

@@ -97,11 +97,14 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
     for (k = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
         float x = t->px, y = t->py, vx = t->vx, vy = t->vy;
+        float ax = t->ax, ay = t->ay;
         if (to_world) {
             sonar_pose_to_world(p, x, y, &t->px, &t->py);
+            sonar_pose_to_world(p, ax, ay, &t->ax, &t->ay);
             sonar_pose_rotate(p->yaw_deg, vx, vy, &t->vx, &t->vy);
         } else {
             sonar_pose_to_body(p, x, y, &t->px, &t->py);
+            sonar_pose_to_body(p, ax, ay, &t->ax, &t->ay);
             sonar_pose_rotate(-p->yaw_deg, vx, vy, &t->vx, &t->vy);
         }
     }
@@ -349,17 +352,46 @@ static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track 
     return d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
 }
 
+float sonar_track_still_s(const struct sonar_track *t, int64_t utime)
+{
+    double s = (double)t->still_ms * 1e-3 + (double)(utime - t->utime) * 1e-6;
+    return s > 0.0 ? (float)s : 0.0f;
+}
+
+/* A radius in decimetres: 0 for nonsense, 255 beyond 25.5 m. */
+static uint8_t size_dm(float size_m)
+{
+    return (uint8_t)(!(size_m >= 0.0f) ? 0.0f : size_m >= 25.5f ? 255.0f : size_m * 10.0f + 0.5f);
+}
+
+/* Its size, and whether it moved since (state time then: was): the filtered position left the disc about where it last moved. */
+static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, int64_t was)
+{
+    float dx = t->px - t->ax, dy = t->py - t->ay;
+    int64_t ms = (t->utime - was) / 1000;
+    t->size_dm = size_dm(o->size_m);
+    if (dx * dx + dy * dy > SONAR_TRK_STILL_M * SONAR_TRK_STILL_M) {
+        t->ax = t->px;
+        t->ay = t->py;
+        t->still_ms = 0;
+    } else {
+        t->still_ms = ms >= (int64_t)(UINT32_MAX - t->still_ms) ? UINT32_MAX : t->still_ms + (uint32_t)ms;
+    }
+}
+
 /* A hit: t predicted to o's time under noise q, then corrected by it; det is o's index. */
 static void hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
                 float q, float r2, int *clipped)
 {
     float dt = step_s(tk, t, o->utime, clipped);
+    int64_t was = t->utime;
     t->px += t->vx * dt;
     t->py += t->vy * dt;
     predict_cov(q, dt, &t->pa, &t->pb, &t->pc);
     if (o->utime > t->utime)
         t->utime = o->utime;
     correct(t, r2, o->x_m, o->y_m);
+    after_hit(t, o, was);
     t->det = (int8_t)det;
 }
 
@@ -605,6 +637,9 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             t->utime = o->utime;
             t->px = o->x_m;
             t->py = o->y_m;
+            t->ax = o->x_m;
+            t->ay = o->y_m;
+            t->size_dm = size_dm(o->size_m);
             t->pa = r2;
             t->pc = tk->cfg.speed0_mps * tk->cfg.speed0_mps;
         }

@@ -42,10 +42,10 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         for (i = 0; i < tk->n; i++) {
             const struct sonar_track *t = &tk->t[i];
             fprintf(f, "%s{\"id\":%" PRIu32 ",\"state\":\"%s\",\"utime\":%" PRId64 ",\"x_m\":%.3f,\"y_m\":%.3f,\"vx_mps\":%.3f,"
-                       "\"vy_mps\":%.3f,\"age\":%u,\"hits\":%u,\"detection\":%d",
+                       "\"vy_mps\":%.3f,\"age\":%u,\"hits\":%u,\"detection\":%d,\"still_s\":%.1f",
                     i ? "," : "", t->id, sonar_track_state_str(t->state), t->utime, (double)body(v, t, i, 0),
                     (double)body(v, t, i, 1), (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age,
-                    (unsigned)t->hits, (int)t->det);
+                    (unsigned)t->hits, (int)t->det, (double)sonar_track_still_s(t, d->utime));
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,
                         (double)t->py, (double)t->vx, (double)t->vy);
@@ -73,9 +73,10 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
     }
     for (i = 0; tk != NULL && i < tk->n; i++) {
         const struct sonar_track *t = &tk->t[i];
-        fprintf(f, "  track %-5" PRIu32 " %-9s x %7.2f m  y %7.2f m  vx %6.2f  vy %6.2f m/s  age %u  hits %u", t->id,
-                sonar_track_state_str(t->state), (double)body(v, t, i, 0), (double)body(v, t, i, 1),
-                (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age, (unsigned)t->hits);
+        fprintf(f, "  track %-5" PRIu32 " %-9s x %7.2f m  y %7.2f m  vx %6.2f  vy %6.2f m/s  age %u  hits %u  still %.0f s",
+                t->id, sonar_track_state_str(t->state), (double)body(v, t, i, 0), (double)body(v, t, i, 1),
+                (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age, (unsigned)t->hits,
+                (double)sonar_track_still_s(t, d->utime));
         if (v != NULL && v->world)
             fprintf(f, "  N %8.2f E %8.2f m  vN %6.2f vE %6.2f m/s", (double)t->px, (double)t->py, (double)t->vx,
                     (double)t->vy);

@@ -96,6 +96,7 @@ static int64_t tracker_us(void)
             ob[k].x_m = (float)(k % 4) * 4.0f - 6.0f + (float)s * 20.0f;
             ob[k].y_m = (float)(k / 4) * 4.0f - 6.0f;
             ob[k].utime = 1000000 + (int64_t)k * 10000;
+            ob[k].size_m = 0.3f;
         }
         sw.utime = 2000000;
         if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)

@@ -100,6 +100,7 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].hits = to_i16(s->hits);
         t[i].misses = to_i16(s->misses);
         t[i].detection = s->det;
+        t[i].still_s = sonar_track_still_s(s, d->utime);
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;

@@ -1,0 +1,222 @@
+/* test_cfar.c -- the block OS-CFAR against a plain reference (every block, qsort, no lanes, no skipping), its edges, and what it is for: a faint extended echo passes, a spike does not, a neighbour in the training cells does not hide a target. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sonar/cfar.h"
+
+static uint8_t beam[SONAR_MAX_SAMPLES];
+
+static struct sonar_cfar_config defaults(void)
+{
+    struct sonar_cfar_config c = {1, 1, 4, 8, 2.5f, 16};
+    return c;
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    return *(const int *)a - *(const int *)b;
+}
+
+/*
+ * The definition in cfar.h, block by block: block means as sums of 8 (a short last block scaled
+ * to 8, rounded down), the window's blocks that exist, the training blocks that exist, the
+ * ceil(rank16 * m / 16)-th smallest of them, and the test mean > scale * noise + floor in integers
+ * (scale in sixteenths, rounded).
+ */
+static int reference(const struct sonar_cfar_config *c, const uint8_t *fg, int n, uint8_t *on, uint8_t *thr)
+{
+    int s[SONAR_CFAR_MAX_BLOCKS], nb = (n + 7) / 8, b, i, passed = 0;
+    long long scale16 = (long long)(c->scale * 16.0f + 0.5f);
+    for (b = 0; b < nb; b++) {
+        int len = n - 8 * b < 8 ? n - 8 * b : 8, t = 0;
+        for (i = 0; i < len; i++)
+            t += fg[8 * b + i];
+        s[b] = t * 8 / len;
+    }
+    for (b = 0; b < nb; b++) {
+        int train[2 * SONAR_CFAR_TRAIN_MAX], m = 0, j;
+        long long sc = 0, kc = 0, noise = 0, lim;
+        for (j = b - c->cut; j <= b + c->cut; j++)
+            if (j >= 0 && j < nb) {
+                sc += s[j];
+                kc++;
+            }
+        for (j = b - c->cut - c->guard - c->train; j < b - c->cut - c->guard; j++)
+            if (j >= 0 && j < nb)
+                train[m++] = s[j];
+        for (j = b + c->cut + c->guard + 1; j <= b + c->cut + c->guard + c->train; j++)
+            if (j >= 0 && j < nb)
+                train[m++] = s[j];
+        if (m > 0) {
+            int k = (c->rank16 * m + 15) / 16;
+            qsort(train, (size_t)m, sizeof(int), cmp_int);
+            noise = train[(k < 1 ? 1 : k) - 1];
+        }
+        lim = scale16 * noise * kc + 128LL * c->floor * kc;
+        on[b] = (uint8_t)(16 * sc > lim);
+        passed += on[b];
+        if (thr != NULL)
+            thr[b] = (uint8_t)(lim / (128 * kc) > 255 ? 255 : lim / (128 * kc));
+    }
+    return passed;
+}
+
+/* xorshift: the same beams everywhere. */
+static uint32_t rng = 2463534242u;
+static uint32_t next(void)
+{
+    rng ^= rng << 13;
+    rng ^= rng >> 17;
+    rng ^= rng << 5;
+    return rng;
+}
+
+static void test_matches_reference(void **state)
+{
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS], on_ref[SONAR_CFAR_MAX_BLOCKS], thr[SONAR_CFAR_MAX_BLOCKS],
+        thr_ref[SONAR_CFAR_MAX_BLOCKS];
+    int trial;
+    (void)state;
+    for (trial = 0; trial < 600; trial++) {
+        struct sonar_cfar_config c;
+        int n = trial < 20 ? trial + 1 : (int)(next() % SONAR_MAX_SAMPLES) + 1, i, kind = (int)(next() % 4), got;
+        c.cut = (uint8_t)(next() % (SONAR_CFAR_CUT_MAX + 1));
+        c.guard = (uint8_t)(next() % (SONAR_CFAR_GUARD_MAX + 1));
+        c.train = (uint8_t)(next() % SONAR_CFAR_TRAIN_MAX + 1);
+        c.rank16 = (uint8_t)(next() % 16 + 1);
+        c.scale = 0.5f + (float)(next() % 250) / 16.0f;
+        c.floor = (uint8_t)(next() % 40);
+        if (trial % 3 == 0)
+            c = defaults();
+        /* Silent water with speckle, dense speckle, echoes on speckle, and saturation. */
+        for (i = 0; i < n; i++) {
+            uint32_t r = next();
+            beam[i] = (uint8_t)(kind == 0   ? (r % 10 == 0 ? r % 40 : 0)
+                                : kind == 1 ? r % 64
+                                : kind == 2 ? ((i / 40) % 5 == 2 ? 30 + r % 90 : r % 12)
+                                            : (r % 7 == 0 ? 255 : r % 200));
+        }
+        got = sonar_cfar_blocks(&c, beam, (uint16_t)n, on, thr);
+        assert_int_equal(got, reference(&c, beam, n, on_ref, thr_ref));
+        assert_memory_equal(on, on_ref, (size_t)(n + 7) / 8);
+        assert_memory_equal(thr, thr_ref, (size_t)(n + 7) / 8);
+        /* Without thr the blocks that cannot pass are skipped: the same answer. */
+        assert_int_equal(sonar_cfar_blocks(&c, beam, (uint16_t)n, on, NULL), got);
+        assert_memory_equal(on, on_ref, (size_t)(n + 7) / 8);
+    }
+}
+
+static void test_edges(void **state)
+{
+    struct sonar_cfar_config c = defaults();
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS], thr[SONAR_CFAR_MAX_BLOCKS];
+    int b;
+    (void)state;
+    /* All zeros: nothing; all 255: nothing either (the noise is the beam itself); no NaN, no overflow. */
+    memset(beam, 0, sizeof(beam));
+    assert_int_equal(sonar_cfar_blocks(&c, beam, SONAR_MAX_SAMPLES, on, thr), 0);
+    for (b = 0; b < SONAR_CFAR_MAX_BLOCKS; b++)
+        assert_int_equal(thr[b], c.floor);
+    memset(beam, 255, sizeof(beam));
+    assert_int_equal(sonar_cfar_blocks(&c, beam, SONAR_MAX_SAMPLES, on, thr), 0);
+    assert_int_equal(thr[SONAR_CFAR_MAX_BLOCKS / 2], 255);
+    /* A beam shorter than the window and its training cells: only the floor applies. */
+    memset(beam, 40, 12);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 12, on, thr), 2);
+    assert_int_equal(thr[0], c.floor);
+    assert_int_equal(thr[1], c.floor);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 1, on, NULL), 1);
+    /* Bad arguments write nothing. */
+    on[0] = 7;
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 0, on, NULL), SONAR_ERR_ARG);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, SONAR_MAX_SAMPLES + 1, on, NULL), SONAR_ERR_ARG);
+    assert_int_equal(sonar_cfar_blocks(NULL, beam, 10, on, NULL), SONAR_ERR_ARG);
+    assert_int_equal(sonar_cfar_blocks(&c, NULL, 10, on, NULL), SONAR_ERR_ARG);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 10, NULL, NULL), SONAR_ERR_ARG);
+    c.scale = 0.0f;
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 10, on, NULL), SONAR_ERR_ARG);
+    assert_int_equal(on[0], 7);
+}
+
+static void test_config_check(void **state)
+{
+    struct sonar_cfar_config c = defaults();
+    (void)state;
+    assert_null(sonar_cfar_config_check(&c));
+    c.cut = SONAR_CFAR_CUT_MAX + 1;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.cut: 0..4 blocks");
+    c = defaults();
+    c.guard = SONAR_CFAR_GUARD_MAX + 1;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.guard: 0..8 blocks");
+    c = defaults();
+    c.train = 0;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.train: 1..8 blocks");
+    c = defaults();
+    c.rank16 = 17;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.rank16: 1..16 sixteenths");
+    c = defaults();
+    c.scale = 16.5f;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.scale: 0.5..16");
+    c = defaults();
+    c.floor = 255;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.floor: 0..254 grey levels");
+}
+
+/* Speckle at 0..9 with a 32-sample echo of level at samples 400..431 (blocks 50..53), optionally another of level2 at 448..471. */
+static void scene(uint8_t level, uint8_t level2)
+{
+    int i;
+    for (i = 0; i < 800; i++)
+        beam[i] = (uint8_t)(next() % 10);
+    for (i = 400; i < 432 && level > 0; i++)
+        beam[i] = level;
+    for (i = 448; i < 472 && level2 > 0; i++)
+        beam[i] = level2;
+}
+
+static void test_what_it_is_for(void **state)
+{
+    struct sonar_cfar_config c = defaults();
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+    (void)state;
+    /*
+     * An extended echo of level 32 over speckle of mean 4.5: the threshold on a window's mean is
+     * 2.5 * 4.5 + 16 = 27.3, so the windows inside it pass, the ones half on it (32 + 32 + 4.5) / 3
+     * do not, nor does the speckle.
+     */
+    scene(32, 0);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 800, on, NULL), 2);
+    assert_int_equal(on[51], 1);
+    assert_int_equal(on[52], 1);
+    assert_int_equal(on[50], 0);
+    assert_int_equal(on[10], 0);
+    /* A one-sample spike of 200 is an eighth of its window: it does not. */
+    scene(0, 0);
+    beam[300] = 200;
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 800, on, NULL), 0);
+    /* A strong echo behind it fills two of block 51's eight training blocks: the median ignores it ... */
+    scene(32, 250);
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 800, on, NULL) > 0, 1);
+    assert_int_equal(on[51], 1);
+    /* ... the largest of them (rank 16/16, a greatest-of CFAR) would not. */
+    c.rank16 = 16;
+    assert_int_equal(sonar_cfar_blocks(&c, beam, 800, on, NULL) > 0, 1);
+    assert_int_equal(on[51], 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_matches_reference),
+        cmocka_unit_test(test_edges),
+        cmocka_unit_test(test_config_check),
+        cmocka_unit_test(test_what_it_is_for),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
