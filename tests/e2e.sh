@@ -117,7 +117,9 @@ check "vehicle scene: the pose is said to be known, and every sweep is tracked i
     grep -q 'pose: known at 1728153122.000 s: detections and tracks in the world frame' '$T/veh.err' &&
     test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 18"
 "$B/sonard" --replay "$T/veh.rec.csv" --json --quiet --min-points 8 > "$T/veh2.jsonl" 2>/dev/null
-check "the recording carries each beam's pose: replayed without --pose, the same detections (1 cm) and track IDs" python3 -c "
+# The recording rounds each pose to 1 mm and 0.001 degrees: a cell on the threshold can go either way and
+# move a centroid by a few cm (2.3 cm once on this scene), so 5 cm.
+check "the recording carries each beam's pose: replayed without --pose, the same detections (5 cm) and track IDs" python3 -c "
 import json
 a = [json.loads(l) for l in open('$T/veh.jsonl')]
 b = [json.loads(l) for l in open('$T/veh2.jsonl')]
@@ -126,7 +128,7 @@ for x, y in zip(a, b):
     assert [t['id'] for t in x['tracks']] == [t['id'] for t in y['tracks']], x['sweep']
     assert len(x['detections']) == len(y['detections']), x['sweep']
     for p, q in zip(x['detections'], y['detections']):
-        assert abs(p['north_m'] - q['north_m']) < 0.01 and abs(p['east_m'] - q['east_m']) < 0.01, (x['sweep'], p, q)
+        assert abs(p['north_m'] - q['north_m']) < 0.05 and abs(p['east_m'] - q['east_m']) < 0.05, (x['sweep'], p, q)
 "
 # The obstacle map on the same run against the scene's walls and objects (tools/wallfit.c; the
 # figures are in docs/results.md section 6): regression guards below today's 0.021 m and 92.5 %.

@@ -1,4 +1,4 @@
-/* test_cfar.c -- the block OS-CFAR against a plain reference (every block, qsort, no lanes, no skipping), its edges, and what it is for: a faint extended echo passes, a spike does not, a neighbour in the training cells does not hide a target. */
+/* test_cfar.c -- the block OS-CFAR against a plain reference (every block, qsort, no lanes, no skipping), alone and with neighbouring beams, its edges, and what it is for: a faint extended echo passes, a spike and a one-beam speck do not, a neighbour in the training cells does not hide a target. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -14,7 +14,7 @@ static uint8_t beam[SONAR_MAX_SAMPLES];
 
 static struct sonar_cfar_config defaults(void)
 {
-    struct sonar_cfar_config c = {1, 1, 4, 8, 2.5f, 16};
+    struct sonar_cfar_config c = {0, 1, 1, 4, 8, 2.5f, 16};
     return c;
 }
 
@@ -29,15 +29,35 @@ static int cmp_int(const void *a, const void *b)
  * ceil(rank16 * m / 16)-th smallest of them, and the test mean > scale * noise + floor in integers
  * (scale in sixteenths, rounded).
  */
-static int reference(const struct sonar_cfar_config *c, const uint8_t *fg, int n, uint8_t *on, uint8_t *thr)
+/* Block sums of a beam as the definition has them. */
+static void ref_sums(const uint8_t *fg, int n, int *s)
 {
-    int s[SONAR_CFAR_MAX_BLOCKS], nb = (n + 7) / 8, b, i, passed = 0;
-    long long scale16 = (long long)(c->scale * 16.0f + 0.5f);
+    int b, i, nb = (n + 7) / 8;
     for (b = 0; b < nb; b++) {
         int len = n - 8 * b < 8 ? n - 8 * b : 8, t = 0;
         for (i = 0; i < len; i++)
             t += fg[8 * b + i];
         s[b] = t * 8 / len;
+    }
+}
+
+/* The beam fg with neighbours prev and next (NULL: none), each n samples: their block sums added, everything over kb beams. */
+static int reference3(const struct sonar_cfar_config *c, const uint8_t *prev, const uint8_t *fg, const uint8_t *next, int n,
+                      uint8_t *on, uint8_t *thr)
+{
+    int s[SONAR_CFAR_MAX_BLOCKS], t3[SONAR_CFAR_MAX_BLOCKS], nb = (n + 7) / 8, b, passed = 0;
+    long long kb = 1 + (prev != NULL) + (next != NULL);
+    long long scale16 = (long long)(c->scale * 16.0f + 0.5f);
+    ref_sums(fg, n, s);
+    if (prev != NULL) {
+        ref_sums(prev, n, t3);
+        for (b = 0; b < nb; b++)
+            s[b] += t3[b];
+    }
+    if (next != NULL) {
+        ref_sums(next, n, t3);
+        for (b = 0; b < nb; b++)
+            s[b] += t3[b];
     }
     for (b = 0; b < nb; b++) {
         int train[2 * SONAR_CFAR_TRAIN_MAX], m = 0, j;
@@ -58,13 +78,18 @@ static int reference(const struct sonar_cfar_config *c, const uint8_t *fg, int n
             qsort(train, (size_t)m, sizeof(int), cmp_int);
             noise = train[(k < 1 ? 1 : k) - 1];
         }
-        lim = scale16 * noise * kc + 128LL * c->floor * kc;
+        lim = scale16 * noise * kc + 128LL * c->floor * kc * kb;
         on[b] = (uint8_t)(16 * sc > lim);
         passed += on[b];
         if (thr != NULL)
-            thr[b] = (uint8_t)(lim / (128 * kc) > 255 ? 255 : lim / (128 * kc));
+            thr[b] = (uint8_t)(lim / (128 * kc * kb) > 255 ? 255 : lim / (128 * kc * kb));
     }
     return passed;
+}
+
+static int reference(const struct sonar_cfar_config *c, const uint8_t *fg, int n, uint8_t *on, uint8_t *thr)
+{
+    return reference3(c, NULL, fg, NULL, n, on, thr);
 }
 
 /* xorshift: the same beams everywhere. */
@@ -86,6 +111,7 @@ static void test_matches_reference(void **state)
     for (trial = 0; trial < 600; trial++) {
         struct sonar_cfar_config c;
         int n = trial < 20 ? trial + 1 : (int)(next() % SONAR_MAX_SAMPLES) + 1, i, kind = (int)(next() % 4), got;
+        c.across = 0;
         c.cut = (uint8_t)(next() % (SONAR_CFAR_CUT_MAX + 1));
         c.guard = (uint8_t)(next() % (SONAR_CFAR_GUARD_MAX + 1));
         c.train = (uint8_t)(next() % SONAR_CFAR_TRAIN_MAX + 1);
@@ -110,6 +136,74 @@ static void test_matches_reference(void **state)
         assert_int_equal(sonar_cfar_blocks(&c, beam, (uint16_t)n, on, NULL), got);
         assert_memory_equal(on, on_ref, (size_t)(n + 7) / 8);
     }
+}
+
+static uint8_t beam_prev[SONAR_MAX_SAMPLES], beam_next[SONAR_MAX_SAMPLES];
+
+/* The same, with neighbouring beams in the window: every combination of neighbours present. */
+static void test_across_matches_reference(void **state)
+{
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS], on_ref[SONAR_CFAR_MAX_BLOCKS], thr[SONAR_CFAR_MAX_BLOCKS],
+        thr_ref[SONAR_CFAR_MAX_BLOCKS];
+    uint16_t sp[SONAR_CFAR_MAX_BLOCKS], sn[SONAR_CFAR_MAX_BLOCKS];
+    int trial;
+    (void)state;
+    for (trial = 0; trial < 300; trial++) {
+        struct sonar_cfar_config c = defaults();
+        int n = (int)(next() % SONAR_MAX_SAMPLES) + 1, i, got, hp = trial & 1, hn = (trial >> 1) & 1;
+        c.across = 1;
+        c.scale = 0.5f + (float)(next() % 100) / 16.0f;
+        c.floor = (uint8_t)(next() % 40);
+        for (i = 0; i < n; i++) {
+            uint32_t r = next();
+            beam[i] = (uint8_t)(r % 3 == 0 ? r % 120 : 0);
+            beam_prev[i] = (uint8_t)((r >> 8) % 4 == 0 ? (r >> 8) % 200 : 0);
+            beam_next[i] = (uint8_t)((r >> 16) % 5 == 0 ? 255 : (r >> 16) % 30);
+        }
+        assert_int_equal(sonar_cfar_sums(beam_prev, (uint16_t)n, sp), (n + 7) / 8);
+        assert_int_equal(sonar_cfar_sums(beam_next, (uint16_t)n, sn), (n + 7) / 8);
+        got = sonar_cfar_blocks_across(&c, hp ? sp : NULL, beam, hn ? sn : NULL, (uint16_t)n, on, thr);
+        assert_int_equal(got, reference3(&c, hp ? beam_prev : NULL, beam, hn ? beam_next : NULL, n, on_ref, thr_ref));
+        assert_memory_equal(on, on_ref, (size_t)(n + 7) / 8);
+        assert_memory_equal(thr, thr_ref, (size_t)(n + 7) / 8);
+    }
+    assert_int_equal(sonar_cfar_sums(NULL, 10, sp), SONAR_ERR_ARG);
+    assert_int_equal(sonar_cfar_sums(beam, 0, sp), SONAR_ERR_ARG);
+}
+
+/*
+ * What the window across beams is for: a speck of level 60 over two blocks of one beam passes on
+ * its own (60 > 16), and with its two empty neighbours in the window it does not (60 / 3 = 20 < 26,
+ * the floor over three beams being 16 and the speckle 4.5 a sample); an echo of level 40 in all
+ * three beams keeps its level.
+ */
+static void test_across_dilutes_a_speck(void **state)
+{
+    struct sonar_cfar_config c = defaults();
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+    uint16_t sp[SONAR_CFAR_MAX_BLOCKS], sn[SONAR_CFAR_MAX_BLOCKS];
+    int i;
+    (void)state;
+    c.across = 1;
+    for (i = 0; i < 800; i++) {
+        beam[i] = (uint8_t)(next() % 10);
+        beam_prev[i] = (uint8_t)(next() % 10);
+        beam_next[i] = (uint8_t)(next() % 10);
+    }
+    memset(beam + 400, 60, 16);
+    assert_int_equal(sonar_cfar_sums(beam_prev, 800, sp), 100);
+    assert_int_equal(sonar_cfar_sums(beam_next, 800, sn), 100);
+    assert_true(sonar_cfar_blocks(&c, beam, 800, on, NULL) > 0);
+    assert_int_equal(on[50], 1);
+    assert_int_equal(sonar_cfar_blocks_across(&c, sp, beam, sn, 800, on, NULL), 0);
+    memset(beam_prev + 400, 40, 32);
+    memset(beam + 400, 40, 32);
+    memset(beam_next + 400, 40, 32);
+    assert_int_equal(sonar_cfar_sums(beam_prev, 800, sp), 100);
+    assert_int_equal(sonar_cfar_sums(beam_next, 800, sn), 100);
+    assert_true(sonar_cfar_blocks_across(&c, sp, beam, sn, 800, on, NULL) > 0);
+    assert_int_equal(on[51], 1);
+    assert_int_equal(on[52], 1);
 }
 
 static void test_edges(void **state)
@@ -166,6 +260,9 @@ static void test_config_check(void **state)
     c = defaults();
     c.floor = 255;
     assert_string_equal(sonar_cfar_config_check(&c), "cfar.floor: 0..254 grey levels");
+    c = defaults();
+    c.across = 2;
+    assert_string_equal(sonar_cfar_config_check(&c), "cfar.across: 0 or 1 beam each side");
 }
 
 /* Speckle at 0..9 with a 32-sample echo of level at samples 400..431 (blocks 50..53), optionally another of level2 at 448..471. */
@@ -214,6 +311,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_reference),
+        cmocka_unit_test(test_across_matches_reference),
+        cmocka_unit_test(test_across_dilutes_a_speck),
         cmocka_unit_test(test_edges),
         cmocka_unit_test(test_config_check),
         cmocka_unit_test(test_what_it_is_for),

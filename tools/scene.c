@@ -21,6 +21,66 @@ static double rayleigh(struct scene_rng *g)
     return sqrt(-2.0 * log(scene_uniform(g)));
 }
 
+/*
+ * Scenes with the AquaScan recordings' statistics (SCENE_SPECKLE_POOL): a Ping360 on a pool's side
+ * sweeping the 180-degree sector 100..300 back and forth at 3 gradians, 500 samples over 15 m, as
+ * that batch was recorded; people are discs of 0.35 m whose echo is a Rayleigh amplitude of rms
+ * 140-160, the far ones 95-105 (so that the beams' means through them are sonar4's: 110, 87 and 76
+ * at the centre of the three near people, 41 for the far one).
+ *   occupied: five people there from the first ping (two standing, one struggling on the spot, one
+ *             swimming near the sonar, one faint at 9.5 m drifting at 0.03 m/s) and a wall at 14.5 m.
+ *   far:      faint targets at 8.5-12.5 m, two of them drifting, in open water.
+ *   still:    one person standing from the first ping, and one who swims for 60 s and then floats
+ *             still for three minutes.
+ */
+static int pool_scene(struct scene *s, const char *name)
+{
+    static const struct scene_wall wall = {-14.5, -12, -14.5, 12};
+    s->speckle = SCENE_SPECKLE_POOL;
+    s->range_m = 15.0;
+    s->samples = 500;
+    s->step = 3;
+    s->start = 100;
+    s->stop = 300;
+    if (strcmp(name, "occupied") == 0) {
+        static const struct scene_object o[] = {
+            {"stand_a", -4.0, 2.4, 0.35, 0, 0, 160, 0, 0, {0}, {0}, {0}, 0},
+            {"stand_b", -5.9, 0.9, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0},
+            {"struggle", 0, 0, 0.35, 0, 0, 140, 0, 7, {0, 20, 40, 60, 80, 100, 200}, {-7.3, -7.0, -7.4, -7.1, -7.3, -7.0, -7.2},
+             {-1.0, -0.8, -1.2, -0.9, -1.1, -0.8, -1.0}, 0},
+            {"swimmer", 0, 0, 0.35, 0, 0, 160, 0, 5, {0, 30, 60, 90, 200}, {-2.3, -2.0, -3.6, -2.4, -3.0},
+             {2.0, -2.5, -3.0, 3.0, 0.5}, 0},
+            {"far", 0, 0, 0.35, 0, 0, 100, 0, 3, {0, 100, 200}, {-9.5, -9.3, -9.7}, {-0.6, 2.4, 0.6}, 0},
+        };
+        s->wall[0] = wall;
+        s->nwall = 1;
+        s->sweeps = 30;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "far") == 0) {
+        static const struct scene_object o[] = {
+            {"far_a", -8.5, 3.0, 0.35, 0, 0, 105, 0, 0, {0}, {0}, {0}, 0},
+            {"far_b", 0, 0, 0.35, 0, 0, 100, 0, 2, {0, 200}, {-10.5, -11.0}, {-2.0, 2.5}, 0},
+            {"far_c", -12.5, 0.5, 0.35, 0, 0, 100, 0, 0, {0}, {0}, {0}, 0},
+            {"far_d", 0, 0, 0.35, 0, 0, 95, 0, 2, {0, 200}, {-9.0, -8.0}, {-4.5, -6.0}, 0},
+        };
+        s->sweeps = 30;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else {
+        static const struct scene_object o[] = {
+            {"stand", -4.5, 1.5, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0},
+            {"floater", 0, 0, 0.35, 0, 0, 140, 0, 4, {0, 30, 60, 400}, {-3.0, -6.0, -6.5, -6.5}, {-3.0, -1.0, 1.0, 1.0}, 0},
+        };
+        s->wall[0] = wall;
+        s->nwall = 1;
+        s->sweeps = 64; /* 60 s swimming and 3 minutes still at 3.8 s a pass */
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    }
+    return 0;
+}
+
 int scene_make(struct scene *s, const char *name)
 {
     memset(s, 0, sizeof(*s));
@@ -117,6 +177,8 @@ int scene_make(struct scene *s, const char *name)
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
         s->veh = v;
+    } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0) {
+        return pool_scene(s, name);
     } else {
         return -1;
     }
@@ -277,6 +339,133 @@ static double walls_ray(const struct scene *s, double vn, double ve, double th, 
     return best;
 }
 
+/* A standard normal (Box-Muller; the second value is dropped, so the stream stays simple). */
+static double normal(struct scene_rng *g)
+{
+    return sqrt(-2.0 * log(scene_uniform(g))) * cos(2.0 * PI * scene_uniform(g));
+}
+
+/* Gamma(shape k, scale 1) by Marsaglia and Tsang; k < 1 through Gamma(k + 1) U^(1/k). */
+static double gamma_draw(struct scene_rng *g, double k)
+{
+    double d, c, x, v, u;
+    if (k < 1.0)
+        return gamma_draw(g, k + 1.0) * pow(scene_uniform(g), 1.0 / k);
+    d = k - 1.0 / 3.0;
+    c = 1.0 / sqrt(9.0 * d);
+    for (;;) {
+        do {
+            x = normal(g);
+            v = 1.0 + c * x;
+        } while (v <= 0.0);
+        v = v * v * v;
+        u = scene_uniform(g);
+        if (log(u) < 0.5 * x * x + d - d * v + d * log(v))
+            return d * v;
+    }
+}
+
+/* A Rayleigh amplitude of unit mean power. */
+static double rayleigh_unit(struct scene_rng *g)
+{
+    return sqrt(-log(scene_uniform(g)));
+}
+
+/*
+ * The water's K-distribution at range r (metres): shape nu, mean power mu, and the noise floor c
+ * subtracted after; fitted by tools/speckle_fit.py on AquaScan sonar4's unlabelled cells in five
+ * range bands (docs/results.md section 8), interpolated between the bands' centres (log nu, mu, c).
+ */
+static void pool_water(double r, double *nu, double *mu, double *c)
+{
+    static const double at[5] = {3.0, 5.0, 7.5, 10.5, 13.5};
+    static const double k_nu[5] = {23.3, 200.0, 6.36, 1.37, 0.55};
+    static const double k_mu[5] = {4817.0, 4604.0, 4425.0, 2563.0, 1331.0};
+    static const double k_c[5] = {49.2, 52.5, 54.3, 44.2, 39.7};
+    int j = 0;
+    double f;
+    if (r <= at[0]) {
+        *nu = k_nu[0], *mu = k_mu[0], *c = k_c[0];
+        return;
+    }
+    if (r >= at[4]) {
+        *nu = k_nu[4], *mu = k_mu[4], *c = k_c[4];
+        return;
+    }
+    while (r > at[j + 1])
+        j++;
+    f = (r - at[j]) / (at[j + 1] - at[j]);
+    *nu = exp(log(k_nu[j]) + f * (log(k_nu[j + 1]) - log(k_nu[j])));
+    *mu = k_mu[j] + f * (k_mu[j + 1] - k_mu[j]);
+    *c = k_c[j] + f * (k_c[j + 1] - k_c[j]);
+}
+
+#define POOL_SEGMENT 12 /* samples a water texture holds along the beam */
+
+/*
+ * One beam of a SCENE_SPECKLE_POOL scene along bearing th from (vn, ve): water, the wall's return
+ * between wall_near and wall_far (< 0: none), the objects, summed in power; the noise floor
+ * subtracted; clipped to 0..255.
+ */
+static void pool_beam(const struct scene *s, int sweep, double t, double th, double vn, double ve, double wall_near,
+                      double wall_far, double range_m, int n, struct scene_rng *g, uint8_t *out)
+{
+    double pw[1200], shadow[1200], floor_c[1200], tau = 1.0;
+    /*
+     * The recordings' people spread over about 10 degrees between half-brightness points at every
+     * range (3 to 4 beams of 2.7 degrees, measured on sonar4's labels): the Ping360's 2-degree beam
+     * seen through its intensity scale. So the pattern here is a Gaussian of that width.
+     */
+    double sig_beam = 4.2 * PI / 180.0;
+    int i, k;
+    for (i = 0; i < n; i++) {
+        double r = (i + 0.5) * range_m / n, nu, mu, c, a;
+        pool_water(r, &nu, &mu, &c);
+        if (i % POOL_SEGMENT == 0)
+            tau = gamma_draw(g, nu) / nu;
+        a = sqrt(tau * mu) * rayleigh_unit(g) + 230.0 * exp(-r / 0.12);
+        pw[i] = a * a;
+        floor_c[i] = c;
+        shadow[i] = 1.0;
+        if (wall_near > 0.0 && r >= wall_near && r <= wall_far + WALL_PULSE_M) {
+            double w = 150.0 * rayleigh_unit(g);
+            pw[i] += w * w;
+        } else if (wall_near > 0.0 && r > wall_far + WALL_PULSE_M) {
+            shadow[i] = 0.3;
+        }
+    }
+    for (k = 0; k < s->nobj; k++) {
+        const struct scene_object *o = &s->obj[k];
+        double ox, oy, ovx, ovy, d, phi, delta, alpha, e, gain, near, far;
+        if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
+            continue;
+        ox -= vn;
+        oy -= ve;
+        d = sqrt(ox * ox + oy * oy);
+        phi = atan2(oy, ox);
+        delta = fabs(remainder(th - phi, 2.0 * PI));
+        alpha = asin(fmin(1.0, o->r / d));
+        e = delta > alpha ? delta - alpha : 0.0;
+        gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam));
+        if (gain < 0.02)
+            continue;
+        /* A body's echo lasts through it (the labelled people are 0.7-1 m deep); it casts no shadow a sweep shows. */
+        near = d - o->r;
+        far = d + o->r + 0.05;
+        for (i = 0; i < n; i++) {
+            double r = (i + 0.5) * range_m / n;
+            if (r >= near && r <= far) {
+                double a = o->strength * gain * rayleigh_unit(g);
+                pw[i] += a * a;
+            }
+        }
+    }
+    for (i = 0; i < n; i++) {
+        double v = sqrt(pw[i]) * shadow[i] - floor_c[i];
+        out[i] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : floor(v + 0.5));
+    }
+}
+
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
                 uint8_t *out)
 {
@@ -310,6 +499,10 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
         }
         if (wall_near < 0.0 || wall_near > wall_d)
             wall_near = wall_d;
+    }
+    if (s->speckle == SCENE_SPECKLE_POOL) {
+        pool_beam(s, sweep, t, th, vn, ve, wall_near, wall_far, range_m, n, g, out);
+        return;
     }
     for (i = 0; i < n; i++) {
         double r = (i + 0.5) * range_m / n;

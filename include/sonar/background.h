@@ -116,10 +116,18 @@ void sonar_background_reset(struct sonar_background *bg);
 /*
  * fg[i] = max(0, in[i] - b[i] - b[i] * margin / 16) using the model before this observation, then updates the model.
  * angle: gradians 0..399; n: 1..SONAR_MAX_SAMPLES. A different n than the model holds resets the
- * model first. in and fg may not overlap. Returns SONAR_OK or SONAR_ERR_ARG.
+ * model first. in and fg may be the same buffer (the pipeline works in place), but not otherwise
+ * overlap. Returns SONAR_OK or SONAR_ERR_ARG.
  */
 SONAR_CHECK int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
                                        uint16_t n);
+
+/*
+ * Whether the row of angle (gradians 0..399) is still being seeded: its next beam's foreground will
+ * be the across-beam model's (auto mode) or none (per-angle). 0 in range and off modes and for the
+ * world grid.
+ */
+int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle);
 
 /*
  * sonar_background_apply with the spans of the beam that lie under tracked objects (nkeep of them,
@@ -134,7 +142,7 @@ SONAR_CHECK int sonar_background_apply_keep(struct sonar_background *bg, uint16_
  * The world-frame form of sonar_background_apply for per-angle mode (other modes: as
  * sonar_background_apply, the ray's angle being unused): fg[i] from the grid cell under sample i
  * (0 while that cell was never seen, and inside near_m), then the beam's footprint updates the
- * grid. The first call after per-angle use (or the reverse) starts a fresh model, counted in
+ * grid (in and fg may be the same buffer). The first call after per-angle use (or the reverse) starts a fresh model, counted in
  * reframes; so does a new n or range. Returns SONAR_OK or SONAR_ERR_ARG (NULL, n outside
  * 1..SONAR_MAX_SAMPLES, a non-finite or out-of-range field of ray; nothing changed).
  */

@@ -35,6 +35,7 @@
 #define SONAR_CFAR_SCALE_MAX 16
 
 struct sonar_cfar_config {
+    uint8_t across; /* beams each side in the window, 0 or 1 (the caller passes their sums: sonar_cfar_blocks_across) */
     uint8_t cut;    /* blocks each side of the block under test in its window, 0..4 */
     uint8_t guard;  /* blocks between the window and the training blocks, each side, 0..8 */
     uint8_t train;  /* training blocks each side, 1..8 */
@@ -45,6 +46,24 @@ struct sonar_cfar_config {
 
 /* NULL when c is valid, else a static "field: rule" string naming the first bad field. c must not be NULL. */
 const char *sonar_cfar_config_check(const struct sonar_cfar_config *c);
+
+/*
+ * The block sums of a beam as sonar_cfar_blocks_across takes a neighbour's: sums[b] = the sum of
+ * samples b*8 .. b*8+7, a short last block scaled to 8 (at most 2040). sums: (n + 7) / 8 values.
+ * Returns the block count, or SONAR_ERR_ARG (NULL, n outside 1..SONAR_MAX_SAMPLES).
+ */
+SONAR_CHECK int sonar_cfar_sums(const uint8_t *fg, uint16_t n, uint16_t *sums);
+
+/*
+ * The test with the window spread over neighbouring beams too: each block's level is the sum of
+ * the beam's own block and the same block of prev and next (either NULL: none; their sums from
+ * sonar_cfar_sums of beams of the same n), and the window, the training blocks and the floor are
+ * taken over that many beams. A speck in one beam is then diluted by its empty neighbours, while an
+ * echo two or more beams wide keeps its level. Otherwise as sonar_cfar_blocks (which is this with
+ * no neighbours); the same returns.
+ */
+SONAR_CHECK int sonar_cfar_blocks_across(const struct sonar_cfar_config *c, const uint16_t *prev, const uint8_t *fg,
+                                         const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr);
 
 /*
  * Tests the blocks of one beam: on[b] = 1 when block b (samples b*8 .. b*8+7) passes, else 0;

@@ -41,10 +41,12 @@
 
 /*
  * Foreground runs (contiguous above-threshold samples of one beam) kept per sweep; more are
- * counted as dropped. RAM: 24 bytes each (24 576 B at 1024).
+ * counted as dropped. RAM: 25 bytes each (25 000 B at 1000). The most any recording or scene gives
+ * is 904 (AquaScan sonar4 with the per-angle background and global threshold; 422 under the
+ * defaults); 1000 rather than 1024 leaves room for the CFAR's beam of block sums in 512 KB.
  */
 #ifndef SONAR_MAX_RUNS
-#define SONAR_MAX_RUNS 1024
+#define SONAR_MAX_RUNS 1000
 #endif
 
 /* Clusters k-means may use per sweep, and detections reported. RAM: 24 + SONAR_MAX_HULL * 8 + 48 bytes each. */

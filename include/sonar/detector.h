@@ -143,6 +143,14 @@ SONAR_CHECK int sonar_detector_init(struct sonar_detector *d, const struct sonar
 SONAR_CHECK int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n,
                                    float range_m, int64_t utime);
 
+/*
+ * sonar_detector_add with the blocks decided by the caller (sonar_cfar_blocks_across over
+ * neighbouring beams, say): the runs are the nonzero cells of the blocks with on[b] set (on: (n + 7)
+ * / 8 bytes, SONAR_CFAR_BLOCK samples a block); no threshold is computed. Same returns.
+ */
+SONAR_CHECK int sonar_detector_add_blocks(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, const uint8_t *on,
+                                          uint16_t n, float range_m, int64_t utime);
+
 /* Ends the sweep: fills *out and starts the next sweep. Returns the detection count or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out);
 

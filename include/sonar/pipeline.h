@@ -47,6 +47,13 @@ struct sonar_pipeline_config {
 #define SONAR_PIPE_DUP_US 1000000   /* ... and more than this apart in time, us */
 #define SONAR_PIPE_NEAR_M 0.5f /* world grid: the ring-down moves with the sonar, so it is not modelled there */
 #define SONAR_PIPE_MAX_RANGE_M 1000 /* a beam's range_m must be in (0, 1000] metres: the detector's mm arithmetic */
+/*
+ * The CFAR window spreads over a neighbouring beam only this close, gradians: an echo covers about
+ * 10 degrees between half-brightness points (AquaScan's people, docs/results.md section 7), so three
+ * beams 3 gradians apart lie within it; with wider steps a small object's echo can fill one beam, and
+ * spread over three it would be diluted away.
+ */
+#define SONAR_PIPE_ACROSS_GAP 3
 #define SONAR_PIPE_KEEP_MIN_M 0.3f /* auto background: the least radius about a track the per-angle model never learns, metres */
 
 struct sonar_pipeline {
@@ -58,8 +65,20 @@ struct sonar_pipeline {
     struct sonar_detector det;
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_detections out;
-    uint8_t filt[SONAR_MAX_SAMPLES];
-    uint8_t fg[SONAR_MAX_SAMPLES];
+    /*
+     * Beam buffers: the median writes buf[cur] and the background works on it in place. With the
+     * CFAR window across beams (detector.cfar.across) the detector takes each beam one beam late,
+     * when its next neighbour is known: the waiting beam stays in buf[cur ^ 1].
+     */
+    uint8_t buf[2][SONAR_MAX_SAMPLES];
+    uint8_t cur;
+    uint8_t waiting;                           /* a beam waits in buf[cur ^ 1] for its next neighbour */
+    uint8_t wait_alone;                        /* its row was seeding: its window stays on it alone */
+    uint8_t have_before;                       /* before holds the block sums of the beam before it */
+    uint16_t wait_angle;                       /* the waiting beam's angle (gradians) ... */
+    int64_t wait_utime;                        /* ... and time */
+    uint16_t before_angle;                     /* the beam before the waiting one: its angle ... */
+    uint16_t before[SONAR_CFAR_MAX_BLOCKS];    /* ... and block sums (cfar.h) */
     float range_m;     /* of the open sweep */
     uint16_t n;        /* of the open sweep */
     uint8_t open;      /* a sweep holds beams */

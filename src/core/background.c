@@ -69,18 +69,19 @@ void sonar_background_reset(struct sonar_background *bg)
         (b)[i] = (uint8_t)(x >= c ? c + q : c - q);                                                                \
     }
 
-static void seed(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restrict fg, uint16_t n, unsigned v)
+static void seed(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n, unsigned v)
 {
     uint32_t m = (65536u + v - 1u) / v, h = v / 2u;
     int i, i0;
-    memset(fg, 0, n);
+    /* in is read before fg is written: they may be the same buffer. */
     if (v == 1) {
         memcpy(b, in, n);
-        return;
+    } else {
+        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
+            SEED_SPAN(b + i0, in + i0, BLOCK)
+        SEED_SPAN(b + i0, in + i0, (int)n - i0)
     }
-    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
-        SEED_SPAN(b + i0, in + i0, BLOCK)
-    SEED_SPAN(b + i0, in + i0, (int)n - i0)
+    memset(fg, 0, n);
 }
 
 /*
@@ -142,22 +143,28 @@ static void track4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_
 }
 #endif
 
-static void track(uint8_t *restrict b, const uint8_t *restrict in, uint8_t *restrict fg, uint16_t n, uint8_t step,
-                  uint8_t margin)
+/* in and fg may be the same buffer: each block of in is copied before fg is written (track4 reads each word first). */
+static void track(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n, uint8_t step, uint8_t margin)
 {
+    uint8_t blk[BLOCK];
     int i, i0;
 #if defined(__ARM_FEATURE_SIMD32)
     i0 = (int)n & ~3;
     track4(b, in, fg, i0 / 4, step, margin);
-    TRACK_SPAN(b + i0, in + i0, fg + i0, (int)n - i0, step, margin)
+    memcpy(blk, in + i0, (size_t)((int)n - i0));
+    TRACK_SPAN(b + i0, blk, fg + i0, (int)n - i0, step, margin)
     return;
 #endif
     if (margin <= 16)
-        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
-            TRACK_SPAN_SMALL(b + i0, in + i0, fg + i0, BLOCK, step, margin)
+        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
+            memcpy(blk, in + i0, BLOCK);
+            TRACK_SPAN_SMALL(b + i0, blk, fg + i0, BLOCK, step, margin)
+        }
     else
-        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
-            TRACK_SPAN(b + i0, in + i0, fg + i0, BLOCK, step, margin)
+        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
+            memcpy(blk, in + i0, BLOCK);
+            TRACK_SPAN(b + i0, blk, fg + i0, BLOCK, step, margin)
+        }
     if (i0 < (int)n) {
         /* The ragged end as one more full block through copies: the scalar loop cost a third of the beam. */
         uint8_t tb[BLOCK], tin[BLOCK], tfg[BLOCK];
@@ -184,24 +191,6 @@ static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_
         track(row, in, fg, n, step, margin);
 }
 
-/* The running median's step alone, b moving step levels toward in: the tracking rule without a comparison. */
-#define STEP_SPAN(b, in, len, step)                                                                                \
-    for (i = 0; i < (len); i++) {                                                                                  \
-        uint8_t x = (in)[i], m = (b)[i];                                                                           \
-        uint8_t hi = x > m ? x : m, lo = x < m ? x : m;                                                            \
-        uint8_t up = (uint8_t)(hi - m), dn = (uint8_t)(m - lo);                                                    \
-        (b)[i] = (uint8_t)(m + (up < (step) ? up : (step)) - (dn < (step) ? dn : (step)));                         \
-    }
-
-static void step_toward(uint8_t *restrict b, const uint8_t *restrict in, uint16_t n, uint8_t step)
-{
-    int i, i0;
-    /* Constant-length blocks, so -O2 vectorises them (as track's). */
-    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
-        STEP_SPAN(b + i0, in + i0, BLOCK, step)
-    STEP_SPAN(b + i0, in + i0, (int)n - i0, step)
-}
-
 /* The keep spans clipped to the beam, applied as dst[span] = src[span]. */
 static void copy_spans(uint8_t *dst, const uint8_t *src, uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep)
 {
@@ -222,9 +211,10 @@ static void copy_spans(uint8_t *dst, const uint8_t *src, uint16_t n, const struc
 static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t *in, uint8_t *fg, uint16_t n,
                        const struct sonar_bg_span *keep, uint8_t nkeep)
 {
-    uint8_t held[SONAR_MAX_SAMPLES];
+    uint8_t held[SONAR_MAX_SAMPLES], fga[SONAR_MAX_SAMPLES];
     uint8_t *b = bg->cell[row];
     unsigned seen = bg->visits[row];
+    uint16_t i;
     if (seen < bg->warmup) {
         observe(b, &bg->visits[row], bg->warmup, in, held, n, bg->step, bg->margin);
         observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, fg, n, bg->step, bg->margin);
@@ -232,14 +222,17 @@ static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t 
     }
     if (seen == bg->warmup)
         copy_spans(b, bg->across, n, keep, nkeep);
-    /* Only the across-beam model's learning is needed now: a pass without the comparison. */
-    if (bg->across_visits >= SONAR_BG_ACROSS_WARMUP)
-        step_toward(bg->across, in, n, bg->step);
-    else
-        observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, held, n, bg->step, bg->margin);
+    observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, fga, n, bg->step, bg->margin);
     copy_spans(held, b, n, keep, nkeep);
     observe(b, &bg->visits[row], bg->warmup, in, fg, n, bg->step, bg->margin);
     copy_spans(b, held, n, keep, nkeep);
+    /*
+     * Against the larger of the two models: a row seeded from two or three looks knows its water
+     * worse than the across-beam model, which has seen every beam (the foreground is smaller against
+     * the larger model, as it falls with the model).
+     */
+    for (i = 0; i < n; i++)
+        fg[i] = fg[i] < fga[i] ? fg[i] : fga[i];
 }
 
 int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
@@ -254,7 +247,8 @@ int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, con
         if (keep[k].lo > keep[k].hi)
             return SONAR_ERR_ARG;
     if (bg->mode == SONAR_BACKGROUND_OFF) {
-        memcpy(fg, in, n);
+        if (fg != in)
+            memcpy(fg, in, n);
         return SONAR_OK;
     }
     if (bg->world) {
@@ -272,6 +266,14 @@ int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, con
     else
         observe(bg->cell[row], &bg->visits[row], bg->warmup, in, fg, n, bg->step, bg->margin);
     return SONAR_OK;
+}
+
+int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle)
+{
+    if (bg == NULL || bg->world || angle > SONAR_GRAD_MAX ||
+        (bg->mode != SONAR_BACKGROUND_PER_ANGLE && bg->mode != SONAR_BACKGROUND_AUTO))
+        return 0;
+    return bg->visits[(unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN] < bg->warmup;
 }
 
 int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)
@@ -400,6 +402,7 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
                                  uint8_t *fg, uint16_t n)
 {
     const double deg = 3.14159265358979323846 / 180.0;
+    uint8_t src[SONAR_MAX_SAMPLES];
     double th, w, c0, s0, cs, rmax;
     int32_t k, k0, kmax, slack;
     uint16_t i;
@@ -407,6 +410,9 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
         return SONAR_ERR_ARG;
     if (bg->mode != SONAR_BACKGROUND_PER_ANGLE && bg->mode != SONAR_BACKGROUND_AUTO)
         return sonar_background_apply(bg, 0, in, fg, n);
+    /* The beam is learnt from after fg is written, and they may be the same buffer. */
+    memcpy(src, in, n);
+    in = src;
     if (!bg->world || n != bg->n || ray->range_m != bg->grid_range_m) {
         if (!bg->world && bg->n != 0)
             bg->reframes++;

@@ -11,6 +11,8 @@
 
 const char *sonar_cfar_config_check(const struct sonar_cfar_config *c)
 {
+    if (c->across > 1)
+        return "cfar.across: 0 or 1 beam each side";
     if (c->cut > SONAR_CFAR_CUT_MAX)
         return "cfar.cut: 0.." STR(SONAR_CFAR_CUT_MAX) " blocks";
     if (c->guard > SONAR_CFAR_GUARD_MAX)
@@ -26,8 +28,8 @@ const char *sonar_cfar_config_check(const struct sonar_cfar_config *c)
     return NULL;
 }
 
-/* Sums of each block of 8 samples (at most 2040, so int16); a short last block scaled to a full one. Returns the block count. */
-static int block_sums(const uint8_t *fg, uint16_t n, int16_t *s)
+/* Sums of each block of 8 samples (at most 2040); a short last block scaled to a full one. Returns the block count. */
+static int block_sums(const uint8_t *fg, uint16_t n, uint16_t *s)
 {
     int nb = n / SONAR_CFAR_BLOCK, b, rest = n - nb * SONAR_CFAR_BLOCK, i;
     for (b = 0; b < nb; b++) {
@@ -35,13 +37,13 @@ static int block_sums(const uint8_t *fg, uint16_t n, int16_t *s)
         uint64_t x;
         memcpy(&x, fg + b * SONAR_CFAR_BLOCK, 8);
         x = (x & 0x00FF00FF00FF00FFull) + ((x >> 8) & 0x00FF00FF00FF00FFull);
-        s[b] = (int16_t)((x * 0x0001000100010001ull) >> 48);
+        s[b] = (uint16_t)((x * 0x0001000100010001ull) >> 48);
     }
     if (rest > 0) {
         int t = 0;
         for (i = 0; i < rest; i++)
             t += fg[nb * SONAR_CFAR_BLOCK + i];
-        s[nb++] = (int16_t)(t * SONAR_CFAR_BLOCK / rest);
+        s[nb++] = (uint16_t)(t * SONAR_CFAR_BLOCK / rest);
     }
     return nb;
 }
@@ -128,32 +130,49 @@ static void window_sums(const int16_t *s, int nb, int h, uint16_t inner, uint16_
         cand[b] = (uint8_t)(cut[b] > inner);
 }
 
+int sonar_cfar_sums(const uint8_t *fg, uint16_t n, uint16_t *sums)
+{
+    if (fg == NULL || sums == NULL || n == 0 || n > SONAR_MAX_SAMPLES)
+        return SONAR_ERR_ARG;
+    return block_sums(fg, n, sums);
+}
+
 int sonar_cfar_blocks(const struct sonar_cfar_config *c, const uint8_t *fg, uint16_t n, uint8_t *on, uint8_t *thr)
+{
+    return sonar_cfar_blocks_across(c, NULL, fg, NULL, n, on, thr);
+}
+
+int sonar_cfar_blocks_across(const struct sonar_cfar_config *c, const uint16_t *prev, const uint8_t *fg,
+                             const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr)
 {
     /* s is padded with SONAR_CFAR_CUT_MAX zeros before and after, so every window sums without bounds checks. */
     int16_t pad[SONAR_CFAR_CUT_MAX + SONAR_CFAR_MAX_BLOCKS + SONAR_CFAR_CUT_MAX + LANES], noise[LANES];
     int16_t *s = pad + SONAR_CFAR_CUT_MAX;
-    uint16_t cut[SONAR_CFAR_MAX_BLOCKS + LANES];
+    uint16_t own[SONAR_CFAR_MAX_BLOCKS], cut[SONAR_CFAR_MAX_BLOCKS + LANES];
     uint8_t cand[SONAR_CFAR_MAX_BLOCKS + LANES];
-    uint32_t scale16;
+    uint32_t scale16, kb;
     int nb, b, b0, l, passed = 0, reach, w;
     uint16_t inner;
     if (c == NULL || fg == NULL || on == NULL || n == 0 || n > SONAR_MAX_SAMPLES || sonar_cfar_config_check(c) != NULL)
         return SONAR_ERR_ARG;
     scale16 = (uint32_t)(c->scale * 16.0f + 0.5f);
     w = 2 * c->cut + 1;
-    nb = block_sums(fg, n, s);
+    nb = block_sums(fg, n, own);
+    /* The beams' block sums added: at most 3 * 2040, within int16. */
+    kb = 1u + (prev != NULL) + (next != NULL);
+    for (b = 0; b < nb; b++)
+        s[b] = (int16_t)(own[b] + (prev != NULL ? prev[b] : 0u) + (next != NULL ? next[b] : 0u));
     reach = c->cut + c->guard + c->train;
     memset(pad, 0, SONAR_CFAR_CUT_MAX * sizeof(pad[0]));
     memset(s + nb, 0, (SONAR_CFAR_CUT_MAX + LANES) * sizeof(pad[0]));
-    /* Window sums (at most 9 * 2040, within 16 bits); the zeros past the ends add nothing. */
-    /* A window can pass only when its mean exceeds the floor: sum > 8 floor blocks (fewer blocks at the ends). */
-    inner = (uint16_t)(SONAR_CFAR_BLOCK * c->floor * w);
+    /* Window sums (at most 9 * 3 * 2040, within 16 bits); the zeros past the ends add nothing. */
+    /* A window can pass only when its mean exceeds the floor: sum > 8 floor blocks beams (fewer blocks at the ends). */
+    inner = (uint16_t)(SONAR_CFAR_BLOCK * c->floor * (unsigned)w * kb);
     window_sums(s, nb, c->cut, inner, cut, cand);
     for (b = 0; b < nb; b = b + 1 < c->cut || b + 1 >= nb - c->cut ? b + 1 : nb - c->cut) {
         /* The ends' windows hold fewer blocks. */
         int w0 = b - c->cut < 0 ? 0 : b - c->cut, w1 = b + c->cut + 1 > nb ? nb : b + c->cut + 1;
-        cand[b] = (uint8_t)(cut[b] > SONAR_CFAR_BLOCK * c->floor * (w1 - w0));
+        cand[b] = (uint8_t)(cut[b] > SONAR_CFAR_BLOCK * c->floor * (uint32_t)(w1 - w0) * kb);
     }
     memset(cand + nb, 0, LANES);
     for (b0 = 0; b0 < nb; b0 += LANES) {
@@ -172,13 +191,16 @@ int sonar_cfar_blocks(const struct sonar_cfar_config *c, const uint8_t *fg, uint
                 noise[l] = noise_edge(c, s, nb, b0 + l);
         for (l = 0; l < nl; l++) {
             int b1 = b0 + l, w0 = b1 - c->cut < 0 ? 0 : b1 - c->cut, w1 = b1 + c->cut + 1 > nb ? nb : b1 + c->cut + 1;
-            uint32_t kc = (uint32_t)(w1 - w0), sc = cut[b1], base = 128u * c->floor * kc;
-            /* The window's mean exceeds scale * noise + floor: 16 sc > scale16 noise kc + 128 floor kc (sums of 8). */
+            uint32_t kc = (uint32_t)(w1 - w0), sc = cut[b1], base = 128u * c->floor * kc * kb;
+            /*
+             * The window's mean per sample exceeds scale * noise + floor, sums of 8 samples over kb
+             * beams: 16 sc > scale16 noise kc + 128 floor kc kb.
+             */
             uint32_t lim = scale16 * (uint32_t)(uint16_t)noise[l] * kc + base;
             on[b1] = (uint8_t)(16u * sc > lim);
             passed += on[b1];
             if (thr != NULL) {
-                uint32_t level = lim / (128u * kc); /* per sample: lim / (16 * 8 * kc) */
+                uint32_t level = lim / (128u * kc * kb); /* per sample */
                 thr[b1] = (uint8_t)(level > 255u ? 255u : level);
             }
         }

@@ -134,15 +134,11 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
     *q = bq;
 }
 
-/* CFAR mode: the runs of nonzero cells inside the blocks that pass (a run may span several). */
-static void cfar_runs(struct sonar_detector *d, uint16_t beam, const uint8_t *fg, uint16_t n)
+/* The runs of nonzero cells inside the blocks that pass (a run may span several). */
+static void block_runs(struct sonar_detector *d, uint16_t beam, const uint8_t *fg, const uint8_t *on, uint16_t n)
 {
-    uint8_t on[SONAR_CFAR_MAX_BLOCKS];
     uint16_t i = 0, start;
-    int r = sonar_cfar_blocks(&d->cfg.cfar, fg, n, on, NULL);
     d->threshold = d->cfg.cfar.floor;
-    if (r <= 0)
-        return;
     while (i < n) {
         uint32_t sum = 0;
         if (!on[i / SONAR_CFAR_BLOCK] || fg[i] == 0) {
@@ -156,13 +152,11 @@ static void cfar_runs(struct sonar_detector *d, uint16_t beam, const uint8_t *fg
     }
 }
 
-int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
-                       int64_t utime)
+/* A new beam's slot: its angle and time logged. Returns its index, or SONAR_ERR_ARG, _STATE or _FULL. */
+static int open_beam(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
+                     int64_t utime)
 {
-    uint8_t blockmax[NBLOCKS + 1];
-    uint32_t s = 0, q = 0;
-    uint16_t i, beam, b, nb;
-    uint8_t t;
+    int beam;
     if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > SONAR_GRAD_MAX || !(range_m > 0.0f))
         return SONAR_ERR_ARG;
     if (d->beams == 0) {
@@ -181,14 +175,42 @@ int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *
     /* Milliseconds are plenty (a beam takes 28 ms or more) and halve the log. A clock that steps
        back inside a sweep counts as no time; a sweep longer than 65.5 s saturates. */
     d->dt_ms[beam] = (uint16_t)(utime <= d->t0 ? 0 : ((utime - d->t0) / 1000 > 65535 ? 65535 : (utime - d->t0) / 1000));
+    return beam;
+}
+
+int sonar_detector_add_blocks(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, const uint8_t *on, uint16_t n,
+                              float range_m, int64_t utime)
+{
+    int beam;
+    if (on == NULL)
+        return SONAR_ERR_ARG;
+    if ((beam = open_beam(d, angle, fg, n, range_m, utime)) < 0)
+        return beam;
+    block_runs(d, (uint16_t)beam, fg, on, n);
+    return SONAR_OK;
+}
+
+int sonar_detector_add(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, uint16_t n, float range_m,
+                       int64_t utime)
+{
+    uint8_t blockmax[NBLOCKS + 1];
+    uint32_t s = 0, q = 0;
+    uint16_t i, beam, b, nb;
+    uint8_t t;
+    int r;
+    if ((r = open_beam(d, angle, fg, n, range_m, utime)) < 0)
+        return r;
+    beam = (uint16_t)r;
+    if (d->cfg.threshold_mode == SONAR_DET_CFAR) {
+        uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+        if (sonar_cfar_blocks(&d->cfg.cfar, fg, n, on, NULL) >= 0)
+            block_runs(d, beam, fg, on, n);
+        return SONAR_OK;
+    }
     beam_stats(fg, n, &s, &q, blockmax);
     d->sum += s;
     d->sumsq += q;
     d->cells += n;
-    if (d->cfg.threshold_mode == SONAR_DET_CFAR) {
-        cfar_runs(d, beam, fg, n);
-        return SONAR_OK;
-    }
     t = threshold_now(d);
     d->threshold = t;
     /* Runs: scan only the blocks whose maximum passes; a run may continue into the next block. */

@@ -13,11 +13,12 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->median = 5;
     cfg->median2d = 0;
     cfg->max_step = 20;
-    cfg->background.mode = SONAR_BACKGROUND_PER_ANGLE;
+    cfg->background.mode = SONAR_BACKGROUND_AUTO;
     cfg->background.warmup = 2;
     cfg->background.step = 1;
     cfg->background.margin = 8;
-    cfg->detector.threshold_mode = SONAR_DET_GLOBAL;
+    cfg->detector.threshold_mode = SONAR_DET_CFAR;
+    cfg->detector.cfar.across = 1;
     cfg->detector.cfar.cut = 1;
     cfg->detector.cfar.guard = 1;
     cfg->detector.cfar.train = 4;
@@ -29,8 +30,10 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.max_clusters = 8;
     cfg->detector.iterations = 10;
     cfg->detector.link_beams = 2;
-    cfg->detector.min_points = 20;
+    cfg->detector.min_points = 12;
     cfg->detector.link_m = 0.15f;
+    cfg->detector.max_extent_m = 3.5f;
+    cfg->detector.max_aspect = 2.0f;
     cfg->detector.track_points = 10;
     cfg->detector.angle_offset = 0.0f;
     cfg->track = 1;
@@ -117,7 +120,7 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     p->have_prev_bearing = 1;
     p->world_beams++;
     *done = 1;
-    return sonar_background_apply_world(&p->bg, &ray, p->filt, p->fg, p->n);
+    return sonar_background_apply_world(&p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n);
 }
 
 /*
@@ -159,21 +162,69 @@ static uint8_t keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct
     return m;
 }
 
-/* Median output -> background -> detector. */
+/* Does the detector take each beam with its neighbours (the CFAR window across beams), one beam late? */
+static int across(const struct sonar_pipeline *p)
+{
+    return p->cfg->detector.threshold_mode == SONAR_DET_CFAR && p->cfg->detector.cfar.across;
+}
+
+/*
+ * The waiting beam to the detector, its window spread over the beam before it and next (block
+ * sums; NULL: none); its own sums become the next one's "before".
+ */
+static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next_angle)
+{
+    uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+    const uint8_t *fg = p->buf[p->cur ^ 1u];
+    /*
+     * A beam compared with the across-beam model (its row still seeding) keeps its window on
+     * itself: walls stand out from that model too, and spread over neighbours an oblique wall's
+     * echo breaks into wall-sized pieces that the extent rule no longer sees as one.
+     */
+    int alone = p->wait_alone, r;
+    const uint16_t *before = p->have_before && sonar_frame_gap(p->before_angle, p->wait_angle) <= SONAR_PIPE_ACROSS_GAP
+                                 ? p->before
+                                 : NULL;
+    if (next != NULL && sonar_frame_gap(next_angle, p->wait_angle) > SONAR_PIPE_ACROSS_GAP)
+        next = NULL;
+    r = sonar_cfar_blocks_across(&p->cfg->detector.cfar, alone ? NULL : before, fg, alone ? NULL : next, p->n, on, NULL);
+    if (r < 0)
+        return r;
+    r = sonar_detector_add_blocks(&p->det, p->wait_angle, fg, on, p->n, p->range_m, p->wait_utime);
+    p->waiting = 0;
+    p->before_angle = p->wait_angle;
+    p->have_before = (uint8_t)(sonar_cfar_sums(fg, p->n, p->before) > 0);
+    /* The sweep tracker cuts at SONAR_MAX_SWEEP_BEAMS, so FULL cannot happen here. */
+    return r == SONAR_ERR_FULL ? SONAR_OK : r;
+}
+
+/* Median output (in buf[cur]) -> background, in place -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
     struct sonar_bg_span sp[SONAR_MAX_TRACKS];
-    int r, done;
-    emit(p, SONAR_STAGE_MEDIAN, utime, angle, p->filt);
+    uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
+    uint8_t *b = p->buf[p->cur];
+    int r, done, seeding = sonar_background_seeding(&p->bg, angle);
+    emit(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
-    if (!done && (r = sonar_background_apply_keep(&p->bg, angle, p->filt, p->fg, p->n, sp, keep_spans(p, angle, sp))) !=
-                     SONAR_OK)
+    if (!done && (r = sonar_background_apply_keep(&p->bg, angle, b, b, p->n, sp, keep_spans(p, angle, sp))) != SONAR_OK)
         return r;
-    emit(p, SONAR_STAGE_FOREGROUND, utime, angle, p->fg);
-    r = sonar_detector_add(&p->det, angle, p->fg, p->n, p->range_m, utime);
-    /* The sweep tracker cuts at SONAR_MAX_SWEEP_BEAMS, so FULL cannot happen here. */
-    return r == SONAR_ERR_FULL ? SONAR_OK : r;
+    emit(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
+    if (!across(p)) {
+        r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
+        return r == SONAR_ERR_FULL ? SONAR_OK : r;
+    }
+    if (p->waiting) {
+        if ((r = sonar_cfar_sums(b, p->n, sums)) < 0 || (r = release(p, sums, angle)) != SONAR_OK)
+            return r;
+    }
+    p->waiting = 1;
+    p->wait_alone = (uint8_t)seeding;
+    p->wait_angle = angle;
+    p->wait_utime = utime;
+    p->cur ^= 1u;
+    return SONAR_OK;
 }
 
 /* Moves to p->next at a sweep boundary (no sweep open). */
@@ -500,9 +551,13 @@ static int end_sweep(struct sonar_pipeline *p)
     if (!p->open)
         return SONAR_OK;
     if (p->cfg->median2d != 0)
-        while ((r = sonar_median2d_flush(&p->m2d, p->filt, &meta)) == 1)
+        while ((r = sonar_median2d_flush(&p->m2d, p->buf[p->cur], &meta)) == 1)
             if ((r = after_median(p, meta.utime, meta.angle)) != SONAR_OK)
                 return r;
+    /* The sweep's last beam has no next neighbour; the next sweep's first none before it. */
+    if (p->waiting && (r = release(p, NULL, 0)) != SONAR_OK)
+        return r;
+    p->have_before = 0;
     if (p->cfg->track && p->trk.world && p->cfg->detector.track_m > 0.0f && p->poses != NULL &&
         sonar_pose_at(p->poses, p->det.utime, &q) && (r = world_gates(p)) != SONAR_OK)
         return r;
@@ -546,14 +601,14 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         in.utime = b->utime;
         in.angle = b->angle;
         in.tag = 0;
-        r = sonar_median2d_push(&p->m2d, b->samples, b->n, &in, p->filt, &out);
+        r = sonar_median2d_push(&p->m2d, b->samples, b->n, &in, p->buf[p->cur], &out);
         if (r < 0)
             return r;
         return r == 1 ? after_median(p, out.utime, out.angle) : SONAR_OK;
     }
     if (p->cfg->median == 1)
-        memcpy(p->filt, b->samples, b->n);
-    else if ((r = sonar_median_1d(b->samples, p->filt, b->n, p->cfg->median)) != SONAR_OK)
+        memcpy(p->buf[p->cur], b->samples, b->n);
+    else if ((r = sonar_median_1d(b->samples, p->buf[p->cur], b->n, p->cfg->median)) != SONAR_OK)
         return r;
     return after_median(p, b->utime, b->angle);
 }

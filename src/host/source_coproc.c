@@ -40,6 +40,14 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
     c.bg_warmup = (int8_t)p->background.warmup;
     c.bg_step = (int8_t)p->background.step;
     c.bg_margin = (int8_t)p->background.margin;
+    c.threshold_mode = (int8_t)p->detector.threshold_mode;
+    c.cfar_across = (int8_t)p->detector.cfar.across;
+    c.cfar_cut = (int8_t)p->detector.cfar.cut;
+    c.cfar_guard = (int8_t)p->detector.cfar.guard;
+    c.cfar_train = (int8_t)p->detector.cfar.train;
+    c.cfar_rank16 = (int8_t)p->detector.cfar.rank16;
+    c.cfar_scale = p->detector.cfar.scale;
+    c.cfar_floor = p->detector.cfar.floor;
     c.threshold_k = p->detector.threshold_k;
     c.min_threshold = p->detector.min_threshold;
     c.max_clusters = p->detector.max_clusters;

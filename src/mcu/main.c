@@ -202,6 +202,14 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     next->background.warmup = (uint8_t)c.bg_warmup;
     next->background.step = (uint8_t)c.bg_step;
     next->background.margin = (uint8_t)c.bg_margin;
+    next->detector.threshold_mode = (uint8_t)c.threshold_mode;
+    next->detector.cfar.across = (uint8_t)c.cfar_across;
+    next->detector.cfar.cut = (uint8_t)c.cfar_cut;
+    next->detector.cfar.guard = (uint8_t)c.cfar_guard;
+    next->detector.cfar.train = (uint8_t)c.cfar_train;
+    next->detector.cfar.rank16 = (uint8_t)c.cfar_rank16;
+    next->detector.cfar.scale = c.cfar_scale;
+    next->detector.cfar.floor = to_u8(c.cfar_floor, 255);
     next->detector.threshold_k = c.threshold_k;
     next->detector.min_threshold = to_u8(c.min_threshold, 255);
     next->detector.max_clusters = to_u8(c.max_clusters, 0);
