@@ -8,9 +8,9 @@ trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
 
 # Scenes. Pool: walls throughout, two gate posts from sweep 2, a moving buoy from sweep 3; scored
-# with sonard's DEFAULT configuration (median 5, per-angle background). Open water: objects from
-# the first ping, no walls; scored with --background range (a per-angle model would learn the
-# objects as background). Targets: precision and recall >= 0.95, centroid error <= 0.3 m.
+# with sonard's DEFAULT configuration (median 5, auto background, CFAR). Open water: objects from
+# the first ping, no walls; scored with the default and with --background range. Targets:
+# precision and recall >= 0.95, centroid error <= 0.3 m.
 "$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json"
 "$B/sonar-sim" --scene open --seed 7 --out "$T/open.csv" --truth "$T/open.json"
 "$B/sonard" --replay "$T/pool.csv" --json > "$T/pool.jsonl" 2> "$T/pool.err"
@@ -18,6 +18,9 @@ check "sonar-sim: each wall's return starts at the nearest wall inside the 2-deg
     python3 tests/scene_check.py "$T/pool.csv" "$T/pool.json"
 check "pool scene, default config: precision/recall >= 0.95, error <= 0.3 m" \
     python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+"$B/sonard" --replay "$T/open.csv" --json > "$T/opendef.jsonl" 2>/dev/null
+check "open water, default config: precision/recall >= 0.95, error <= 0.3 m" \
+    python3 tools/score.py "$T/open.json" "$T/opendef.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
 "$B/sonard" --replay "$T/open.csv" --json --background range > "$T/open.jsonl" 2>/dev/null
 check "open water, --background range: precision/recall >= 0.95, error <= 0.3 m" \
     python3 tools/score.py "$T/open.json" "$T/open.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
@@ -30,6 +33,37 @@ python3 tools/score.py "$T/pool.json" "$T/study.jsonl" --label "  study's method
 fa=$(python3 tools/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p' | tail -1)
 check "the study's range background keeps the walls: >= 1 false alarm a sweep (got $fa)" \
     awk -v f="$fa" 'BEGIN { exit !(f >= 1.0) }' 
+
+# Real water without a preset (issue 23): the scenes with the AquaScan pool's speckle (K-distributed
+# water, a 10-degree echo spread), people in the water from the first ping, a faint far swimmer, one
+# who floats still for 3 minutes; sonard's default configuration. The floors are regression guards
+# under today's figures (0.917, 0.858, 0.859; the issue's 0.95 is not met: docs/results.md); the
+# empty pool's false alarms and the still person are the issue's own targets.
+for sc in occupied far still; do
+    "$B/sonar-sim" --scene $sc --out "$T/$sc.csv" --truth "$T/$sc.json"
+    "$B/sonard" --replay "$T/$sc.csv" --json --quiet > "$T/$sc.jsonl" 2>/dev/null
+done
+check "occupied pool (people from the first ping), default config: F1 >= 0.88" \
+    python3 tools/score.py "$T/occupied.json" "$T/occupied.jsonl" --min-f1 0.88 --label "  occupied: "
+check "far swimmers scene (four at 8.5-12.5 m, echoes 95-105), default config: F1 >= 0.82, each found in >= 70 % of sweeps" \
+    python3 tools/score.py "$T/far.json" "$T/far.jsonl" --min-f1 0.82 --object far_a,far_b,far_c,far_d --min-found 0.7 --label "  far: "
+check "still scene, default config: F1 >= 0.82; the person floating still found in >= 95 % of the still sweeps" \
+    python3 tools/score.py "$T/still.json" "$T/still.jsonl" --min-f1 0.82 --object floater --still --min-found 0.95 --label "  still: "
+check "still scene: the floater's track says how long it has stood still (still_s within 15 % of the truth)" python3 - "$T/still.json" "$T/still.jsonl" <<'PY'
+import json, math, sys
+truth = json.load(open(sys.argv[1]))["sweeps"]
+lines = [json.loads(l) for l in open(sys.argv[2])]
+still = [s for s in truth for o in s["objects"] if o["id"] == "floater" and o["vx"] == 0 and o["vy"] == 0]
+f = [o for o in truth[-1]["objects"] if o["id"] == "floater"][0]
+want = (f["t_us"] - [o for o in still[0]["objects"] if o["id"] == "floater"][0]["t_us"]) * 1e-6
+near = [t for t in lines[-1]["tracks"] if math.hypot(t["x_m"] - f["x"], t["y_m"] - f["y"]) < 1.0]
+assert near, "no track on the floater at the end"
+got = near[0]["still_s"]
+print(f"  still for {want:.0f} s by the truth, still_s {got:.1f}")
+assert abs(got - want) <= 0.15 * want, (got, want)
+PY
+fa=$(python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p')
+check "pool scene, default config: <= 0.1 false alarms a sweep (got $fa)" awk -v f="$fa" 'BEGIN { exit !(f <= 0.1) }'
 
 # Tracking (issue 10): the moving scenes, scored against the truth IDs. The floors below are what
 # the tracker does today with margin (regression guards; the issue's targets of 0.95 are not met
@@ -196,6 +230,29 @@ check "nothing usable: exit 1" test "$rc" -eq 1
 head -c 300000 /dev/urandom > "$T/random.csv"
 "$B/sonard" --replay "$T/random.csv" > /dev/null 2>&1; rc=$?
 check "random bytes: no crash, exit 1" test "$rc" -eq 1
+
+# Recordings as people keep them: gzip-compressed, read whole or cut short (the rows before the cut
+# used, the cut named); piped in compressed, named once rather than a garbage row per line.
+gzip -c "$T/pool.csv" > "$T/pool.csv.gz"
+"$B/sonard" --replay "$T/pool.csv" --json --quiet --no-lcm > "$T/plain.jsonl" 2>/dev/null
+"$B/sonard" --replay "$T/pool.csv.gz" --json --quiet --no-lcm > "$T/gz.jsonl" 2> "$T/gz.err"; rc=$?
+check "a gzip-compressed recording replays to the same detections as the plain one" sh -c "test $rc -eq 0 && cmp -s '$T/plain.jsonl' '$T/gz.jsonl'"
+head -c $(( $(wc -c < "$T/pool.csv.gz") / 2 )) "$T/pool.csv.gz" > "$T/cut.csv.gz"
+"$B/sonard" --replay "$T/cut.csv.gz" --json --quiet --no-lcm > "$T/cut.jsonl" 2> "$T/cut.err"; rc=$?
+check "a gzip recording cut short: its rows used (exit 0), the cut named with file and line" sh -c "test $rc -eq 0 &&
+    test -s '$T/cut.jsonl' && grep -q 'cut.csv.gz:[0-9]*: compressed (gzip) and truncated or corrupt' '$T/cut.err'"
+"$B/sonard" --replay - --quiet --no-lcm < "$T/pool.csv.gz" > /dev/null 2> "$T/gzin.err"; rc=$?
+check "gzip data on stdin: exit 1, named once" sh -c "test $rc -eq 1 && test \$(grep -c 'gzip-compressed data, not CSV rows' '$T/gzin.err') -eq 1"
+
+# The range changed mid-run (an operator's --range on a live sonar, or two recordings joined): said
+# once with the beam's time, the sweep cut there, the background relearnt, nothing else lost.
+n=$(wc -l < "$T/pool.csv")
+head -$((n / 2)) "$T/pool.csv" > "$T/rchg.csv"
+tail -n +$((n / 2 + 1)) "$T/pool.csv" | sed 's/range_m=[0-9.]*/range_m=15.0000/' >> "$T/rchg.csv"
+"$B/sonard" --replay "$T/rchg.csv" --json --no-lcm > "$T/rchg.jsonl" 2> "$T/rchg.err"; rc=$?
+check "a range change mid-run: said once, the sweep cut, every beam still used (exit 0)" sh -c "test $rc -eq 0 &&
+    test \$(grep -c 'range: 1200 samples over 15.00 m from the beam at .* (was 1200 over 12.00 m)' '$T/rchg.err') -eq 1 &&
+    test \$(grep -o '\"beams\":[0-9]*' '$T/rchg.jsonl' | awk -F: '{s += \$2} END {print s}') -eq $n"
 
 # Values that once overflowed (issue 8): a timestamp near 9.2e18 s, range metadata 1e308, a cast-overflowing sample period.
 head -3 "$T/pool.csv" > "$T/ovf.csv"

@@ -157,13 +157,15 @@ check "SIGTERM: sonar-feed saw motor_off" grep -q "^motor_off" "$T/feed.log"
 
 # The vehicle's pose over LCM (SONAR_POSE, sonar.pose_t), here from a log played at its own pace: a
 # sonar 5 m north, 2 m west of the origin, heading east. Detections and tracks come out in the world.
+# The log plays at 20 Hz while the fast-paced sonar ends in a fraction of a second: how many poses
+# arrive first depends on the machine, so one or more is what is checked.
 python3 tools/pose_log.py "$types" "$T/poses.lcm" --still 5 -2 90 --seconds 40 --hz 20
 feed "tcp:127.0.0.1:$((PORT + 7))" --pace fast
 timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 7))" --range 12 --sweeps 4 --json --no-lcm \
     --pose-lcm "file://$T/poses.lcm?mode=r" > "$T/plcm.jsonl" 2> "$T/plcm.err"; rc=$?
 endfeed
 check "SONAR_POSE over LCM: exit 0, the poses counted, every sweep in the world frame at that pose" sh -c "test $rc -eq 0 &&
-    grep -qE 'SONAR_POSE: [0-9]{2,} poses, 0 did not decode, 0 refused' '$T/plcm.err' &&
+    grep -qE 'SONAR_POSE: [1-9][0-9]* poses, 0 did not decode, 0 refused' '$T/plcm.err' &&
     test \$(grep -c '\"frame\":\"world\",\"pose\":{\"north_m\":5.000,\"east_m\":-2.000,\"yaw_deg\":90.00}' '$T/plcm.jsonl') -eq 4"
 check "SONAR_POSE: each detection's north, east is its sonar-frame x, y turned to face east and moved to (5, -2)" python3 -c "
 import json

@@ -18,7 +18,7 @@ for enc in utf16 utf8; do
     n=$(python3 tests/make_pvbin.py "$R/pingviewer_noah/test_ping_log.decoded" "$T/20220822-200542039.bin" \
         $( [ $enc = utf8 ] && echo --utf8 ) --tools "$R/tools")
     "$B/pvbin2csv" "$T/20220822-200542039.bin" "$T/noah.csv" 2> "$T/pv.err"
-    check "Ping Viewer .bin ($enc) -> CSV: all $n real beams recovered, samples identical" python3 - "$R" "$T/noah.csv" <<'PY'
+    check "Ping Viewer .bin ($enc) -> CSV: all $n real beams recovered, samples identical, times the log's milliseconds" python3 - "$R" "$T/noah.csv" <<'PY'
 import sys, csv
 sys.path.insert(0, sys.argv[1] + "/tools")
 import parse_pingviewer_decoded as p
@@ -29,6 +29,7 @@ for w, g in zip(want, got):
     assert int(g[2]) == w["angle"]
     assert bytes(int(x) for x in g[3].split()) == w["samples"]
     assert "sample_period=%d" % w["sample_period"] in g
+    assert int(g[1]) % 1000000 == 0, ("rounded to the millisecond", g[:2])
 print(len(got), "beams match")
 PY
 done
@@ -92,6 +93,23 @@ print(f"TP {tp} FP {fp} FN {fn}: F1 {f1:.3f}")
 assert f1 >= 0.85, f1
 PY
 sed 's/^/    /' "$T/out"
+
+# sonard's default configuration, no --config (issue 23), at the recorder's 15 m and the batch
+# script's 13 m (the range is not in the files). Regression floors under today's figures (15 m:
+# 0.732 and 0.641; 13 m: 0.681 and 0.644; the far swimmers, persons 5 and 10, in 16 of 26 and 11 of
+# 16 sweeps): the issue's 0.90 and 80 % are not met (docs/results.md). sonar11 is held out: tuned on
+# nothing, scored here.
+python3 tools/aquascan2csv.py "$R/aquascan" --out "$T/aq13" --range 13 > /dev/null
+for s in sonar4:15:0.70:5:0.55 sonar4:13:0.65:5:0.55 sonar11:15:0.60:10:0.60 sonar11:13:0.60:10:0.60; do
+    n=$(echo "$s" | cut -d: -f1); rng=$(echo "$s" | cut -d: -f2); f=$(echo "$s" | cut -d: -f3)
+    who=$(echo "$s" | cut -d: -f4); share=$(echo "$s" | cut -d: -f5)
+    d=$T/aq; [ "$rng" = 13 ] && d=$T/aq13
+    "$B/sonard" --replay "$d/$n.csv" --json --quiet > "$T/$n.default$rng.jsonl"
+    check "AquaScan $n at $rng m, default configuration: F1 >= $f, person $who found in >= $share of their sweeps" \
+        python3 tools/score.py "$d/$n.truth.json" "$T/$n.default$rng.jsonl" --min-f1 "$f" --object "$who" \
+        --min-found "$share" --label "$n@$rng m: "
+    sed 's/^/    /' "$T/out"
+done
 
 # Live and streaming: sonar4 served by sonar-feed as a Ping360 over TCP (127.0.0.1), driven by
 # sonard --sonar over the same back-and-forth sector: the same detections as the replay.

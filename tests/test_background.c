@@ -106,7 +106,7 @@ static void test_seed_rounding_exhaustive(void **state)
 /* Every (x, b) pair in steady state at several margins and steps against the rule written out cell by cell. */
 static void test_track_exhaustive(void **state)
 {
-    static const uint8_t margins[] = {0, 1, 8, 64}, steps[] = {1, 3, 64};
+    static const uint8_t margins[] = {0, 1, 5, 8, 16, 24, 64}, steps[] = {1, 3, 64};
     uint8_t row[256], x[256], fg[256];
     unsigned mi, si, m, i;
     (void)state;
@@ -129,6 +129,55 @@ static void test_track_exhaustive(void **state)
                                  steps[si], fg[i], want_fg, bg.cell[m * SONAR_MAX_ANGLES / 400][i], want_b);
                 }
             }
+        }
+}
+
+/*
+ * Auto mode past both warm-ups, at several margins and steps: the foreground is the smaller of the
+ * two models' (fg against the larger model) and both models step towards x, for every x over a grid
+ * of (row, across) levels, against the rule written out cell by cell.
+ */
+static unsigned fg_rule(unsigned x, unsigned m, unsigned margin)
+{
+    unsigned up = x > m ? x - m : 0, g = (m * margin) >> 4, gate = g < 255 ? g : 255;
+    return up > gate ? up - gate : 0;
+}
+
+static unsigned step_rule(unsigned x, unsigned m, unsigned step)
+{
+    unsigned up = x > m ? x - m : 0, dn = m > x ? m - x : 0;
+    return m + (up < step ? up : step) - (dn < step ? dn : step);
+}
+
+static void test_auto_pair_exhaustive(void **state)
+{
+    static const uint8_t margins[] = {0, 5, 8, 64}, steps[] = {1, 3};
+    uint8_t x[256], fg[256];
+    unsigned mi, si, m, c, i, row = 7u * SONAR_MAX_ANGLES / 400u;
+    (void)state;
+    for (i = 0; i < 256; i++)
+        x[i] = (uint8_t)i;
+    for (mi = 0; mi < sizeof(margins); mi++)
+        for (si = 0; si < sizeof(steps); si++) {
+            struct sonar_background_config cf = {SONAR_BACKGROUND_AUTO, 1, steps[si], margins[mi]};
+            assert_int_equal(sonar_background_init(&bg, &cf), SONAR_OK);
+            assert_int_equal(sonar_background_apply(&bg, 7, x, fg, 255), SONAR_OK); /* sets n */
+            for (m = 0; m < 256; m += 15)
+                for (c = 0; c < 256; c += 15) {
+                    memset(bg.cell[row], (int)m, 255);
+                    memset(bg.across, (int)c, 255);
+                    bg.visits[row] = 1;
+                    bg.across_visits = SONAR_BG_ACROSS_WARMUP;
+                    assert_int_equal(sonar_background_apply(&bg, 7, x, fg, 255), SONAR_OK);
+                    for (i = 0; i < 255; i++) {
+                        unsigned fm = fg_rule(i, m, margins[mi]), fc = fg_rule(i, c, margins[mi]);
+                        unsigned want = fm < fc ? fm : fc;
+                        if (fg[i] != want || bg.cell[row][i] != step_rule(i, m, steps[si]) ||
+                            bg.across[i] != step_rule(i, c, steps[si]))
+                            fail_msg("x %u row %u across %u margin %u step %u: fg %u (want %u), row %u, across %u", i,
+                                     m, c, margins[mi], steps[si], fg[i], want, bg.cell[row][i], bg.across[i]);
+                    }
+                }
         }
 }
 
@@ -354,6 +403,7 @@ int main(void)
         cmocka_unit_test(test_warmup_mean_then_median),
         cmocka_unit_test(test_seed_rounding_exhaustive),
         cmocka_unit_test(test_track_exhaustive),
+        cmocka_unit_test(test_auto_pair_exhaustive),
         cmocka_unit_test(test_margin_scales_with_background),
         cmocka_unit_test(test_range_mode_shares_bins_across_angles),
         cmocka_unit_test(test_off_and_reset),

@@ -283,6 +283,65 @@ static void test_pose_metadata(void **state)
     done();
 }
 
+/* A gzip-compressed recording is read as its text; one cut short yields its rows, then one named error. */
+static void test_gzip_compressed(void **state)
+{
+    static const char text[] = "1,0,10,1 2 3 4\n1,5,11,5 6 7 8\n";
+    char err[256], cmd[200], gz[80];
+    unsigned char bytes[4096];
+    size_t nb;
+    FILE *f;
+    int i;
+    (void)state;
+    write_file(text);
+    csv_close(&rd);
+    snprintf(gz, sizeof(gz), "%s.gz", path);
+    snprintf(cmd, sizeof(cmd), "gzip -c %s > %s", path, gz);
+    if (system(cmd) != 0) {
+        unlink(path);
+        skip(); /* no gzip on this machine: nothing to read it with either */
+    }
+    unlink(path);
+    assert_int_equal(csv_open(&rd, gz), 0);
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 1);
+        assert_int_equal(row.angle, 10 + i);
+        assert_int_equal(row.samples[3], 4 + 4 * i);
+    }
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    csv_close(&rd);
+    /* Cut short: the rows gzip could give, then a named error, then the end. */
+    f = fopen(gz, "rb");
+    assert_non_null(f);
+    nb = fread(bytes, 1, sizeof(bytes), f);
+    fclose(f);
+    assert_true(nb > 12);
+    f = fopen(gz, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(bytes, 1, nb - 6, f), nb - 6); /* the trailer's CRC and length gone */
+    fclose(f);
+    assert_int_equal(csv_open(&rd, gz), 0);
+    while ((i = csv_next(&rd, &row, err, sizeof(err))) == 1)
+        ;
+    assert_int_equal(i, HOST_ERR_ROW);
+    assert_non_null(strstr(err, "truncated or corrupt"));
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    csv_close(&rd);
+    /* Stopped early: closing reaps the child without waiting for it to finish. */
+    assert_int_equal(csv_open(&rd, gz), 0);
+    csv_close(&rd);
+    /* The same bytes on a stream: one error naming them, not a garbage row per line. */
+    f = fmemopen(bytes, nb, "r");
+    assert_non_null(f);
+    csv_open_stream(&rd, f, "stdin");
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), HOST_ERR_ROW);
+    assert_non_null(strstr(err, "gzip-compressed"));
+    assert_int_equal(csv_next(&rd, &row, err, sizeof(err)), 0);
+    assert_int_equal(rd.bad, 1);
+    fclose(f);
+    unlink(gz);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -293,6 +352,7 @@ int main(void)
         cmocka_unit_test(test_writer_round_trip),
         cmocka_unit_test(test_pose_metadata),
         cmocka_unit_test(test_untimed_semicolon_form),
+        cmocka_unit_test(test_gzip_compressed),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

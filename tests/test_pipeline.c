@@ -141,6 +141,7 @@ static void test_geometry_change_cuts_and_resets(void **state)
     assert_int_equal(pipe_.bg.visits[2], 1);
     push(3, s, 200, 20.0f);
     assert_int_equal(lg.sweeps, 2);
+    assert_int_equal(pipe_.geometry_changes, 2);
     {
         struct sonar_beam b = {0, 400, N, 10.0f, s};
         assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_ERR_ARG);

@@ -6,7 +6,8 @@ truth object of the same sweep (closest pairs first); other detections are false
 one within the gate of a "hidden" object, below, is don't-care), unmatched objects false
 negatives. Sweeps marked "labelled": false (no label file) are skipped. Prints precision, recall,
 F1, centroid error and false alarms per sweep; with --min-precision/--min-recall/--min-f1/
---max-error it exits 1 when a target is missed.
+--max-error it exits 1 when a target is missed. --object ID,... lists the sweeps each of those
+truth objects was found in (--still: only those where it stands still), --min-found a floor on it.
 
 With --tracks it also scores the "tracks" of each line (confirmed and coasting ones, or those of
 --states; each predicted to the time its truth object was seen, "t_us", when the truth has it)
@@ -42,7 +43,7 @@ def match(dets, objs, gate):
         used_d.add(i)
         used_o.add(j)
         errs.append(dist)
-    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs, used_d
+    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs, used_d, used_o
 
 
 def ignored(dets, used, hidden, gate):
@@ -220,6 +221,9 @@ def main():
     ap.add_argument("--min-f1", type=float)
     ap.add_argument("--max-error", type=float, help="largest mean centroid error, metres")
     ap.add_argument("--label", default="")
+    ap.add_argument("--object", help="truth IDs (comma-separated) whose sweeps found are listed: found in k of n")
+    ap.add_argument("--still", action="store_true", help="with --object: only the sweeps where it stands still (vx = vy = 0)")
+    ap.add_argument("--min-found", type=float, help="with --object: the least fraction of its sweeps each must be found in")
     ap.add_argument("--tracks", action="store_true", help="also score the tracks (MOTA, IDF1, OSPA, ...)")
     ap.add_argument("--states", default="confirmed,coasting",
                     help="the track states scored (default confirmed,coasting; confirmed alone: the tracks hit that sweep, "
@@ -268,10 +272,14 @@ def main():
         lines[d["sweep"]] = d
     tp = fp = fn = 0
     errs = []
+    watch = {i: [] for i in (a.object.split(",") if a.object else [])}
     for k in sorted(truth):
         dets = sweeps.get(k, [])
-        t, f, m, e, used = match(dets, truth[k], a.gate)
+        t, f, m, e, used, found = match(dets, truth[k], a.gate)
         f -= ignored(dets, used, hidden.get(k, []), a.gate)
+        for j, o in enumerate(truth[k]):
+            if str(o["id"]) in watch and (not a.still or (o.get("vx", 1.0) == 0.0 and o.get("vy", 1.0) == 0.0)):
+                watch[str(o["id"])].append(j in found)
         tp, fp, fn = tp + t, fp + f, fn + m
         errs += e
         if a.verbose:
@@ -286,6 +294,13 @@ def main():
     print(f"{a.label}precision {p:.3f}  recall {r:.3f}  F1 {f1:.3f}  centroid error mean {err:.3f} m max {worst:.3f} m"
           f"  false alarms/sweep {far:.2f}  (TP {tp} FP {fp} FN {fn}, {len(truth)} sweeps)")
     ok = True
+    for i, hits in watch.items():
+        frac = sum(hits) / len(hits) if hits else float("nan")
+        print(f"{a.label}object {i}: found in {sum(hits)} of {len(hits)} {'still ' if a.still else ''}sweeps "
+              f"({frac:.3f}): {''.join('X' if h else '.' for h in hits)}")
+        if a.min_found is not None and not (frac >= a.min_found):
+            print(f"FAIL: object {i} found in {frac:.3f} of its sweeps < {a.min_found}")
+            ok = False
     if a.min_precision is not None and p < a.min_precision:
         print(f"FAIL: precision {p:.3f} < {a.min_precision}")
         ok = False

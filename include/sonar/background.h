@@ -149,6 +149,22 @@ SONAR_CHECK int sonar_background_apply_keep(struct sonar_background *bg, uint16_
 SONAR_CHECK int sonar_background_apply_world(struct sonar_background *bg, const struct sonar_bg_ray *ray,
                                              const uint8_t *in, uint8_t *fg, uint16_t n);
 
+/* A tracked object in the world frame whose grid cells are not learnt: its centre and radius, metres. */
+struct sonar_bg_disc {
+    float north_m, east_m, radius_m;
+};
+
+#define SONAR_BG_DISCS_MAX 32 /* discs a beam looks at, at most */
+
+/*
+ * sonar_background_apply_world with discs (nkeep of them, keep may be NULL when 0) whose cells the
+ * beam does not learn: tracked objects, which stay foreground however long they stand still. Same
+ * returns (SONAR_ERR_ARG also for keep NULL with nkeep > 0).
+ */
+SONAR_CHECK int sonar_background_apply_world_keep(struct sonar_background *bg, const struct sonar_bg_ray *ray,
+                                                  const uint8_t *in, uint8_t *fg, uint16_t n,
+                                                  const struct sonar_bg_disc *keep, uint8_t nkeep);
+
 /*
  * Reads the world grid at (north_m, east_m): *model (0 = never seen) and *seen (observations,
  * saturating at 255). Returns 1, or 0 when the grid is not in use or the point lies outside its

@@ -65,6 +65,10 @@ SONAR_CHECK int sonar_cfar_sums(const uint8_t *fg, uint16_t n, uint16_t *sums);
 SONAR_CHECK int sonar_cfar_blocks_across(const struct sonar_cfar_config *c, const uint16_t *prev, const uint8_t *fg,
                                          const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr);
 
+/* The same with the beam's own block sums given (own, from sonar_cfar_sums of fg): a caller that has them saves a pass. */
+SONAR_CHECK int sonar_cfar_blocks_sums(const struct sonar_cfar_config *c, const uint16_t *prev, const uint16_t *own,
+                                       const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr);
+
 /*
  * Tests the blocks of one beam: on[b] = 1 when block b (samples b*8 .. b*8+7) passes, else 0;
  * thr, when not NULL, gets each block's threshold on the window's mean level in grey levels

@@ -79,6 +79,7 @@ struct sonar_pipeline {
     int64_t wait_utime;                        /* ... and time */
     uint16_t before_angle;                     /* the beam before the waiting one: its angle ... */
     uint16_t before[SONAR_CFAR_MAX_BLOCKS];    /* ... and block sums (cfar.h) */
+    uint16_t wait_sums[SONAR_CFAR_MAX_BLOCKS]; /* the waiting beam's block sums */
     float range_m;     /* of the open sweep */
     uint16_t n;        /* of the open sweep */
     uint8_t open;      /* a sweep holds beams */
@@ -89,6 +90,8 @@ struct sonar_pipeline {
     uint32_t world_sweeps, body_sweeps;  /* sweeps tracked in each frame */
     uint32_t world_beams;                /* beams whose background was the world grid */
     uint32_t repeats;                    /* detections dropped as an object seen twice in a sweep */
+    uint32_t geometry_changes;           /* the range or the samples a beam changed: the open sweep
+                                            was cut and the background relearns from the next beam */
     float prev_bearing;                  /* world heading of the last such beam, degrees */
     float prev_width;                    /* the footprint it had, degrees */
     uint8_t have_prev_bearing;

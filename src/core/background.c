@@ -105,6 +105,25 @@ static void seed(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n
         (b)[i] = (uint8_t)(m + (up < (step) ? up : (step)) - (dn < (step) ? dn : (step)));                         \
     }
 
+/*
+ * Auto mode's steady state in one pass: the foreground against the larger of the row's cell m and
+ * the across-beam model's c (the foreground falls as the model rises, so this is the smaller of
+ * the two foregrounds), and both models step towards x.
+ */
+#define PAIR_SPAN(b, a, in, fg, len, step, margin) PAIR_SPAN_G(b, a, in, fg, len, step, GATE_SAT(top, margin))
+#define PAIR_SPAN_SMALL(b, a, in, fg, len, step, margin) PAIR_SPAN_G(b, a, in, fg, len, step, GATE_BYTE(top, margin))
+#define PAIR_SPAN_G(b, a, in, fg, len, step, GATE)                                                                 \
+    for (i = 0; i < (len); i++) {                                                                                  \
+        uint8_t x = (in)[i], m = (b)[i], c = (a)[i];                                                               \
+        uint8_t top = m > c ? m : c, hit = x > top ? x : top;                                                      \
+        uint8_t hm = x > m ? x : m, lm = x < m ? x : m, hc = x > c ? x : c, lc = x < c ? x : c;                    \
+        uint8_t up = (uint8_t)(hit - top), gate = GATE, over = up > gate ? up : gate;                              \
+        uint8_t upm = (uint8_t)(hm - m), dnm = (uint8_t)(m - lm), upc = (uint8_t)(hc - c), dnc = (uint8_t)(c - lc);  \
+        (fg)[i] = (uint8_t)(over - gate);                                                                          \
+        (b)[i] = (uint8_t)(m + (upm < (step) ? upm : (step)) - (dnm < (step) ? dnm : (step)));                     \
+        (a)[i] = (uint8_t)(c + (upc < (step) ? upc : (step)) - (dnc < (step) ? dnc : (step)));                     \
+    }
+
 #if defined(__ARM_FEATURE_SIMD32)
 #include <arm_acle.h>
 
@@ -116,29 +135,81 @@ static void seed(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n
  */
 static uint32_t gate4(uint32_t m, uint32_t margin)
 {
-    uint32_t even = ((m & 0x00FF00FFu) * margin >> 4) & 0x0FFF0FFFu;
-    uint32_t odd = (((m >> 8) & 0x00FF00FFu) * margin >> 4) & 0x0FFF0FFFu;
+    uint32_t even = (m & 0x00FF00FFu) * margin >> 4, odd = ((m >> 8) & 0x00FF00FFu) * margin >> 4;
+    if (margin <= 16u) /* each lane's gate fits its byte */
+        return (even & 0x00FF00FFu) | (odd & 0x00FF00FFu) << 8;
+    even &= 0x0FFF0FFFu;
+    odd &= 0x0FFF0FFFu;
     /* min(lane, 255) = lane - uqsub16(lane, 255), per halfword */
     even -= __uqsub16(even, 0x00FF00FFu);
     odd -= __uqsub16(odd, 0x00FF00FFu);
     return even | odd << 8;
 }
 
+/*
+ * A margin of 0 or a power of two up to 16 makes the gate a shift, (m >> shift) & mask (the bits
+ * shifted in from the next byte masked off): returns 1 and sets both, else 0.
+ */
+static int gate_shift(uint8_t margin, unsigned *shift, uint32_t *mask)
+{
+    unsigned k;
+    if (margin == 0u) {
+        *shift = 0u;
+        *mask = 0u;
+        return 1;
+    }
+    for (k = 0; k <= 4u; k++)
+        if (margin == 16u >> k) {
+            *shift = k;
+            *mask = 0x01010101u * (0xFFu >> k);
+            return 1;
+        }
+    return 0;
+}
+
 static void track4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
 {
-    uint32_t s4 = 0x01010101u * step;
-    int w;
+    uint32_t s4 = 0x01010101u * step, mask;
+    unsigned shift;
+    int w, shifted = gate_shift(margin, &shift, &mask);
     for (w = 0; w < words; w++) {
         uint32_t x, m, up, dn, gate;
         memcpy(&x, in + 4 * w, 4);
         memcpy(&m, b + 4 * w, 4);
         up = __uqsub8(x, m);
         dn = __uqsub8(m, x);
-        gate = margin ? gate4(m, margin) : 0u;
+        gate = shifted ? (m >> shift) & mask : gate4(m, margin);
         x = __uqsub8(up, gate); /* the foreground */
         memcpy(fg + 4 * w, &x, 4);
         m = m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
         memcpy(b + 4 * w, &m, 4);
+    }
+}
+
+/* m stepped towards x by at most s4 per byte: never carries or borrows across bytes (see above). */
+static uint32_t towards4(uint32_t m, uint32_t x, uint32_t s4)
+{
+    uint32_t up = __uqsub8(x, m), dn = __uqsub8(m, x);
+    return m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
+}
+
+static void pair4(uint8_t *b, uint8_t *a, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
+{
+    uint32_t s4 = 0x01010101u * step, mask;
+    unsigned shift;
+    int w, shifted = gate_shift(margin, &shift, &mask);
+    for (w = 0; w < words; w++) {
+        uint32_t x, m, c, top, out;
+        memcpy(&x, in + 4 * w, 4);
+        memcpy(&m, b + 4 * w, 4);
+        memcpy(&c, a + 4 * w, 4);
+        top = c + __uqsub8(m, c); /* max(m, c) per byte */
+        out = __uqsub8(__uqsub8(x, top), shifted ? (top >> shift) & mask : gate4(top, margin));
+        memcpy(fg + 4 * w, &out, 4);
+        m = towards4(m, x, s4);
+        c = towards4(c, x, s4);
+        memcpy(b + 4 * w, &m, 4);
+        memcpy(a + 4 * w, &c, 4);
     }
 }
 #endif
@@ -179,6 +250,46 @@ static void track(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t 
     }
 }
 
+/* Auto mode's steady state (PAIR_SPAN): in and fg may be the same buffer, as in track. */
+static void pair(uint8_t *restrict b, uint8_t *restrict a, const uint8_t *in, uint8_t *fg, uint16_t n, uint8_t step,
+                 uint8_t margin)
+{
+    uint8_t blk[BLOCK];
+    int i, i0;
+#if defined(__ARM_FEATURE_SIMD32)
+    i0 = (int)n & ~3;
+    pair4(b, a, in, fg, i0 / 4, step, margin);
+    memcpy(blk, in + i0, (size_t)((int)n - i0));
+    PAIR_SPAN(b + i0, a + i0, blk, fg + i0, (int)n - i0, step, margin)
+    return;
+#endif
+    if (margin <= 16)
+        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
+            memcpy(blk, in + i0, BLOCK);
+            PAIR_SPAN_SMALL(b + i0, a + i0, blk, fg + i0, BLOCK, step, margin)
+        }
+    else
+        for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
+            memcpy(blk, in + i0, BLOCK);
+            PAIR_SPAN(b + i0, a + i0, blk, fg + i0, BLOCK, step, margin)
+        }
+    if (i0 < (int)n) {
+        /* The ragged end as one more full block through copies, as in track. */
+        uint8_t tb[BLOCK], ta[BLOCK], tfg[BLOCK];
+        size_t len = (size_t)((int)n - i0);
+        memset(tb + len, 0, BLOCK - len);
+        memset(ta + len, 0, BLOCK - len);
+        memset(blk + len, 0, BLOCK - len);
+        memcpy(tb, b + i0, len);
+        memcpy(ta, a + i0, len);
+        memcpy(blk, in + i0, len);
+        PAIR_SPAN(tb, ta, blk, tfg, BLOCK, step, margin)
+        memcpy(b + i0, tb, len);
+        memcpy(a + i0, ta, len);
+        memcpy(fg + i0, tfg, len);
+    }
+}
+
 /* One observation of a model row: seeded over its first warmup visits (no foreground then), then tracked. */
 static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_t *in, uint8_t *fg, uint16_t n,
                     uint8_t step, uint8_t margin)
@@ -189,6 +300,32 @@ static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_
         seed(row, in, fg, n, v);
     else
         track(row, in, fg, n, step, margin);
+}
+
+/*
+ * fg[i] = min(fg[i], other[i]) in constant-length blocks from offset 0 so that -O2 vectorises it;
+ * the ragged end is one more block ending at n, as taking a minimum twice changes nothing.
+ */
+static void min_block(uint8_t *restrict f, const uint8_t *restrict o)
+{
+    int i;
+    for (i = 0; i < BLOCK; i++)
+        f[i] = f[i] < o[i] ? f[i] : o[i];
+}
+
+static void lesser(uint8_t *restrict fg, const uint8_t *restrict other, uint16_t n)
+{
+    int i, i0;
+    for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK)
+        min_block(fg + i0, other + i0);
+    if (i0 == (int)n)
+        return;
+    if (n >= BLOCK) {
+        min_block(fg + n - BLOCK, other + n - BLOCK);
+        return;
+    }
+    for (i = 0; i < (int)n; i++)
+        fg[i] = fg[i] < other[i] ? fg[i] : other[i];
 }
 
 /* The keep spans clipped to the beam, applied as dst[span] = src[span]. */
@@ -214,7 +351,6 @@ static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t 
     uint8_t held[SONAR_MAX_SAMPLES], fga[SONAR_MAX_SAMPLES];
     uint8_t *b = bg->cell[row];
     unsigned seen = bg->visits[row];
-    uint16_t i;
     if (seen < bg->warmup) {
         observe(b, &bg->visits[row], bg->warmup, in, held, n, bg->step, bg->margin);
         observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, fg, n, bg->step, bg->margin);
@@ -222,6 +358,15 @@ static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t 
     }
     if (seen == bg->warmup)
         copy_spans(b, bg->across, n, keep, nkeep);
+    if (bg->across_visits >= SONAR_BG_ACROSS_WARMUP) {
+        /* Both models past their warm-up: the steps below in one pass. */
+        copy_spans(held, b, n, keep, nkeep);
+        bg->visits[row] = (uint8_t)(seen < 255u ? seen + 1u : 255u);
+        bg->across_visits = (uint8_t)(bg->across_visits < 255u ? bg->across_visits + 1u : 255u);
+        pair(b, bg->across, in, fg, n, bg->step, bg->margin);
+        copy_spans(b, held, n, keep, nkeep);
+        return;
+    }
     observe(bg->across, &bg->across_visits, SONAR_BG_ACROSS_WARMUP, in, fga, n, bg->step, bg->margin);
     copy_spans(held, b, n, keep, nkeep);
     observe(b, &bg->visits[row], bg->warmup, in, fg, n, bg->step, bg->margin);
@@ -231,8 +376,7 @@ static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t 
      * worse than the across-beam model, which has seen every beam (the foreground is smaller against
      * the larger model, as it falls with the model).
      */
-    for (i = 0; i < n; i++)
-        fg[i] = fg[i] < fga[i] ? fg[i] : fga[i];
+    lesser(fg, fga, n);
 }
 
 int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
@@ -375,38 +519,113 @@ static int ray_ok(const struct sonar_bg_ray *r)
 }
 
 /*
- * What static structure can return at range r along the beam: the largest model on the arc of
- * SONAR_BG_LOOK_DEG about the beam at r +- slack cells. A wall's echo depends on where it is seen
- * from (strong head-on, weak and spread out in range at a glance), and the pose and the beam's
- * width place it only so well; comparing with the cell under the sample alone made walls the
- * detections on the simulated vehicle scene. 0 when none of them was ever seen.
+ * Rings of cells a beam crosses at most: it reaches a third of the grid's side, which is at most
+ * 905 cells (400 x 4096 bytes of two-byte cells). Stack: 2 bytes a ring.
  */
-static uint8_t look(struct sonar_background *bg, const struct sonar_bg_ray *ray, double th, double r, int32_t slack)
+#define RINGS_MAX 310
+SONAR_STATIC_ASSERT(SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES <= 400 * 4096, rings_max_holds_the_grid);
+
+/*
+ * A rotation by a fixed angle, the points of an arc stepped by it: the beams' arcs have a few dozen
+ * distinct point counts, so each count's step is computed once a beam, not once a ring.
+ */
+#define ARC_CACHE 64
+struct arc_steps {
+    double c[ARC_CACHE], s[ARC_CACHE]; /* cos, sin of span / pts for pts < ARC_CACHE */
+    uint8_t have[ARC_CACHE];
+    double span;
+};
+
+static void arc_step(struct arc_steps *a, int32_t pts, double *c, double *s)
 {
-    const double deg = 3.14159265358979323846 / 180.0, span = SONAR_BG_LOOK_DEG * deg, cs = (double)bg->cell_m;
-    int32_t pts = (int32_t)ceil(r * span / cs), j, a;
-    uint8_t m = 0;
-    pts = pts < 1 ? 1 : pts;
-    for (j = 0; j <= pts; j++) {
-        double ph = th - span / 2.0 + (double)j * span / (double)pts, cu = cos(ph), su = sin(ph);
-        for (a = -slack; a <= slack; a++) {
-            double rr = r + (double)a * cs;
-            uint8_t v = *grid_at(bg, cell_index(bg, ray->north_m + rr * cu), cell_index(bg, ray->east_m + rr * su));
-            m = v > m ? v : m;
-        }
+    if (pts >= ARC_CACHE) {
+        *c = cos(a->span / (double)pts);
+        *s = sin(a->span / (double)pts);
+        return;
     }
-    return m;
+    if (!a->have[pts]) {
+        a->c[pts] = cos(a->span / (double)pts);
+        a->s[pts] = sin(a->span / (double)pts);
+        a->have[pts] = 1;
+    }
+    *c = a->c[pts];
+    *s = a->s[pts];
+}
+
+/*
+ * What static structure can return at each range along the beam: for every ring of cells the beam
+ * reaches, the largest model on the arc of SONAR_BG_LOOK_DEG about the beam (ringmax), then the
+ * largest over +- slack rings (out). A wall's echo depends on where it is seen from (strong head-on,
+ * weak and spread out in range at a glance), and the pose and the beam's width place it only so
+ * well; comparing with the cell under the sample alone made walls the detections on the simulated
+ * vehicle scene. 0 where none was ever seen. One pass over the arc's cells, about 1 000 reads at
+ * 15 m, instead of the arc again for every sample (the first form of this cost 500 us a beam).
+ */
+static void look_rings(struct sonar_background *bg, const struct sonar_bg_ray *ray, double th, int32_t rings,
+                       int32_t slack, uint8_t *out)
+{
+    static const double deg = SONAR_PI / 180.0;
+    struct arc_steps a;
+    uint8_t ringmax[RINGS_MAX];
+    double cs = (double)bg->cell_m, c0 = cos(th - SONAR_BG_LOOK_DEG * deg / 2.0), s0 = sin(th - SONAR_BG_LOOK_DEG * deg / 2.0);
+    int32_t k, j;
+    memset(a.have, 0, sizeof(a.have));
+    a.span = SONAR_BG_LOOK_DEG * deg;
+    for (k = 0; k < rings; k++) {
+        double r = ((double)k + 0.5) * cs, cu = c0, su = s0, cd, sd;
+        int32_t pts = (int32_t)ceil(r * a.span / cs);
+        uint8_t m = 0;
+        pts = pts < 1 ? 1 : pts;
+        arc_step(&a, pts, &cd, &sd);
+        for (j = 0; j <= pts; j++) {
+            double t = cu * cd - su * sd;
+            uint8_t v = *grid_at(bg, cell_index(bg, ray->north_m + r * cu), cell_index(bg, ray->east_m + r * su));
+            m = v > m ? v : m;
+            su = su * cd + cu * sd;
+            cu = t;
+        }
+        ringmax[k] = m;
+    }
+    for (k = 0; k < rings; k++) {
+        uint8_t m = 0;
+        for (j = k - slack; j <= k + slack; j++)
+            if (j >= 0 && j < rings && ringmax[j] > m)
+                m = ringmax[j];
+        out[k] = m;
+    }
+}
+
+/* Is (north, east) inside one of the discs? */
+static int kept(const struct sonar_bg_disc *keep, uint8_t nkeep, double north, double east)
+{
+    uint8_t k;
+    for (k = 0; k < nkeep; k++) {
+        double dn = north - (double)keep[k].north_m, de = east - (double)keep[k].east_m;
+        if (dn * dn + de * de <= (double)keep[k].radius_m * (double)keep[k].radius_m)
+            return 1;
+    }
+    return 0;
 }
 
 int sonar_background_apply_world(struct sonar_background *bg, const struct sonar_bg_ray *ray, const uint8_t *in,
                                  uint8_t *fg, uint16_t n)
 {
-    const double deg = 3.14159265358979323846 / 180.0;
-    uint8_t src[SONAR_MAX_SAMPLES];
-    double th, w, c0, s0, cs, rmax;
-    int32_t k, k0, kmax, slack;
+    return sonar_background_apply_world_keep(bg, ray, in, fg, n, NULL, 0);
+}
+
+int sonar_background_apply_world_keep(struct sonar_background *bg, const struct sonar_bg_ray *ray, const uint8_t *in,
+                                      uint8_t *fg, uint16_t n, const struct sonar_bg_disc *keep, uint8_t nkeep)
+{
+    static const double deg = SONAR_PI / 180.0;
+    uint8_t src[SONAR_MAX_SAMPLES], near[RINGS_MAX];
+    struct sonar_bg_disc here[SONAR_BG_DISCS_MAX];
+    struct arc_steps arc;
+    double th, w, c0, s0, cs, rmax, cw, sw;
+    int32_t k, k0, kmax, slack, rings;
     uint16_t i;
-    if (bg == NULL || ray == NULL || in == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || !ray_ok(ray))
+    uint8_t nhere = 0, d;
+    if (bg == NULL || ray == NULL || in == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || !ray_ok(ray) ||
+        (nkeep > 0 && keep == NULL))
         return SONAR_ERR_ARG;
     if (bg->mode != SONAR_BACKGROUND_PER_ANGLE && bg->mode != SONAR_BACKGROUND_AUTO)
         return sonar_background_apply(bg, 0, in, fg, n);
@@ -434,10 +653,14 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
     c0 = cos(th);
     s0 = sin(th);
     rmax = (double)ray->range_m;
+    rings = (int32_t)ceil(rmax / cs) + 1;
+    rings = rings > RINGS_MAX ? RINGS_MAX : rings;
+    look_rings(bg, ray, th, rings, slack, near);
     /* The foreground against the model before this beam. */
     for (i = 0; i < n; i++) {
         double r = ((double)i + 0.5) * rmax / (double)n;
         const uint8_t *under;
+        int32_t ring = (int32_t)(r / cs);
         uint8_t x = in[i], m, pr = profile(bg)[i];
         fg[i] = 0;
         if (r < (double)ray->near_m)
@@ -446,7 +669,7 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
         under = grid_at(bg, cell_index(bg, ray->north_m + r * c0), cell_index(bg, ray->east_m + r * s0));
         if (under[1] < SONAR_BG_MIN_SEEN)
             continue;
-        m = look(bg, ray, th, r, slack);
+        m = near[ring < rings ? ring : rings - 1];
         /* The level every beam sees at this range (the ring-down's tail, the gain's curve) moves with the sonar. */
         m = pr > m ? pr : m;
         if (m != 0) {
@@ -459,14 +682,27 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
     /*
      * The footprint: rings one cell apart, each crossed by points at most a cell apart along its
      * arc (so every cell of the wedge is visited about once), turned by a rotation each step
-     * rather than a sine per point. Each point takes the sample at its ring's range.
+     * rather than a sine per point. Each point takes the sample at its ring's range. Cells within
+     * a kept disc (a tracked object) are not learnt: of those discs, only the ones this wedge can
+     * reach are looked at.
      */
     w = ray->width_deg < 0.5 ? 0.5 : ray->width_deg > 90.0 ? 90.0 : ray->width_deg;
     w *= deg;
+    for (d = 0; d < nkeep && nhere < SONAR_BG_DISCS_MAX; d++) {
+        double dn = (double)keep[d].north_m - ray->north_m, de = (double)keep[d].east_m - ray->east_m;
+        double dist = sqrt(dn * dn + de * de), rad = (double)keep[d].radius_m;
+        double off = fabs(remainder(atan2(de, dn) - th, 2.0 * SONAR_PI));
+        if (dist - rad < rmax && (dist <= rad || off <= w / 2.0 + asin(rad / dist)))
+            here[nhere++] = keep[d];
+    }
     k0 = (int32_t)floor((double)ray->near_m / cs);
     kmax = (int32_t)floor(rmax / cs);
+    cw = cos(th - w / 2.0);
+    sw = sin(th - w / 2.0);
+    memset(arc.have, 0, sizeof(arc.have));
+    arc.span = w / 2.0; /* the half step from the wedge's edge to its first point, by points */
     for (k = k0; k < kmax; k++) {
-        double r = ((double)k + 0.5) * cs, a, ca, sa, cd, sd;
+        double r = ((double)k + 0.5) * cs, ca, sa, ch, sh, cd, sd;
         int32_t pts = (int32_t)ceil(r * w / cs), j;
         uint8_t x;
         if (r < (double)ray->near_m)
@@ -476,15 +712,16 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
             break;
         x = in[i];
         pts = pts < 1 ? 1 : pts;
-        a = th - w / 2.0 + w / (2.0 * (double)pts);
-        ca = cos(a);
-        sa = sin(a);
-        cd = cos(w / (double)pts);
-        sd = sin(w / (double)pts);
+        /* Points at the middles of pts equal parts of the wedge: half a part in, then whole parts. */
+        arc_step(&arc, pts, &ch, &sh);
+        cd = ch * ch - sh * sh;
+        sd = 2.0 * sh * ch;
+        ca = cw * ch - sw * sh;
+        sa = sw * ch + cw * sh;
         for (j = 0; j < pts; j++) {
-            double t = ca * cd - sa * sd;
-            learn(grid_at(bg, cell_index(bg, ray->north_m + r * ca), cell_index(bg, ray->east_m + r * sa)), x,
-                  bg->warmup, bg->step);
+            double t = ca * cd - sa * sd, pn = ray->north_m + r * ca, pe = ray->east_m + r * sa;
+            if (nhere == 0 || !kept(here, nhere, pn, pe))
+                learn(grid_at(bg, cell_index(bg, pn), cell_index(bg, pe)), x, bg->warmup, bg->step);
             sa = sa * cd + ca * sd;
             ca = t;
         }

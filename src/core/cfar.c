@@ -3,6 +3,10 @@
 
 #include <string.h>
 
+#if defined(__ARM_FEATURE_SIMD32)
+#include <arm_acle.h>
+#endif
+
 #define STR2(x) #x
 #define STR(x) STR2(x)
 
@@ -28,17 +32,35 @@ const char *sonar_cfar_config_check(const struct sonar_cfar_config *c)
     return NULL;
 }
 
-/* Sums of each block of 8 samples (at most 2040); a short last block scaled to a full one. Returns the block count. */
-static int block_sums(const uint8_t *fg, uint16_t n, uint16_t *s)
+/*
+ * Sums of each block of 8 samples (at most 2040); a short last block scaled to a full one. Returns
+ * the block count. Sixteen blocks at a time through a constant-length loop, which -O2 vectorises
+ * (on ARMv7E-M, usad8 against zero sums four bytes).
+ */
+#define SUM_RUN 16
+static int block_sums(const uint8_t *restrict fg, uint16_t n, uint16_t *restrict s)
 {
-    int nb = n / SONAR_CFAR_BLOCK, b, rest = n - nb * SONAR_CFAR_BLOCK, i;
-    for (b = 0; b < nb; b++) {
-        /* Eight bytes at once: pairs to 16-bit lanes, then the four lanes summed by one multiply. */
-        uint64_t x;
-        memcpy(&x, fg + b * SONAR_CFAR_BLOCK, 8);
-        x = (x & 0x00FF00FF00FF00FFull) + ((x >> 8) & 0x00FF00FF00FF00FFull);
-        s[b] = (uint16_t)((x * 0x0001000100010001ull) >> 48);
+    int nb = n / SONAR_CFAR_BLOCK, b = 0, rest = n - nb * SONAR_CFAR_BLOCK, i;
+#if defined(__ARM_FEATURE_SIMD32)
+    for (; b < nb; b++) {
+        uint32_t lo, hi;
+        memcpy(&lo, fg + b * SONAR_CFAR_BLOCK, 4);
+        memcpy(&hi, fg + b * SONAR_CFAR_BLOCK + 4, 4);
+        s[b] = (uint16_t)(__usad8(lo, 0u) + __usad8(hi, 0u));
     }
+#else
+    for (; b + SUM_RUN <= nb; b += SUM_RUN) {
+        const uint8_t *p = fg + b * SONAR_CFAR_BLOCK;
+        for (i = 0; i < SUM_RUN; i++) {
+            const uint8_t *q = p + SONAR_CFAR_BLOCK * i;
+            s[b + i] = (uint16_t)(q[0] + q[1] + q[2] + q[3] + q[4] + q[5] + q[6] + q[7]);
+        }
+    }
+    for (; b < nb; b++) {
+        const uint8_t *q = fg + b * SONAR_CFAR_BLOCK;
+        s[b] = (uint16_t)(q[0] + q[1] + q[2] + q[3] + q[4] + q[5] + q[6] + q[7]);
+    }
+#endif
     if (rest > 0) {
         int t = 0;
         for (i = 0; i < rest; i++)
@@ -105,29 +127,50 @@ static void noise_lanes(const struct sonar_cfar_config *c, const int16_t *s, int
     memcpy(out, v[rank_of(c, m) - 1], sizeof(v[0]));
 }
 
-/* cut[b] = the sum of blocks b - h .. b + h (s padded with zeros), cand[b] = cut[b] > inner; one pass per h, so it vectorises. */
+/*
+ * cut[b] = the sum of blocks b - h .. b + h (s padded with zeros), cand[b] = cut[b] > inner; over
+ * whole chunks of CHUNK blocks (the arrays have room past nb), so -O2 vectorises them.
+ */
+#define CHUNK 16
 static void window_sums(const int16_t *s, int nb, int h, uint16_t inner, uint16_t *restrict cut, uint8_t *restrict cand)
 {
-    int b;
-    switch (h) {
-    case 0:
-        for (b = 0; b < nb; b++)
+    int b, b0, j;
+    for (b0 = 0; b0 < nb; b0 += CHUNK) {
+        for (b = b0; b < b0 + CHUNK; b++)
             cut[b] = (uint16_t)s[b];
-        break;
-    case 1:
-        for (b = 0; b < nb; b++)
-            cut[b] = (uint16_t)(s[b - 1] + s[b] + s[b + 1]);
-        break;
-    default:
-        for (b = 0; b < nb; b++) {
-            int j, t = 0;
-            for (j = -h; j <= h; j++)
-                t += s[b + j];
-            cut[b] = (uint16_t)t;
-        }
+        for (j = 1; j <= h; j++)
+            for (b = b0; b < b0 + CHUNK; b++)
+                cut[b] = (uint16_t)(cut[b] + (uint16_t)s[b - j] + (uint16_t)s[b + j]);
+        for (b = b0; b < b0 + CHUNK; b++)
+            cand[b] = (uint8_t)(cut[b] > inner);
     }
-    for (b = 0; b < nb; b++)
-        cand[b] = (uint8_t)(cut[b] > inner);
+}
+
+/*
+ * s = own + prev + next (either may be NULL). Whole runs of SUM_RUN blocks through constant-length
+ * loops, which -O2 vectorises, then the ragged end.
+ */
+static void add_run(int16_t *restrict s, const uint16_t *restrict a, int len)
+{
+    int b;
+    for (b = 0; b < len; b++)
+        s[b] = (int16_t)(s[b] + (int16_t)a[b]);
+}
+
+static void add_sums(int16_t *restrict s, const uint16_t *restrict own, const uint16_t *prev, const uint16_t *next, int nb)
+{
+    const uint16_t *more[2];
+    int b0, k;
+    more[0] = prev;
+    more[1] = next;
+    memcpy(s, own, (size_t)nb * sizeof(*s)); /* at most 2040: the same bits as int16 */
+    for (k = 0; k < 2; k++) {
+        if (more[k] == NULL)
+            continue;
+        for (b0 = 0; b0 + SUM_RUN <= nb; b0 += SUM_RUN)
+            add_run(s + b0, more[k] + b0, SUM_RUN);
+        add_run(s + b0, more[k] + b0, nb - b0);
+    }
 }
 
 int sonar_cfar_sums(const uint8_t *fg, uint16_t n, uint16_t *sums)
@@ -145,26 +188,35 @@ int sonar_cfar_blocks(const struct sonar_cfar_config *c, const uint8_t *fg, uint
 int sonar_cfar_blocks_across(const struct sonar_cfar_config *c, const uint16_t *prev, const uint8_t *fg,
                              const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr)
 {
+    uint16_t own[SONAR_CFAR_MAX_BLOCKS];
+    if (fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES)
+        return SONAR_ERR_ARG;
+    (void)block_sums(fg, n, own);
+    return sonar_cfar_blocks_sums(c, prev, own, next, n, on, thr);
+}
+
+int sonar_cfar_blocks_sums(const struct sonar_cfar_config *c, const uint16_t *prev, const uint16_t *own,
+                           const uint16_t *next, uint16_t n, uint8_t *on, uint8_t *thr)
+{
     /* s is padded with SONAR_CFAR_CUT_MAX zeros before and after, so every window sums without bounds checks. */
-    int16_t pad[SONAR_CFAR_CUT_MAX + SONAR_CFAR_MAX_BLOCKS + SONAR_CFAR_CUT_MAX + LANES], noise[LANES];
+    int16_t pad[SONAR_CFAR_CUT_MAX + SONAR_CFAR_MAX_BLOCKS + CHUNK + SONAR_CFAR_CUT_MAX], noise[LANES];
     int16_t *s = pad + SONAR_CFAR_CUT_MAX;
-    uint16_t own[SONAR_CFAR_MAX_BLOCKS], cut[SONAR_CFAR_MAX_BLOCKS + LANES];
-    uint8_t cand[SONAR_CFAR_MAX_BLOCKS + LANES];
+    uint16_t cut[SONAR_CFAR_MAX_BLOCKS + CHUNK];
+    uint8_t cand[SONAR_CFAR_MAX_BLOCKS + CHUNK];
     uint32_t scale16, kb;
     int nb, b, b0, l, passed = 0, reach, w;
     uint16_t inner;
-    if (c == NULL || fg == NULL || on == NULL || n == 0 || n > SONAR_MAX_SAMPLES || sonar_cfar_config_check(c) != NULL)
+    if (c == NULL || own == NULL || on == NULL || n == 0 || n > SONAR_MAX_SAMPLES || sonar_cfar_config_check(c) != NULL)
         return SONAR_ERR_ARG;
     scale16 = (uint32_t)(c->scale * 16.0f + 0.5f);
     w = 2 * c->cut + 1;
-    nb = block_sums(fg, n, own);
+    nb = (n + SONAR_CFAR_BLOCK - 1) / SONAR_CFAR_BLOCK;
     /* The beams' block sums added: at most 3 * 2040, within int16. */
     kb = 1u + (prev != NULL) + (next != NULL);
-    for (b = 0; b < nb; b++)
-        s[b] = (int16_t)(own[b] + (prev != NULL ? prev[b] : 0u) + (next != NULL ? next[b] : 0u));
+    add_sums(s, own, prev, next, nb);
     reach = c->cut + c->guard + c->train;
     memset(pad, 0, SONAR_CFAR_CUT_MAX * sizeof(pad[0]));
-    memset(s + nb, 0, (SONAR_CFAR_CUT_MAX + LANES) * sizeof(pad[0]));
+    memset(s + nb, 0, (CHUNK + SONAR_CFAR_CUT_MAX) * sizeof(pad[0]));
     /* Window sums (at most 9 * 3 * 2040, within 16 bits); the zeros past the ends add nothing. */
     /* A window can pass only when its mean exceeds the floor: sum > 8 floor blocks beams (fewer blocks at the ends). */
     inner = (uint16_t)(SONAR_CFAR_BLOCK * c->floor * (unsigned)w * kb);
@@ -174,7 +226,7 @@ int sonar_cfar_blocks_across(const struct sonar_cfar_config *c, const uint16_t *
         int w0 = b - c->cut < 0 ? 0 : b - c->cut, w1 = b + c->cut + 1 > nb ? nb : b + c->cut + 1;
         cand[b] = (uint8_t)(cut[b] > SONAR_CFAR_BLOCK * c->floor * (uint32_t)(w1 - w0) * kb);
     }
-    memset(cand + nb, 0, LANES);
+    memset(cand + nb, 0, CHUNK);
     for (b0 = 0; b0 < nb; b0 += LANES) {
         int nl = nb - b0 < LANES ? nb - b0 : LANES, any = thr != NULL;
         for (l = 0; l < LANES; l++)

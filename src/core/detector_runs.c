@@ -137,11 +137,25 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
 /* The runs of nonzero cells inside the blocks that pass (a run may span several). */
 static void block_runs(struct sonar_detector *d, uint16_t beam, const uint8_t *fg, const uint8_t *on, uint16_t n)
 {
-    uint16_t i = 0, start;
+    uint16_t i = 0, start, nb = (uint16_t)((n + SONAR_CFAR_BLOCK - 1u) / SONAR_CFAR_BLOCK);
     d->threshold = d->cfg.cfar.floor;
     while (i < n) {
         uint32_t sum = 0;
-        if (!on[i / SONAR_CFAR_BLOCK] || fg[i] == 0) {
+        unsigned b = i / SONAR_CFAR_BLOCK;
+        if (!on[b]) {
+            /* Past the failed blocks, eight flags at a time: most of a beam fails. */
+            uint64_t eight = 0;
+            for (b++; b + 8u <= nb; b += 8u) {
+                memcpy(&eight, on + b, 8);
+                if (eight != 0)
+                    break;
+            }
+            while (b < nb && !on[b])
+                b++;
+            i = (uint16_t)(b * SONAR_CFAR_BLOCK);
+            continue;
+        }
+        if (fg[i] == 0) {
             i++;
             continue;
         }

@@ -92,12 +92,36 @@ static void emit(const struct sonar_pipeline *p, int stage, int64_t utime, uint1
 }
 
 /*
- * With a pose at the beam's time (per-angle mode): the background in the world grid, the beam's
- * footprint reaching back to the heading of the beam before (a jump beyond max_step, or none:
- * one step's worth).
+ * The auto background's kept discs in the world frame: about each confirmed or coasting track where
+ * it was last seen, of its last detection's radius (at least SONAR_PIPE_KEEP_MIN_M). The grid does
+ * not learn the cells inside them, as keep_spans below does for the per-angle rows.
+ */
+static uint8_t keep_discs(const struct sonar_pipeline *p, struct sonar_bg_disc *d)
+{
+    uint8_t k, m = 0;
+    if (p->cfg->background.mode != SONAR_BACKGROUND_AUTO || !p->cfg->track || !p->trk.world)
+        return 0;
+    for (k = 0; k < p->trk.n && m < SONAR_BG_DISCS_MAX; k++) {
+        const struct sonar_track *t = &p->trk.t[k];
+        float rad = (float)t->size_dm * 0.1f;
+        if (t->state == SONAR_TRACK_TENTATIVE)
+            continue;
+        d[m].north_m = t->px;
+        d[m].east_m = t->py;
+        d[m].radius_m = rad > SONAR_PIPE_KEEP_MIN_M ? rad : SONAR_PIPE_KEEP_MIN_M;
+        m++;
+    }
+    return m;
+}
+
+/*
+ * With a pose at the beam's time (per-angle or auto mode): the background in the world grid, the
+ * beam's footprint reaching back to the heading of the beam before (a jump beyond max_step, or
+ * none: one step's worth); in auto mode the tracks' discs are not learnt.
  */
 static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t angle, int *done)
 {
+    struct sonar_bg_disc discs[SONAR_BG_DISCS_MAX];
     struct sonar_pose q;
     struct sonar_bg_ray ray;
     double d;
@@ -120,7 +144,8 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     p->have_prev_bearing = 1;
     p->world_beams++;
     *done = 1;
-    return sonar_background_apply_world(&p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n);
+    return sonar_background_apply_world_keep(&p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n, discs,
+                                             keep_discs(p, discs));
 }
 
 /*
@@ -187,13 +212,15 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
                                  : NULL;
     if (next != NULL && sonar_frame_gap(next_angle, p->wait_angle) > SONAR_PIPE_ACROSS_GAP)
         next = NULL;
-    r = sonar_cfar_blocks_across(&p->cfg->detector.cfar, alone ? NULL : before, fg, alone ? NULL : next, p->n, on, NULL);
+    r = sonar_cfar_blocks_sums(&p->cfg->detector.cfar, alone ? NULL : before, p->wait_sums, alone ? NULL : next, p->n, on,
+                               NULL);
     if (r < 0)
         return r;
     r = sonar_detector_add_blocks(&p->det, p->wait_angle, fg, on, p->n, p->range_m, p->wait_utime);
     p->waiting = 0;
     p->before_angle = p->wait_angle;
-    p->have_before = (uint8_t)(sonar_cfar_sums(fg, p->n, p->before) > 0);
+    p->have_before = 1;
+    memcpy(p->before, p->wait_sums, sizeof(p->before));
     /* The sweep tracker cuts at SONAR_MAX_SWEEP_BEAMS, so FULL cannot happen here. */
     return r == SONAR_ERR_FULL ? SONAR_OK : r;
 }
@@ -215,10 +242,11 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
         return r == SONAR_ERR_FULL ? SONAR_OK : r;
     }
-    if (p->waiting) {
-        if ((r = sonar_cfar_sums(b, p->n, sums)) < 0 || (r = release(p, sums, angle)) != SONAR_OK)
-            return r;
-    }
+    if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
+        return r;
+    if (p->waiting && (r = release(p, sums, angle)) != SONAR_OK)
+        return r;
+    memcpy(p->wait_sums, sums, sizeof(sums));
     p->waiting = 1;
     p->wait_alone = (uint8_t)seeding;
     p->wait_angle = angle;
@@ -584,6 +612,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         /* New geometry: the old background and the open sweep's cells no longer line up. */
         if ((r = end_sweep(p)) != SONAR_OK)
             return r;
+        p->geometry_changes++;
         sonar_background_reset(&p->bg);
         if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
             return r;

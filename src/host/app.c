@@ -201,9 +201,18 @@ int app_push(struct app *a, const struct app_beam *b)
     pb.range_m = b->range_m;
     pb.samples = b->samples;
     t0 = a->clock.mono_ns(a->clock.user);
-    if ((r = sonar_pipeline_push(&a->pipe, &pb)) != SONAR_OK) {
-        a->beams_rejected++;
-        return r;
+    {
+        uint32_t changes = a->pipe.geometry_changes;
+        float was_m = a->pipe.range_m;
+        uint16_t was_n = a->pipe.n;
+        if ((r = sonar_pipeline_push(&a->pipe, &pb)) != SONAR_OK) {
+            a->beams_rejected++;
+            return r;
+        }
+        if (a->pipe.geometry_changes != changes)
+            app_say(a, "range: %u samples over %.2f m from the beam at %.3f s (was %u over %.2f m): the sweep was cut "
+                    "there and the background starts afresh",
+                    pb.n, (double)pb.range_m, (double)pb.utime * 1e-6, was_n, (double)was_m);
     }
     a->proc_us[a->nproc++ % APP_PROC_RING] = (float)((double)(a->clock.mono_ns(a->clock.user) - t0) * 1e-3);
     return HOST_OK;

@@ -50,6 +50,8 @@ struct csv_row {
 struct csv_reader {
     FILE *f;
     int owned;
+    long gunzip;            /* pid of the gzip -dc reading a compressed file for us, else 0 */
+    int stop;               /* the stream is not CSV (gzip data on a stream): end of rows */
     const char *path;
     unsigned long line;     /* line number of the row last returned */
     unsigned long good;
@@ -66,7 +68,11 @@ enum csv_format { CSV_FORMAT_UNKNOWN = 0, CSV_FORMAT_STUDY, CSV_FORMAT_UNTIMED }
 /* The form of the rows read so far, for messages: "study CSV (sec,nsec,angle,samples)" and so on. */
 const char *csv_format_name(const struct csv_reader *r);
 
-/* Opens path ("-" = stdin). Returns HOST_OK, or HOST_ERR_IO with errno set. */
+/*
+ * Opens path ("-" = stdin). A gzip-compressed file (it starts 1f 8b; recordings are often kept as
+ * .csv.gz) is read through a gzip -dc child; compressed data on stdin or a stream is reported by
+ * csv_next and not parsed. Returns HOST_OK, or HOST_ERR_IO with errno set.
+ */
 int csv_open(struct csv_reader *r, const char *path);
 
 /* Reads an open stream (not closed by csv_close); name is used in messages. */
@@ -75,7 +81,9 @@ void csv_close(struct csv_reader *r);
 
 /*
  * Reads the next row. Returns 1 with *row filled; 0 at end of file; HOST_ERR_ROW for a
- * malformed row, with a reason in err (the caller prints path:line: reason and goes on).
+ * malformed row, with a reason in err (the caller prints path:line: reason and goes on). Also
+ * HOST_ERR_ROW, once, then 0: a compressed file whose gzip -dc failed (truncated or corrupt:
+ * the rows before it were read), and gzip data where rows were expected on a stream.
  */
 int csv_next(struct csv_reader *r, struct csv_row *row, char *err, size_t errlen);
 

@@ -69,7 +69,11 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
     struct sonar_ping_parser parser;
     struct reader r;
     char s[4096], prev[16] = "";
-    double day = 0.0;
+    /*
+     * Times in whole microseconds: the start rounded once, the record's milliseconds added exactly
+     * (3.186 s in doubles, truncated to nanoseconds, was 3.185999999).
+     */
+    int64_t day_s = 0, start_us = (int64_t)(start * 1e6 + 0.5);
     uint32_t v, family = 0, type = 0;
     uint16_t n0 = 0;
     int i;
@@ -104,7 +108,7 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
         size_t at = r.off;
         uint32_t len;
         int h, m, sec, ms;
-        double t;
+        int64_t t_us;
         const uint8_t *p;
         size_t left;
         struct sonar_ping_frame f;
@@ -121,9 +125,9 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
         }
         /* the elapsed time wraps at 24 h (QTime) */
         if (strcmp(s, prev) < 0 && prev[0] != '\0')
-            day += 86400.0;
+            day_s += 86400;
         snprintf(prev, sizeof(prev), "%.15s", s);
-        t = start + day + h * 3600.0 + m * 60.0 + sec + ms / 1000.0;
+        t_us = start_us + (day_s + h * 3600 + m * 60 + sec) * 1000000 + (int64_t)ms * 1000;
         st->records++;
         if (len == 0xFFFFFFFFu)
             continue;
@@ -149,7 +153,7 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
             meta.transmit_duration = d.transmit_duration;
             meta.transmit_frequency = d.transmit_frequency;
             meta.speed_of_sound = c;
-            if (csv_write(out, (int64_t)t, (uint32_t)((t - (double)(int64_t)t) * 1e9), d.angle, d.data, d.data_length,
+            if (csv_write(out, t_us / 1000000, (uint32_t)(t_us % 1000000) * 1000u, d.angle, d.data, d.data_length,
                           &meta) != 0) {
                 say(errf, "pvbin2csv: write error\n");
                 return HOST_ERR_IO;

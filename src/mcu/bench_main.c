@@ -3,6 +3,7 @@
 
 #include "board.h"
 #include "sonar/background.h"
+#include "sonar/cfar.h"
 #include "sonar/detector.h"
 #include "sonar/tracker.h"
 #include "sonar/median.h"
@@ -78,16 +79,18 @@ static void put_num(const char *key, uint64_t v)
     put(buf);
 }
 
-/* sonard's default detector settings. */
 /* The tracker's sweep: 32 live tracks, 16 detections near half of them, as tools/bench.c times it on the host. */
 static int64_t tracker_us(void)
 {
     static struct sonar_tracker tk;
     struct sonar_tracker_config tc;
     struct sonar_tracker_obs ob[16];
-    struct sonar_tracker_sweep sw = {0, 400, NULL, 0.0f, 50.0f};
+    struct sonar_tracker_sweep sw;
     int s, k;
     int64_t t0;
+    memset(&sw, 0, sizeof(sw));
+    sw.beams = 400;
+    sw.max_range_m = 50.0f;
     sonar_tracker_defaults(&tc);
     if (sonar_tracker_init(&tk, &tc) != SONAR_OK)
         return -1;
@@ -113,11 +116,93 @@ static int64_t tracker_us(void)
     return board_micros() - t0;
 }
 
+/* sonard's default detector settings with the study's global threshold (mean + k std): the step before the CFAR. */
 static struct sonar_detector_config det_cfg(void)
 {
     struct sonar_pipeline_config p;
     sonar_pipeline_defaults(&p);
+    p.detector.threshold_mode = SONAR_DET_GLOBAL;
     return p.detector;
+}
+
+/*
+ * sonard's default per-beam step through the pipeline (median, auto background in place, the CFAR
+ * over each beam and its neighbours, runs), over beams 1 .. BENCH_BEAMS - 1 of the fifth sweep:
+ * beam 0 ends the previous sweep (detection and tracking, timed apart). Returns the time, or -1.
+ */
+static int64_t pipeline_us(struct bench *b)
+{
+    static struct sonar_pipeline pipe;
+    static struct sonar_pipeline_config pc;
+    int64_t t0 = 0;
+    int s, i;
+    sonar_pipeline_defaults(&pc);
+    if (sonar_pipeline_init(&pipe, &pc) != SONAR_OK)
+        return -1;
+    for (s = 0; s < 5; s++) {
+        make_sweep(b, s);
+        for (i = 0; i < BENCH_BEAMS; i++) {
+            struct sonar_beam beam;
+            beam.utime = ((int64_t)s * BENCH_BEAMS + i) * 20000;
+            beam.angle = (uint16_t)(i * 400 / BENCH_BEAMS);
+            beam.n = BENCH_N;
+            beam.range_m = 20.0f;
+            beam.samples = b->sweep[i];
+            if (i == 1)
+                t0 = board_micros();
+            if (sonar_pipeline_push(&pipe, &beam) < 0)
+                return -1;
+        }
+    }
+    return board_micros() - t0;
+}
+
+/*
+ * The default step's stages one by one, as the pipeline runs them (the CFAR over the beam, the
+ * one before and the one after), over the fifth sweep: out[0] the auto background, out[1] the
+ * block sums, out[2] the CFAR, out[3] the runs. Returns 0, or -1.
+ */
+static int default_stages(struct bench *b, int64_t out[4])
+{
+    static struct sonar_background bg;
+    static struct sonar_detector det;
+    static uint16_t sums[2][SONAR_CFAR_MAX_BLOCKS];
+    static uint8_t on[SONAR_CFAR_MAX_BLOCKS];
+    struct sonar_pipeline_config pc;
+    int s, i;
+    sonar_pipeline_defaults(&pc);
+    if (sonar_background_init(&bg, &pc.background) != SONAR_OK || sonar_detector_init(&det, &pc.detector) != SONAR_OK)
+        return -1;
+    for (s = 0; s < 5; s++) {
+        make_sweep(b, s);
+        out[0] = out[1] = out[2] = out[3] = 0;
+        for (i = 0; i < BENCH_BEAMS; i++) {
+            int64_t a, g, u, c;
+            uint16_t angle = (uint16_t)(i * 400 / BENCH_BEAMS);
+            if (sonar_median_1d(b->sweep[i], b->filt, BENCH_N, 5) != SONAR_OK)
+                return -1;
+            a = board_micros();
+            if (sonar_background_apply_keep(&bg, angle, b->filt, b->filt, BENCH_N, NULL, 0) != SONAR_OK)
+                return -1;
+            g = board_micros();
+            if (sonar_cfar_sums(b->filt, BENCH_N, sums[i & 1]) < 0)
+                return -1;
+            u = board_micros();
+            if (sonar_cfar_blocks_sums(&pc.detector.cfar, sums[(i + 1) & 1], sums[i & 1], sums[(i + 1) & 1], BENCH_N,
+                                       on, NULL) < 0)
+                return -1;
+            c = board_micros();
+            if (sonar_detector_add_blocks(&det, angle, b->filt, on, BENCH_N, 20.0f, 0) != SONAR_OK)
+                return -1;
+            out[0] += g - a;
+            out[1] += u - g;
+            out[2] += c - u;
+            out[3] += board_micros() - c;
+        }
+        if (sonar_detector_end(&det, &b->out) < 0)
+            return -1;
+    }
+    return 0;
 }
 
 int main(void)
@@ -214,7 +299,7 @@ int main(void)
     }
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);
-    put_num("insn_per_beam", (uint64_t)beam_us * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_global", (uint64_t)beam_us * INSN_PER_US / BENCH_BEAMS);
     put_num("insn_per_beam_median5", (uint64_t)t_med * INSN_PER_US / BENCH_BEAMS);
     put_num("insn_per_beam_background", (uint64_t)t_bg * INSN_PER_US / BENCH_BEAMS);
     put_num("insn_per_beam_stats_runs", (uint64_t)t_add * INSN_PER_US / BENCH_BEAMS);
@@ -222,6 +307,19 @@ int main(void)
     put_num("typical_detections", (uint64_t)typical);
     put_num("worst_detections", b.out.count);
     put_num("insn_sweep_detect_worst", (uint64_t)worst_us * INSN_PER_US);
+    {
+        int64_t tp = pipeline_us(&b);
+        if (tp < 0)
+            return 10;
+        int64_t st[4];
+        put_num("insn_per_beam", (uint64_t)tp * INSN_PER_US / (BENCH_BEAMS - 1));
+        if (default_stages(&b, st) != 0)
+            return 11;
+        put_num("insn_per_beam_auto_background", (uint64_t)st[0] * INSN_PER_US / BENCH_BEAMS);
+        put_num("insn_per_beam_cfar_sums", (uint64_t)st[1] * INSN_PER_US / BENCH_BEAMS);
+        put_num("insn_per_beam_cfar", (uint64_t)st[2] * INSN_PER_US / BENCH_BEAMS);
+        put_num("insn_per_beam_cfar_runs", (uint64_t)st[3] * INSN_PER_US / BENCH_BEAMS);
+    }
     put_num("stack_used_bytes", board_stack_used());
     put("done\n");
     while (board_uart_pending(BOARD_UART_SONAR) > 0)
