@@ -7,7 +7,7 @@ R=${SONARD_REAL_DATA:-../shared/data/real}
 mkdir -p "$O"
 "$B/sonar-sim" --scene pool --out "$O/pool.csv" --truth "$O/pool.json" >/dev/null
 "$B/sonar-sim" --scene open --seed 7 --out "$O/open.csv" --truth "$O/open.json" >/dev/null
-for cfg in "default:" "m55:--median 5x5" "study:--background range --bg-margin 0" "range:--background range" \
+for cfg in "default:" "m55:--median 5x5" "study:--background range --bg-margin 0" "study55:--median 5x5 --background range --bg-margin 0" "range:--background range" \
            "preset:--config docs/presets/occupied-pool.conf"; do
     name=${cfg%%:*}; args=${cfg#*:}
     for s in pool open; do

@@ -34,6 +34,28 @@ static void test_defaults(void **state)
     assert_int_equal(o.stage, SONAR_STAGE_FOREGROUND);
 }
 
+/* --background range brings the study's rules (sonard's before the CFAR) unless they are given. */
+static void test_range_background_brings_the_study_rules(void **state)
+{
+    const char *def[] = {"sonard", "--replay", "x.csv"};
+    const char *rng[] = {"sonard", "--replay", "x.csv", "--background", "range"};
+    const char *mixed[] = {"sonard", "--replay", "x.csv", "--background", "range", "--threshold-mode", "cfar",
+                           "--min-points", "30"};
+    (void)state;
+    assert_int_equal(parse(3, def), 0);
+    assert_int_equal(o.pipeline.detector.threshold_mode, SONAR_DET_CFAR);
+    assert_int_equal(o.pipeline.detector.min_points, 12);
+    assert_true(o.pipeline.detector.max_extent_m > 3.4f && o.pipeline.detector.max_aspect > 1.9f);
+    assert_int_equal(parse(5, rng), 0);
+    assert_int_equal(o.pipeline.detector.threshold_mode, SONAR_DET_GLOBAL);
+    assert_int_equal(o.pipeline.detector.min_points, 20);
+    assert_true(o.pipeline.detector.max_extent_m == 0.0f && o.pipeline.detector.max_aspect == 0.0f);
+    assert_int_equal(parse(9, mixed), 0);
+    assert_int_equal(o.pipeline.detector.threshold_mode, SONAR_DET_CFAR);
+    assert_int_equal(o.pipeline.detector.min_points, 30);
+    assert_true(o.pipeline.detector.max_extent_m == 0.0f);
+}
+
 static void fmt(char *buf, size_t n, double v, int whole)
 {
     if (whole)
@@ -270,6 +292,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_range_background_brings_the_study_rules),
         cmocka_unit_test(test_every_numeric_row_bounds),
         cmocka_unit_test(test_names_unique_and_help_lists_all),
         cmocka_unit_test(test_config_files),

@@ -106,8 +106,16 @@ const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
 /* Validates cfg (kept by pointer: it must outlive p). Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
 
-/* Fills cfg with sonard's defaults (median 5, per-angle background, k = 3, see docs/architecture.md). */
+/* Fills cfg with sonard's defaults (median 5, auto background, CFAR; see docs/architecture.md). */
 void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg);
+
+/*
+ * The detector's rules that go with the range background (the study's median across scans) when
+ * nothing else is asked for: the study's mean + k std threshold, 20 cells, no width or aspect
+ * limit, sonard's defaults before the CFAR; so the study's configuration replays as it always has.
+ * Sets d's threshold_mode, min_points, max_extent_m and max_aspect.
+ */
+void sonar_pipeline_study_rules(struct sonar_detector_config *d);
 
 /*
  * Processes one beam. When the beam starts a new sweep (wrap, reversal, jump, or a change of n

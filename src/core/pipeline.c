@@ -40,6 +40,14 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     sonar_tracker_defaults(&cfg->tracker);
 }
 
+void sonar_pipeline_study_rules(struct sonar_detector_config *d)
+{
+    d->threshold_mode = SONAR_DET_GLOBAL;
+    d->min_points = 20;
+    d->max_extent_m = 0.0f;
+    d->max_aspect = 0.0f;
+}
+
 const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
 {
     const char *why;

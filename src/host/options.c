@@ -182,7 +182,8 @@ static const struct opt_spec spec[] = {
     {"bg-margin", "N", OPT_U8, 1, 1, B(margin), 0, SONAR_BG_MARGIN_MAX, "sixteenths of the background", "8",
      "a cell must exceed the background b by b*N/16; 0 = the study's\nplain subtraction", NULL, NULL},
     SECTION("detector (once per sweep)"),
-    {"threshold-mode", "MODE", OPT_CHOICE, 1, 1, D(threshold_mode), 0, 0, "cfar or global", "cfar",
+    {"threshold-mode", "MODE", OPT_CHOICE, 1, 1, D(threshold_mode), 0, 0, "cfar or global",
+     "cfar; global with --background range (the study's)",
      "cfar: each beam against the noise along it (order-statistic CFAR,\n--cfar-*); global: mean + K std of the previous sweep (the study's)",
      "global=0|cfar=1", NULL},
     {"cfar-scale", "A", OPT_F32, 1, 1, D(cfar.scale), SONAR_CFAR_SCALE_MIN, SONAR_CFAR_SCALE_MAX, "times the noise", "2.5",
@@ -205,15 +206,15 @@ static const struct opt_spec spec[] = {
     {"min-threshold", "T", OPT_U8, 1, 1, D(min_threshold), 0, SONAR_DET_MIN_THRESHOLD_MAX, "grey levels", "16",
      "cells must exceed at least T", NULL, NULL},
     {"clusters", "MAX", OPT_U8, 1, 1, D(max_clusters), 1, SONAR_MAX_CLUSTERS, "clusters", "8", "most detections per sweep", NULL, NULL},
-    {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "12", "cells a detection needs", NULL, NULL},
+    {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "12; 20 with --background range", "cells a detection needs", NULL, NULL},
     {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams", "1", "beams a detection must span", NULL, NULL},
-    {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "3.5",
+    {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "3.5; 0 with --background range",
      "drop detections wider than M (structure: walls, lane ropes)", NULL, NULL},
     {"split-points", "N", OPT_U16, 1, 1, D(split_points), 0, 65535, "cells (0 = never cut)", "0",
      "cut groups wider than --max-extent with k-means into pieces about\nhalf of it across, keeping pieces of >= N cells", NULL, NULL},
     {"min-range", "M", OPT_F32, 1, 1, D(min_range_m), 0, SONAR_DET_DISTANCE_MAX, "metres", "0",
      "drop detections nearer than M (ring-down, the mount)", NULL, NULL},
-    {"max-aspect", "R", OPT_F32, 1, 1, D(max_aspect), 0, SONAR_DET_ASPECT_MAX, "ratio (0 = no limit, else >= 0.1)", "2",
+    {"max-aspect", "R", OPT_F32, 1, 1, D(max_aspect), 0, SONAR_DET_ASPECT_MAX, "ratio (0 = no limit, else >= 0.1)", "2; 0 with --background range",
      "drop detections R times longer along the beam than across", NULL, NULL},
     {"track-m", "M", OPT_F32, 1, 1, D(track_m), 0, SONAR_DET_TRACK_M_MAX, "metres (0 = off)", "0",
      "a cluster within M of a track's prediction (with --track off: of a\ndetection of the previous sweep) needs only --track-points cells", NULL, NULL},
@@ -287,6 +288,13 @@ static void usage(void)
     opt_usage(&schema, stdout);
 }
 
+/* Was the option named given (on the command line or in a --config file)? */
+static int given(const struct sonard_options *o, const char *name)
+{
+    int k = opt_find(&schema, name);
+    return k >= 0 && opt_was_given(&o->given, (size_t)k);
+}
+
 /* Checks what no single option can: combinations, and each core config as a whole. */
 static int check_whole(struct sonard_options *o, char *err, size_t errlen)
 {
@@ -295,6 +303,21 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
     if (bgw < 0 || !opt_was_given(&o->given, (size_t)bgw))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
+    /* The study's median background goes with its rules, unless they are given: its configuration replays as it always has. */
+    {
+        struct sonar_pipeline_config d;
+        sonar_pipeline_defaults(&d);
+        if (o->pipeline.background.mode == SONAR_BACKGROUND_RANGE)
+            sonar_pipeline_study_rules(&d.detector);
+        if (!given(o, "threshold-mode"))
+            o->pipeline.detector.threshold_mode = d.detector.threshold_mode;
+        if (!given(o, "min-points"))
+            o->pipeline.detector.min_points = d.detector.min_points;
+        if (!given(o, "max-extent"))
+            o->pipeline.detector.max_extent_m = d.detector.max_extent_m;
+        if (!given(o, "max-aspect"))
+            o->pipeline.detector.max_aspect = d.detector.max_aspect;
+    }
     if (o->pose_lcm != NULL && o->replay != NULL) {
         snprintf(err, errlen, "--pose-lcm URL is for a live sonar; a replay takes --pose FILE.csv");
         return HOST_ERR_CONFIG;
