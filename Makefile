@@ -273,7 +273,7 @@ $(BUILD)/bench_opencv: tools/bench_opencv.cpp
 	$(CXX) -std=c++17 -O2 $< -o $@ $(OPENCV_FLAGS)
 
 ## eval: docs/results.md and docs/figures: the study's table, SNR/PSNR/CNR, detection scores (simulated, AquaScan)
-eval: deps all venv
+eval: deps all venv $(BUILD)/bench $(BUILD)/mcu/bench-400x1200.elf
 	.venv/bin/python tools/eval.py --build $(BUILD)
 
 ## figures: the figure set for any recording: make figures CSV=FILE.csv OUT=DIR [ARGS="--range 20"]

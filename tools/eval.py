@@ -134,14 +134,18 @@ def metrics(raw, x, mask):
 
 # ---------------------------------------------------------------- detection scores
 
-def score(truth_path, dets_jsonl, gate=1.0):
-    r = sh([sys.executable, os.path.join(os.path.dirname(__file__), "score.py"), truth_path, dets_jsonl, "--gate", str(gate)])
+def score(truth_path, dets_jsonl, gate=1.0, extra=()):
+    """score.py's figures; extra: more of its flags (--frame, --object ...), whose found-in lines land in "found"."""
+    r = sh([sys.executable, os.path.join(os.path.dirname(__file__), "score.py"), truth_path, dets_jsonl, "--gate", str(gate),
+            *extra])
+    found = {m[1]: (int(m[2]), int(m[3])) for m in re.finditer(r"object (\S+): found in (\d+) of (\d+)", r)}
+    r = r.split("\nobject ")[0] if "\nobject " in r else r
     v = r.split()
     get = lambda k: float(v[v.index(k) + 1])  # noqa: E731
     counts = r[r.rindex("(TP"):].strip("()\n ").replace(",", "").split()
     return {"precision": get("precision"), "recall": get("recall"), "F1": get("F1"),
             "error": get("mean"), "fa": get("alarms/sweep"), "line": r.strip(),
-            "tp": int(counts[1]), "fp": int(counts[3]), "fn": int(counts[5])}
+            "tp": int(counts[1]), "fp": int(counts[3]), "fn": int(counts[5]), "found": found}
 
 
 def fmt(x, d=3):
@@ -215,7 +219,7 @@ def main():
         with tempfile.TemporaryDirectory() as tmp:
             im_med, im_fg = image_pipeline(path, tmp)
         quality.append((name, [("raw", raw, "—"), ("CSV approach (sonard): median 5", ours_med, "median"),
-                               ("CSV approach (sonard): + per-angle background (default)", ours_fg, "foreground"),
+                               ("CSV approach (sonard): + auto background (default)", ours_fg, "foreground"),
                                ("CSV approach (sonard): occupied-pool preset (5x5, range background)", ours_rg, "foreground"),
                                ("study: median_filter 5x5", st_med, "median"), ("study: + median background", st_fg, "foreground"),
                                ("image approach: medianBlur 5", im_med, "median"), ("image approach: + median background", im_fg, "foreground")],
@@ -348,6 +352,108 @@ def main():
                 oracle.append(math.hypot((o["x"] - px) / dt - o["vx"], (o["y"] - py) / dt - o["vy"]))
             last[o["id"]] = ((o["x"], o["y"]), o["t_us"])
 
+    # ---------------- 7. real water without a preset (issue 23): every scene and both recordings, three configurations
+    study_args = ["--median", "5x5", "--background", "range", "--bg-margin", "0"]
+    configs = [("default", []), ("occupied-pool preset", presets["occupied-pool"]), ("study's method (sonard)", study_args)]
+    for scene in ("occupied", "far", "still"):
+        sh([f"{B}/sonar-sim", "--scene", scene, "--out", f"{W}/{scene}.csv", "--truth", f"{W}/{scene}.json"])
+    far_ids = ["far_a", "far_b", "far_c", "far_d"]
+    rw_sets = [("simulated pool", f"{W}/pool.csv", f"{W}/pool.json", [], []),
+               ("simulated open water", f"{W}/open.csv", f"{W}/open.json", [], []),
+               ("simulated moving", f"{W}/moving.csv", f"{W}/moving.json", [], []),
+               ("simulated sector", f"{W}/sector.csv", f"{W}/sector.json", [], []),
+               ("simulated vehicle (pose, world frame)", f"{W}/vehicle.csv", f"{W}/vehicle.json",
+                ["--pose", f"{W}/vehicle.pose.csv"], ["--frame", "world"]),
+               ("simulated occupied pool", f"{W}/occupied.csv", f"{W}/occupied.json", [], []),
+               ("simulated far swimmers", f"{W}/far.csv", f"{W}/far.json", [], ["--object", ",".join(far_ids)]),
+               ("simulated still person", f"{W}/still.csv", f"{W}/still.json", [], ["--object", "floater", "--still"])]
+    if have_real:
+        if not os.path.isdir(f"{W}/aq13"):
+            sh([sys.executable, os.path.join(os.path.dirname(__file__), "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
+                "--out", f"{W}/aq13", "--range", "13"])
+        for rng, d in ((a.aquascan_range, f"{W}/aq"), (13.0, f"{W}/aq13")):
+            for rec, who in (("sonar4", "5"), ("sonar11", "10")):
+                rw_sets.append((f"AquaScan {rec} at {rng:g} m" + (" (held out)" if rec == "sonar11" else ""),
+                                f"{d}/{rec}.csv", f"{d}/{rec}.truth.json", [], ["--object", who]))
+    realwater = []
+    for name, path, truth_path, run_extra, score_extra in rw_sets:
+        row = []
+        for label, args in configs:
+            out = f"{W}/rw-{os.path.basename(os.path.dirname(path))}-{os.path.basename(path)}.{label.split()[0]}.jsonl"
+            open(out, "w").write(sh([f"{B}/sonard", "--replay", path, "--json", "--quiet", *args, *run_extra]))
+            row.append(score(truth_path, out, extra=score_extra))
+        realwater.append((name, row))
+    # How long the still person's track says it has stood still, against the truth, at the end.
+    still_s = None
+    st_truth = json.load(open(f"{W}/still.json"))["sweeps"]
+    still_from = [s_ for s_ in st_truth for o in s_["objects"] if o["id"] == "floater" and o["vx"] == 0 and o["vy"] == 0]
+    st_last = [json.loads(x) for x in open(f"{W}/rw-{os.path.basename(W)}-still.csv.default.jsonl")][-1]
+    fl = [o for o in st_truth[-1]["objects"] if o["id"] == "floater"][0]
+    near = [h for h in st_last["tracks"] if math.hypot(h["x_m"] - fl["x"], h["y_m"] - fl["y"]) < 1.0]
+    if still_from and near:
+        t0 = [o for o in still_from[0]["objects"] if o["id"] == "floater"][0]["t_us"]
+        still_s = ((fl["t_us"] - t0) * 1e-6, near[0]["still_s"], near[0]["id"])
+
+    # ROC: detections against false alarms per sweep, the global threshold's K against the CFAR's scale, the rest default.
+    roc_sets = [("simulated far swimmers", f"{W}/far.csv", f"{W}/far.json")]
+    if have_real:
+        roc_sets.insert(0, (f"AquaScan sonar4 at {a.aquascan_range:g} m", f"{W}/aq/sonar4.csv", f"{W}/aq/sonar4.truth.json"))
+    roc = []
+    for name, path, truth_path in roc_sets:
+        curves = {}
+        for stage, flag, values, fixed in (("global threshold (mean + K std)", "--threshold", (1, 1.5, 2, 2.5, 3, 4, 5, 6),
+                                            ["--threshold-mode", "global"]),
+                                           ("CFAR (scale A)", "--cfar-scale", (1.25, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6), [])):
+            pts = []
+            for v in values:
+                out = f"{W}/roc.jsonl"
+                open(out, "w").write(sh([f"{B}/sonard", "--replay", path, "--json", "--quiet", *fixed, flag, f"{v:g}"]))
+                pts.append((v, score(truth_path, out)))
+            curves[stage] = pts
+        roc.append((name, curves))
+    roc_figs = []
+    for name, curves in roc:
+        fig, ax = figures.plt.subplots(figsize=(5.5, 4))
+        for stage, pts in curves.items():
+            ax.plot([p["fa"] for _, p in pts], [p["recall"] for _, p in pts], "o-", label=stage)
+            for v, p in pts:
+                ax.annotate(f"{v:g}", (p["fa"], p["recall"]), fontsize=7, xytext=(3, -8), textcoords="offset points")
+        ax.set_xlabel("false alarms per sweep")
+        ax.set_ylabel("detections (recall)")
+        ax.set_title(name)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+        fname = "roc_" + re.sub(r"[^a-z0-9]+", "_", name.lower()).strip("_") + ".png"
+        # AquaScan-derived figures stay out of docs/ (the data's licence is unclear)
+        where = os.path.join(W, "figures") if name.startswith("AquaScan") else figdir
+        os.makedirs(where, exist_ok=True)
+        fig.tight_layout()
+        fig.savefig(os.path.join(where, fname), dpi=110)
+        figures.plt.close(fig)
+        if where == figdir:
+            roc_figs.append(fname)
+
+    # The speckle: which family fits the pool's water and its people (tools/speckle_fit.py, sonar4 at the assumed range).
+    speckle = ""
+    if have_real:
+        speckle = sh([sys.executable, os.path.join(os.path.dirname(__file__), "speckle_fit.py"), f"{W}/aq/sonar4.csv",
+                      f"{W}/aq/sonar4.truth.json", "--markdown"]).strip()
+
+    # The per-beam cost of the stage: tools/bench.c (one run, host), and the M7 bench image under QEMU when it is built.
+    cost = {}
+    for line in sh([f"{B}/bench", W]).splitlines():
+        k, _, v = line.partition(" ")
+        cost[k] = v
+    m7 = {}
+    elf = f"{B}/mcu/bench-400x1200.elf"
+    if os.path.exists(elf) and subprocess.run(["sh", "-c", "command -v qemu-system-arm"], capture_output=True).returncode == 0:
+        r = subprocess.run(["timeout", "600", "qemu-system-arm", "-M", "mps2-an500", "-display", "none", "-monitor", "none",
+                            "-icount", "shift=0", "-semihosting-config", "enable=on,target=native", "-kernel", elf,
+                            "-serial", "stdio", "-serial", "null"], capture_output=True, text=True)
+        for line in r.stdout.splitlines():
+            k, _, v = line.partition(" ")
+            m7[k] = v
+
     # ---------------- write docs/results.md
     L = []
     L.append("# Results\n")
@@ -401,7 +507,7 @@ def main():
     if sim_preset:
         L.append(f"\nPresets are per scene. On the simulated pool the occupied-pool preset scores F1 {sim_preset[0]['F1']:.2f}: "
                  "its range background leaves the walls, and cutting wide groups turns them into wall-sized pieces. "
-                 "The default's per-angle background removes them (F1 1.00 above).")
+                 "The default's background removes them (F1 1.00 above).")
     # Both AquaScan recordings as one data set: F1 over all labelled people (micro average).
     pooled = {}
     for name, method, cfg, s in scores:
@@ -430,8 +536,8 @@ def main():
             L.append(f"| {label} | `{extra or '—'}` | {s4['F1']:.3f} | {s11['F1']:.3f} | {2 * tp / max(1, 2 * tp + fp + fn):.3f} |")
         L.append("\nk-means kept inside groups is not an option: it is how the detector works. With free k-means "
                  "(sonard before 2026-11-22), the \"none of the four\" flags scored 0.831 / 0.762.")
-    L.append("\nTargets: F1 ≥ 0.95 on the simulated scenes; F1 ≥ 0.85 on AquaScan (AquaScan's own offline pipeline, with "
-             "median blur, DBSCAN and more, reports 0.862).\n")
+    L.append("\nTargets: F1 ≥ 0.95 on the simulated scenes; F1 ≥ 0.85 on AquaScan. AquaScan's own pipeline for this batch "
+             "scores 0.741 / 0.785 on these recordings (section 7).\n")
     L.append("## 4. Figures (simulated pool, sweep 4)\n")
     captions = {"waterfall.png": "Waterfall plots: raw, median-filtered and foreground (after background subtraction).",
                 "detections.png": "Cartesian view: raw data (left); foreground with each detection's hull and centroid (red) and "
@@ -522,6 +628,81 @@ def main():
              "cell RMS; static objects tracked at ≤ 0.05 m/s while the vehicle moves; OBSTACLE_DISTANCE at ≥ 5 Hz, within "
              "100 ms of the echo, each sector within 0.1 m of the nearest simulated obstacle in it (the lines above; "
              "`make mavlink` for the rate and the latency, docs/mavlink.md).\n")
+    L.append("## 7. Real water without a preset\n")
+    L.append("sonard's default configuration (no `--config`: median 5, the auto background, the CFAR over each beam and "
+             "its neighbours, 12 cells, 3.5 m and aspect 2 limits; docs/architecture.md) on every scene and on both AquaScan "
+             "recordings at the recorder's 15 m and the batch script's 13 m (the range is not in the files), beside the "
+             "occupied-pool preset and the study's method run by sonard (`--median 5x5 --background range --bg-margin 0`: "
+             "the study's filters and its mean + 3 std threshold; it replays bit-identically to sonard before the CFAR). "
+             "Scored by `tools/score.py` as in section 3 (1 m gate); the vehicle with its pose in the world frame. "
+             "`occupied`, `far` and `still` are sonar-sim's scenes with the AquaScan pool's statistics (below): people in "
+             "the water from the first ping; four faint swimmers at 8.5–12.5 m; one who swims, then floats still for "
+             "3 minutes. Found: the sweeps in which the far swimmers (AquaScan persons 5 and 10; the scene's four) or the "
+             "still person (only its still sweeps) were detected. The preset was tuned on sonar4; the default's "
+             "parameters on sonar4 and the simulated scenes; sonar11 was looked at only to score it.\n")
+    L.append("| data | default: P / R / F1 | FA / sweep | found | preset: F1 | found | study's method: F1 | found |")
+    L.append("|---|---|---:|---|---:|---|---:|---|")
+    fnd = lambda s_: ", ".join(f"{k} {v[0]}/{v[1]}" for k, v in s_["found"].items()) or "—"  # noqa: E731
+    for name, (d, p_, st) in realwater:
+        L.append(f"| {name} | {d['precision']:.3f} / {d['recall']:.3f} / **{d['F1']:.3f}** | {d['fa']:.2f} | {fnd(d)} | "
+                 f"{p_['F1']:.3f} | {fnd(p_)} | {st['F1']:.3f} | {fnd(st)} |")
+    if still_s:
+        L.append(f"\nThe still person's track (ID {still_s[2]}) reports `still_s` {still_s[1]:.1f} s at the end, against "
+                 f"{still_s[0]:.1f} s of stillness in the truth.")
+    L.append("\nAquaScan's own pipeline for this batch (its `scripts/label_0229.sh`, `pre_sonar_opt_yoho.py`: the skipped "
+             "gradians interpolated, the first 75 samples blanked, a threshold stepping down with range, median blur and "
+             "DBSCAN), run on the same recordings and scored the same way, as reported in issue 23 (not run here: its "
+             "scripts are not among the shared data): F1 0.741 (sonar4) and 0.785 (sonar11), recall 0.94, precision "
+             "0.61 / 0.67, the far swimmers in 21 of 26 and 14 of 16 sweeps. The 0.862 of AquaScan's README pools four "
+             "recording dates, three with a recorded empty-pool background, under its own looser scorer.\n")
+    L.append("Targets (issue 23): the default configuration F1 ≥ 0.90 on each AquaScan recording at 15 m and at 13 m with the "
+             "far swimmers in ≥ 80 % of their sweeps; F1 ≥ 0.95 on every simulated scene and ≤ 0.1 false alarms a sweep on "
+             "an empty pool; the still person detected in ≥ 95 % of its still sweeps. The rows above say which are met.\n")
+    if roc:
+        L.append("**Receiver operating curves.** Detections (recall) against false alarms per sweep as the threshold moves, "
+                 "everything else the default: the study's global threshold (`--threshold-mode global --threshold K`) "
+                 "against the CFAR (`--cfar-scale A`).\n")
+        L.append("| data | stage | value | false alarms / sweep | recall | precision | F1 |")
+        L.append("|---|---|---:|---:|---:|---:|---:|")
+        for name, curves in roc:
+            for stage, pts in curves.items():
+                for v, p_ in pts:
+                    L.append(f"| {name} | {stage} | {v:g} | {p_['fa']:.2f} | {p_['recall']:.3f} | {p_['precision']:.3f} | "
+                             f"{p_['F1']:.3f} |")
+        L.append("")
+        for f in roc_figs:
+            L.append(f"![Receiver operating curve](figures/{f})\n")
+        if have_real:
+            L.append(f"(The AquaScan curve is drawn in `{W}/figures/` only.)\n")
+    if speckle:
+        L.append("**The speckle** (`tools/speckle_fit.py` on sonar4 at the assumed range): water cells (the pool's beams, "
+                 "outside every labelled box widened by 6 gradians and 0.5 m) by range band, and the cells inside the "
+                 "people's boxes, fitted by maximum likelihood with the recorder's clipping to zero folded in; BIC relative "
+                 "to the best family of the row (lower is better; 10 or more is strong evidence).\n")
+        L.append(speckle + "\n")
+        rows_ = [[c.strip() for c in ln.strip("|").split("|")] for ln in speckle.splitlines()[2:]]
+        water = [r_ for r_ in rows_ if r_[0].startswith("water")]
+        people = [r_ for r_ in rows_ if r_[0].startswith("person")]
+        L.append("Best family per row: " + ", ".join(f"{r_[0]} {r_[8]}" for r_ in rows_) + ". Between Rayleigh and K, the "
+                 "K shape ν says how spiky the water is (ν → ∞ is Rayleigh): " +
+                 ", ".join(f"{r_[0][6:]} ν {r_[9]}" for r_ in water) + "; the people's cells have Weibull k " +
+                 (people[0][10] if people else "?") + " (Rayleigh is k = 2). Heavy-tailed far water is where a threshold "
+                 "set from the mean and spread of the whole sweep either misses the faint far people or passes the spikes; "
+                 "sonar-sim's speckle-pool scenes draw the water from the K fits per band.\n")
+    if cost:
+        gstep, dstep = float(cost["beam_step_global_us"]), float(cost["beam_step_us"])
+        L.append(f"**Per-beam cost** (`tools/bench.c`, one run on this machine; 400 × 1200 synthetic sweeps): the default step "
+                 f"(median 5, auto background, CFAR over three beams, runs) {dstep:.3f} µs a beam against the global-threshold "
+                 f"step's {gstep:.3f} µs in the same run ({dstep / gstep:.2f}×; the issue's budget is 0.6 µs against 0.39 µs, "
+                 f"1.54×); the world-frame background on a moving vehicle {float(cost['world_background_beam_us']):.1f} µs a "
+                 "beam (target ≤ 50 µs).")
+        if m7:
+            L.append(f" On the Cortex-M7 (QEMU, `-icount shift=0`: instructions), {m7.get('insn_per_beam', '?')} instructions a "
+                     f"beam for the default step (target ≤ 35 000) against {m7.get('insn_per_beam_global', '?')} for the "
+                     f"global-threshold step: auto background {m7.get('insn_per_beam_auto_background', '?')}, block sums "
+                     f"{m7.get('insn_per_beam_cfar_sums', '?')}, CFAR {m7.get('insn_per_beam_cfar', '?')}, runs "
+                     f"{m7.get('insn_per_beam_cfar_runs', '?')} (`make mcu-bench`).")
+        L.append("\n")
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:

@@ -35,10 +35,12 @@ enum sonar_background_mode {
  * Auto mode keeps both models: the per-angle one, and beside it the across-beam one (one row, every
  * beam observes it, seeded over SONAR_BG_ACROSS_WARMUP beams). A row still being seeded is compared
  * with the across-beam model instead of reporting nothing, so objects there from the first ping are
- * found in the first sweep. Under a tracked object (the keep spans the caller passes, from its
- * tracks) the row is set to the across-beam model before the comparison and after the update: an
- * object that stands still is never learnt, static structure elsewhere still is, and when the object
- * leaves its place holds the water's level, not its echo.
+ * found in the first sweep; a seeded row is compared with the larger of the two models (two looks
+ * know the water worse than every beam does). Under a tracked object (the keep spans the caller
+ * passes, from its tracks) the row takes the across-beam model's level at its first comparison
+ * (what the warm-up learnt there was the object) and keeps its value while it is kept: an object
+ * that stands still is never learnt, static structure elsewhere still is, and when the object
+ * leaves, its place holds the water's level, not its echo.
  */
 #define SONAR_BG_ACROSS_WARMUP 8
 
