@@ -36,7 +36,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
@@ -135,9 +135,9 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 	@mkdir -p $(dir $@)
 	$(CXX) -std=c++17 -O2 -g $(SAN) -Iinclude $(INPUTS) -o $@ $(OPENCV_FLAGS) -lcmocka $(LDLIBS)
 
-## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
+## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e live mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden live mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -189,6 +189,14 @@ docs-check: $(BUILD)/config_doc
 ## e2e: simulate the pool and open-water scenes, replay them, score against the truth
 e2e: all
 	@sh tests/e2e.sh $(BUILD)
+
+## golden: every scene's and both AquaScan recordings' replay byte-identical to tests/golden.sha256
+golden: all
+	@sh tests/golden_check.sh $(BUILD)
+
+## golden-update: rewrite tests/golden.sha256 from this build (for a change meant to change the output; say why in its commit)
+golden-update: all
+	@sh tests/golden_check.sh $(BUILD) --update
 
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all

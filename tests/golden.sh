@@ -1,6 +1,7 @@
 #!/bin/sh
 # golden.sh -- replay JSON of every simulated scene and both AquaScan recordings into DIR, for a before/after diff of a refactor.
 # Usage: sh tests/golden.sh BUILD_DIR OUT_DIR  (AquaScan skipped, saying so, when ../shared is absent)
+# tests/golden_check.sh compares their hashes with tests/golden.sha256 (make test) or rewrites it (make golden-update).
 set -eu
 B=${1:-build}; O=${2:?usage: golden.sh BUILD_DIR OUT_DIR}
 R=${SONARD_REAL_DATA:-../shared/data/real}
@@ -15,6 +16,17 @@ for cfg in "default:" "m55:--median 5x5" "study:--background range --bg-margin 0
         "$B/sonard" --replay "$O/$s.csv" --json --quiet $args > "$O/$s.$name.jsonl"
     done
 done
+# The other scenes under the default, and as the evaluation runs the tracking ones.
+for s in moving sector occupied far still; do
+    "$B/sonar-sim" --scene $s --out "$O/$s.csv" --truth "$O/$s.json" >/dev/null
+    "$B/sonard" --replay "$O/$s.csv" --json --quiet > "$O/$s.default.jsonl"
+done
+for s in moving sector; do
+    "$B/sonard" --replay "$O/$s.csv" --json --quiet --min-points 8 > "$O/$s.mp8.jsonl"
+done
+"$B/sonar-sim" --scene vehicle --out "$O/vehicle.csv" --truth "$O/vehicle.json" --pose-out "$O/vehicle.pose.csv" >/dev/null
+"$B/sonard" --replay "$O/vehicle.csv" --json --quiet --pose "$O/vehicle.pose.csv" > "$O/vehicle.pose.jsonl"
+"$B/sonard" --replay "$O/vehicle.csv" --json --quiet > "$O/vehicle.body.jsonl"
 if [ -d "$R/aquascan" ]; then
     python3 tools/aquascan2csv.py "$R/aquascan" --out "$O/aq" --range 15 >/dev/null
     for s in sonar4 sonar11; do

@@ -1,4 +1,5 @@
 /* test_options.c -- sonard's option table: every numeric row accepts its ends and names itself past them; files, order, bad files, whole-config checks, --help and the docs from the same rows. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -54,6 +55,44 @@ static void test_range_background_brings_the_study_rules(void **state)
     assert_int_equal(o.pipeline.detector.threshold_mode, SONAR_DET_CFAR);
     assert_int_equal(o.pipeline.detector.min_points, 30);
     assert_true(o.pipeline.detector.max_extent_m == 0.0f);
+}
+
+/* The value of numeric row r in o. */
+static double field(const struct opt_spec *r)
+{
+    const char *at = (const char *)&o + r->offset;
+    switch (r->type) {
+    case OPT_LONG: return (double)*(const long *)(const void *)at;
+    case OPT_U8: return (double)*(const uint8_t *)(const void *)at;
+    case OPT_U16: return (double)*(const uint16_t *)(const void *)at;
+    case OPT_F32: return (double)*(const float *)(const void *)at;
+    default: return *(const double *)(const void *)at;
+    }
+}
+
+/* Every numeric row whose documented default is a number: that is what sonard uses with no options. */
+static void test_documented_defaults_are_the_defaults(void **state)
+{
+    const struct opt_schema *s = options_schema();
+    const char *argv[] = {"sonard", "--replay", "x.csv"};
+    size_t i;
+    int rows = 0;
+    (void)state;
+    assert_int_equal(parse(3, argv), 0);
+    for (i = 0; i < s->count; i++) {
+        const struct opt_spec *r = &s->spec[i];
+        char *end;
+        double want;
+        if (r->type < OPT_LONG || r->type > OPT_F64 || r->def == NULL)
+            continue;
+        want = strtod(r->def, &end);
+        if (end == r->def || (*end != '\0' && *end != ';' && *end != ' '))
+            continue; /* "auto", "2 per-angle, 8 range": not one number */
+        rows++;
+        if (!(fabs(field(r) - want) <= 1e-6 * (fabs(want) + 1.0)))
+            fail_msg("--%s: documented default %s, but sonard uses %g", r->name, r->def, field(r));
+    }
+    assert_true(rows > 30);
 }
 
 static void fmt(char *buf, size_t n, double v, int whole)
@@ -293,6 +332,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_range_background_brings_the_study_rules),
+        cmocka_unit_test(test_documented_defaults_are_the_defaults),
         cmocka_unit_test(test_every_numeric_row_bounds),
         cmocka_unit_test(test_names_unique_and_help_lists_all),
         cmocka_unit_test(test_config_files),

@@ -207,7 +207,7 @@ static const struct opt_spec spec[] = {
      "cells must exceed at least T", NULL, NULL},
     {"clusters", "MAX", OPT_U8, 1, 1, D(max_clusters), 1, SONAR_MAX_CLUSTERS, "clusters", "8", "most detections per sweep", NULL, NULL},
     {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "12; 20 with --background range", "cells a detection needs", NULL, NULL},
-    {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams", "1", "beams a detection must span", NULL, NULL},
+    {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams (0 or 1: any)", "0", "beams a detection must span", NULL, NULL},
     {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "3.5; 0 with --background range",
      "drop detections wider than M (structure: walls, lane ropes)", NULL, NULL},
     {"split-points", "N", OPT_U16, 1, 1, D(split_points), 0, 65535, "cells (0 = never cut)", "0",
