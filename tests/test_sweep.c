@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -63,6 +64,28 @@ static void test_sector_restart_is_a_jump(void **state)
     assert_int_equal(sonar_frame_delta(0, 200), -200);
 }
 
+/* The frame's wrap and arcs: every start and signed step against a plain walk round the turn. */
+static void test_frame_wrap_and_arcs(void **state)
+{
+    uint8_t cover[SONAR_GRAD_TURN / 8];
+    int a, d, g;
+    (void)state;
+    assert_int_equal(sonar_frame_wrap(-1), 399);
+    assert_int_equal(sonar_frame_wrap(-401), 399);
+    assert_int_equal(sonar_frame_wrap(800), 0);
+    for (a = -400; a < 800; a += 7)
+        for (d = -199; d <= 199; d += 3) {
+            memset(cover, 0, sizeof(cover));
+            sonar_frame_mark_arc(cover, a, a + d);
+            for (g = 0; g < (int)SONAR_GRAD_TURN; g++) {
+                /* on the arc: g is k steps from a in d's direction, 0 <= k <= |d| */
+                int k = sonar_frame_wrap(d < 0 ? a - g : g - a), on = k <= (d < 0 ? -d : d);
+                if (((cover[g / 8] >> (g % 8)) & 1) != on)
+                    fail_msg("arc from %d by %d: gradian %d %s", a, d, g, on ? "missing" : "marked");
+            }
+        }
+}
+
 static void test_repeats_and_cap(void **state)
 {
     struct sonar_sweep s;
@@ -83,6 +106,7 @@ int main(void)
         cmocka_unit_test(test_back_and_forth_reverses),
         cmocka_unit_test(test_sector_restart_is_a_jump),
         cmocka_unit_test(test_repeats_and_cap),
+        cmocka_unit_test(test_frame_wrap_and_arcs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,6 +13,8 @@
 #define SONAR_GRAD_MAX 399u  /* largest device angle */
 #define SONAR_GRAD_HALF 200u /* half a turn */
 #define SONAR_PI 3.14159265358979323846
+#define SONAR_DEG_PER_GRAD 0.9                /* degrees per gradian: 360 / SONAR_GRAD_TURN */
+#define SONAR_RAD_PER_DEG (SONAR_PI / 180.0) /* radians per degree */
 
 /* A point in the sonar frame, millimetres (|x|, |y| < 2^30). */
 struct sonar_xy {
@@ -22,6 +24,15 @@ struct sonar_xy {
 
 /* Signed shortest move from a to b in gradians, -200..199 (inputs taken mod 400). */
 int sonar_frame_delta(uint16_t a, uint16_t b);
+
+/* a gradians taken into one turn, 0..399, for any sign. */
+int sonar_frame_wrap(int a);
+
+/*
+ * Marks, in a 400-bit map of the gradians scanned (SONAR_GRAD_TURN / 8 bytes, bit g % 8 of byte
+ * g / 8), every gradian on the shorter way from a to b, both included (any sign; taken mod 400).
+ */
+void sonar_frame_mark_arc(uint8_t *cover, int a, int b);
 
 /* Unsigned angular distance between a and b (each 0..399), 0..200 gradians. */
 uint16_t sonar_frame_gap(uint16_t a, uint16_t b);

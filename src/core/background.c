@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "simd_internal.h"
 #include "sonar/frame.h"
 
 #define STR2(x) #x
@@ -124,8 +125,7 @@ static void seed(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n
         (a)[i] = (uint8_t)(c + (upc < (step) ? upc : (step)) - (dnc < (step) ? dnc : (step)));                     \
     }
 
-#if defined(__ARM_FEATURE_SIMD32)
-#include <arm_acle.h>
+#if SONAR_SIMD32
 
 /*
  * The same rule four cells a word on ARMv7E-M. uqsub8(x, m) is max(x, m) - m per byte; min(u, s) is
@@ -219,7 +219,7 @@ static void track(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t 
 {
     uint8_t blk[BLOCK];
     int i, i0;
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
     i0 = (int)n & ~3;
     track4(b, in, fg, i0 / 4, step, margin);
     memcpy(blk, in + i0, (size_t)((int)n - i0));
@@ -256,7 +256,7 @@ static void pair(uint8_t *restrict b, uint8_t *restrict a, const uint8_t *in, ui
 {
     uint8_t blk[BLOCK];
     int i, i0;
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
     i0 = (int)n & ~3;
     pair4(b, a, in, fg, i0 / 4, step, margin);
     memcpy(blk, in + i0, (size_t)((int)n - i0));
@@ -564,7 +564,7 @@ static void arc_step(struct arc_steps *a, int32_t pts, double *c, double *s)
 static void look_rings(struct sonar_background *bg, const struct sonar_bg_ray *ray, double th, int32_t rings,
                        int32_t slack, uint8_t *out)
 {
-    static const double deg = SONAR_PI / 180.0;
+    static const double deg = SONAR_RAD_PER_DEG;
     struct arc_steps a;
     uint8_t ringmax[RINGS_MAX];
     double cs = (double)bg->cell_m, c0 = cos(th - SONAR_BG_LOOK_DEG * deg / 2.0), s0 = sin(th - SONAR_BG_LOOK_DEG * deg / 2.0);
@@ -616,7 +616,7 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
 int sonar_background_apply_world_keep(struct sonar_background *bg, const struct sonar_bg_ray *ray, const uint8_t *in,
                                       uint8_t *fg, uint16_t n, const struct sonar_bg_disc *keep, uint8_t nkeep)
 {
-    static const double deg = SONAR_PI / 180.0;
+    static const double deg = SONAR_RAD_PER_DEG;
     uint8_t src[SONAR_MAX_SAMPLES], near[RINGS_MAX];
     struct sonar_bg_disc here[SONAR_BG_DISCS_MAX];
     struct arc_steps arc;

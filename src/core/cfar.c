@@ -3,9 +3,7 @@
 
 #include <string.h>
 
-#if defined(__ARM_FEATURE_SIMD32)
-#include <arm_acle.h>
-#endif
+#include "simd_internal.h"
 
 #define STR2(x) #x
 #define STR(x) STR2(x)
@@ -41,7 +39,7 @@ const char *sonar_cfar_config_check(const struct sonar_cfar_config *c)
 static int block_sums(const uint8_t *restrict fg, uint16_t n, uint16_t *restrict s)
 {
     int nb = n / SONAR_CFAR_BLOCK, b = 0, rest = n - nb * SONAR_CFAR_BLOCK, i;
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
     for (; b < nb; b++) {
         uint32_t lo, hi;
         memcpy(&lo, fg + b * SONAR_CFAR_BLOCK, 4);

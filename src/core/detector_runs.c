@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "detector_internal.h"
+#include "simd_internal.h"
 #include "tables_internal.h"
 
 static uint8_t threshold_now(const struct sonar_detector *d)
@@ -71,8 +72,7 @@ static void add_run(struct sonar_detector *d, uint16_t beam, uint16_t start, uin
         bm = v > bm ? v : bm;                                                                                      \
     }
 
-#if defined(__ARM_FEATURE_SIMD32)
-#include <arm_acle.h>
+#if SONAR_SIMD32
 
 /*
  * One 64-sample block four samples a word on ARMv7E-M: usada8 adds four bytes, smlad squares and
@@ -109,7 +109,7 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
     uint8_t bm;
     int j, j0, b = 0;
     for (j0 = 0; j0 + BLOCK <= (int)n; j0 += BLOCK) {
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
         blockmax[b++] = block4(fg + j0, &bs, &bq);
         continue;
 #endif
@@ -123,7 +123,7 @@ static void beam_stats(const uint8_t *fg, uint16_t n, uint32_t *s, uint32_t *q, 
         uint8_t tail[BLOCK];
         memset(tail, 0, sizeof(tail));
         memcpy(tail, fg + j0, (size_t)((int)n - j0));
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
         bm = block4(tail, &bs, &bq);
 #else
         STATS_SPAN(tail, BLOCK)

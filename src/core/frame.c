@@ -8,6 +8,20 @@ int sonar_frame_delta(uint16_t a, uint16_t b)
     return (((int)(b % SONAR_GRAD_TURN) - (int)(a % SONAR_GRAD_TURN) + 600) % (int)SONAR_GRAD_TURN) - (int)SONAR_GRAD_HALF;
 }
 
+int sonar_frame_wrap(int a)
+{
+    return ((a % (int)SONAR_GRAD_TURN) + (int)SONAR_GRAD_TURN) % (int)SONAR_GRAD_TURN;
+}
+
+void sonar_frame_mark_arc(uint8_t *cover, int a, int b)
+{
+    int d = sonar_frame_delta((uint16_t)sonar_frame_wrap(a), (uint16_t)sonar_frame_wrap(b)), dir = d < 0 ? -1 : 1, k;
+    for (k = 0; k <= (d < 0 ? -d : d); k++) {
+        int m = sonar_frame_wrap(a + dir * k);
+        cover[m / 8] = (uint8_t)(cover[m / 8] | (1u << (m % 8)));
+    }
+}
+
 uint16_t sonar_frame_gap(uint16_t a, uint16_t b)
 {
     uint16_t g = (uint16_t)(a > b ? a - b : b - a);

@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "simd_internal.h"
 #include "tables_internal.h"
 
 #define LANES 64
@@ -26,8 +27,7 @@
 
 #define PAD (SONAR_MAX_MEDIAN / 2)
 
-#if defined(__ARM_FEATURE_SIMD32)
-#include <arm_acle.h>
+#if SONAR_SIMD32
 
 /*
  * Four samples per word on ARMv7E-M (Cortex-M4/M7 have no vector unit, but byte-wise saturating
@@ -140,14 +140,14 @@ M2_SPAN_FN(span3, 3, 9, len, )
 #if SONAR_MAX_MEDIAN2D >= 5
 M2_SPAN_FN(span5, 5, 25, len, M2_ROWS45)
 #endif
-#if !defined(__ARM_FEATURE_SIMD32)
+#if !SONAR_SIMD32
 M2_SPAN_FN(span3_block, 3, 9, LANES, )
 #if SONAR_MAX_MEDIAN2D >= 5
 M2_SPAN_FN(span5_block, 5, 25, LANES, M2_ROWS45)
 #endif
 #endif
 
-#if defined(__ARM_FEATURE_SIMD32)
+#if SONAR_SIMD32
 #define M2_W(v, b, p, j) memcpy(&(v)[b], (p) + (j), 4);
 #define M2_ROW3W(v, b, p, j) M2_W(v, b, p, j) M2_W(v, (b) + 1, p, (j) + 1) M2_W(v, (b) + 2, p, (j) + 2)
 #define M2_ROW5W(v, b, p, j) M2_ROW3W(v, b, p, j) M2_W(v, (b) + 3, p, (j) + 3) M2_W(v, (b) + 4, p, (j) + 4)

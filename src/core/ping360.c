@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "sonar/frame.h"
 #include "sonar/geometry.h"
 
 #define NO_DEADLINE INT64_MAX
@@ -116,7 +117,7 @@ static int send_request(struct sonar_ping360 *d, int64_t now)
         a.transmit_frequency = d->cfg.frequency;
         a.number_of_samples = d->samples;
         a.start_angle = d->cfg.full_circle ? 0 : d->cfg.start_angle;
-        a.stop_angle = d->cfg.full_circle ? 399 : d->cfg.stop_angle;
+        a.stop_angle = d->cfg.full_circle ? SONAR_GRAD_MAX : d->cfg.stop_angle;
         a.num_steps = d->cfg.step;
         a.delay = 0;
         n = sonar_ping_encode_auto_transmit(buf, sizeof(buf), &a);

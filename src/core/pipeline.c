@@ -142,9 +142,9 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     }
     ray.north_m = (double)q.north_m;
     ray.east_m = (double)q.east_m;
-    ray.bearing_deg = ((double)angle + (double)p->cfg->detector.angle_offset) * 0.9 + (double)q.yaw_deg;
+    ray.bearing_deg = ((double)angle + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD + (double)q.yaw_deg;
     d = p->have_prev_bearing ? fabs(remainder(ray.bearing_deg - (double)p->prev_bearing, 360.0)) : 0.0;
-    ray.width_deg = d > 0.0 && d <= 0.9 * (double)p->cfg->max_step ? d : (double)p->prev_width;
+    ray.width_deg = d > 0.0 && d <= SONAR_DEG_PER_GRAD * (double)p->cfg->max_step ? d : (double)p->prev_width;
     p->prev_width = (float)ray.width_deg;
     ray.range_m = p->range_m;
     ray.near_m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
@@ -317,8 +317,7 @@ static int64_t beam_utime(const struct sonar_pipeline *p, uint16_t i)
 /* The gradian a beam pointed at in the world (from north), offset included: yaw is 400/360 gradians a degree. */
 static int world_grad(const struct sonar_pipeline *p, uint16_t i, const struct sonar_pose *q)
 {
-    int g = (int)p->det.angles[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / 0.9 + 0.5);
-    return ((g % (int)SONAR_GRAD_TURN) + (int)SONAR_GRAD_TURN) % (int)SONAR_GRAD_TURN;
+    return sonar_frame_wrap((int)p->det.angles[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / SONAR_DEG_PER_GRAD + 0.5));
 }
 
 /*
@@ -332,20 +331,15 @@ static void world_cover(const struct sonar_pipeline *p, uint8_t *cover)
     memset(cover, 0, SONAR_GRAD_TURN / 8);
     for (i = 0; i < p->out.beams; i++) {
         struct sonar_pose q;
-        int g, d, k, step;
+        int g, d;
         if (!sonar_pose_at(p->poses, beam_utime(p, i), &q)) {
             prev = -1;
             continue;
         }
         g = world_grad(p, i, &q);
         d = prev < 0 ? 0 : sonar_frame_delta((uint16_t)prev, (uint16_t)g);
-        if ((d < 0 ? -d : d) > (int)p->cfg->max_step)
-            d = 0;
-        step = d < 0 ? 1 : -1; /* from g back towards prev */
-        for (k = 0; k <= (d < 0 ? -d : d); k++) {
-            int m = ((g + step * k) % (int)SONAR_GRAD_TURN + (int)SONAR_GRAD_TURN) % (int)SONAR_GRAD_TURN;
-            cover[m / 8] = (uint8_t)(cover[m / 8] | (1u << (m % 8)));
-        }
+        /* From g back to the beam before, if it is a step and not a jump. */
+        sonar_frame_mark_arc(cover, g, (d < 0 ? -d : d) <= (int)p->cfg->max_step ? g - d : g);
         prev = g;
     }
 }
@@ -375,7 +369,7 @@ static int world_gates(struct sonar_pipeline *p)
     for (i = 0; i < p->det.beams; i++) {
         struct sonar_pose q;
         int64_t t = beam_utime(p, i);
-        double th = ((double)p->det.angles[i] + (double)p->cfg->detector.angle_offset) * 0.9;
+        double th = ((double)p->det.angles[i] + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD;
         if (!sonar_pose_at(p->poses, t, &q))
             continue;
         for (j = 0; j < n; j++) {
@@ -392,7 +386,7 @@ static int world_gates(struct sonar_pipeline *p)
     }
     /* A track whose bearing no beam came near (outside a sector) expects nothing this sweep. */
     for (j = 0; j < n; j++)
-        if (best[j] <= 0.9f * (float)p->cfg->max_step) {
+        if (best[j] <= (float)SONAR_DEG_PER_GRAD * (float)p->cfg->max_step) {
             gx[m] = gx[j];
             gy[m] = gy[j];
             m++;

@@ -4,7 +4,9 @@
 #include <math.h>
 #include <string.h>
 
-#define DEG (3.14159265358979323846 / 180.0)
+#include "sonar/frame.h"
+
+#define DEG SONAR_RAD_PER_DEG
 
 void sonar_pose_limits_default(struct sonar_pose_limits *lim)
 {

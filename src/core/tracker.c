@@ -15,14 +15,8 @@ SONAR_STATIC_ASSERT(SONAR_TRK_WINDOW_MAX <= 8, history_fits_a_byte);
 /* A pair outside the gate: finite, so the assignment's arithmetic stays exact and branch-free. */
 #define BIG 1.0e9
 
-#define TURN ((int)SONAR_GRAD_TURN)
 
 
-/* a modulo one turn, 0..399, for any sign. */
-static int wrap(int a)
-{
-    return ((a % TURN) + TURN) % TURN;
-}
 
 /* Position variance beyond which a coasting prediction says nothing: (10 m)^2. */
 #define LOST_M2 100.0f
@@ -155,22 +149,11 @@ void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_
 void sonar_tracker_cover(uint8_t *cover, const uint16_t *angles, uint16_t n, uint16_t max_gap, int offset)
 {
     uint16_t i;
-    int o = wrap(offset);
     memset(cover, 0, SONAR_GRAD_TURN / 8);
     for (i = 0; i < n; i++) {
-        int a = wrap((int)angles[i]), g, span = 0, dir = 1;
-        if (i + 1u < n) {
-            int d = sonar_frame_delta(angles[i], angles[i + 1]);
-            /* The shorter way round from this beam to the next, if it is a step and not a jump. */
-            if (d != 0 && (d < 0 ? -d : d) <= (int)max_gap) {
-                span = d < 0 ? -d : d;
-                dir = d < 0 ? -1 : 1;
-            }
-        }
-        for (g = 0; g <= span; g++) {
-            int m = wrap(a + dir * g + o);
-            cover[m / 8] = (uint8_t)(cover[m / 8] | (1u << (m % 8)));
-        }
+        int a = (int)angles[i] + offset, d = i + 1u < n ? sonar_frame_delta(angles[i], angles[i + 1]) : 0;
+        /* To the next beam the shorter way round, if it is a step and not a jump. */
+        sonar_frame_mark_arc(cover, a, (d < 0 ? -d : d) <= (int)max_gap ? a + d : a);
     }
 }
 
@@ -290,8 +273,8 @@ static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep
         return 0;
     if (sw->cover == NULL)
         return 1;
-    /* The nearest whole gradian of its bearing (0.9 degrees a gradian): from north in the world frame. */
-    a = wrap((int)floor(sonar_frame_bearing_deg((double)x, (double)y) / 0.9 + 0.5));
+    /* The nearest whole gradian of its bearing: from north in the world frame. */
+    a = sonar_frame_wrap((int)floor(sonar_frame_bearing_deg((double)x, (double)y) / SONAR_DEG_PER_GRAD + 0.5));
     return (int)(((unsigned)sw->cover[a / 8] >> (unsigned)(a % 8)) & 1u);
 }
 

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "ardupilotmega/mavlink.h"
+#include "sonar/frame.h"
 #include "sonar/pipeline.h"
 
 struct rx {
@@ -196,7 +197,7 @@ static void obstacle_distance(struct mav *m, int64_t now_mono)
 static int sink_beam(void *self, const struct app_beam *b)
 {
     struct mav *m = self;
-    float bearing = ((float)b->angle + m->cfg.angle_offset) * 0.9f;
+    float bearing = ((float)b->angle + m->cfg.angle_offset) * (float)SONAR_DEG_PER_GRAD;
     struct sonar_pose q;
     q.utime = b->utime;
     q.north_m = b->north_m;
@@ -285,7 +286,7 @@ static void handle(struct mav *m, const mavlink_message_t *msg, int64_t now_wall
         m->n.attitudes++;
         /* Yaw in radians, NED (clockwise from north): degrees; the position if fresh, else where it was last. */
         q.utime = now_wall;
-        q.yaw_deg = (float)fmod((double)att.yaw * 180.0 / 3.14159265358979323846 + 360.0, 360.0);
+        q.yaw_deg = (float)fmod((double)att.yaw * 180.0 / SONAR_PI + 360.0, 360.0);
         q.north_m = m->have_pos ? m->north_m : 0.0f;
         q.east_m = m->have_pos ? m->east_m : 0.0f;
         if (m->first_att_us == 0)
