@@ -178,13 +178,15 @@ opencv-ref: $(BUILD)/tests/test_opencv_ref
 $(BUILD)/config_doc: tools/config_doc.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
-## docs: regenerate docs/configuration.md from the option table (src/host/options.c)
+## docs: regenerate docs/configuration.md from the option table (src/host/options.c) and docs/sizes.md from sizeof
 docs: $(BUILD)/config_doc
 	$(BUILD)/config_doc docs/configuration.md.in > docs/configuration.md
+	sh tools/sizes.sh $(BUILD) > docs/sizes.md
 
 ## docs-check: fail when docs/configuration.md differs from what the option table generates
 docs-check: $(BUILD)/config_doc
 	@$(BUILD)/config_doc docs/configuration.md.in | diff -u docs/configuration.md - && echo "docs-check: docs/configuration.md matches the option table"
+	@sh tools/sizes.sh $(BUILD) | diff -u docs/sizes.md - && echo "docs-check: docs/sizes.md matches sizeof on the M7 and this host"
 
 ## e2e: simulate the pool and open-water scenes, replay them, score against the truth
 e2e: all

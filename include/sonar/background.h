@@ -1,4 +1,4 @@
-/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: (SONAR_MAX_ANGLES + 1) * (SONAR_MAX_SAMPLES + 1) + 16 B. */
+/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: about (SONAR_MAX_ANGLES + 1) * (SONAR_MAX_SAMPLES + 1) B (docs/sizes.md). */
 #ifndef SONAR_BACKGROUND_H
 #define SONAR_BACKGROUND_H
 

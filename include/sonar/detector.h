@@ -1,4 +1,4 @@
-/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector ~ 28 B * SONAR_MAX_RUNS + 6.2 KB. */
+/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector, mostly 24 B a run (SONAR_MAX_RUNS; docs/sizes.md). */
 #ifndef SONAR_DETECTOR_H
 #define SONAR_DETECTOR_H
 

@@ -1,4 +1,4 @@
-/* pipeline.h -- beam-by-beam pipeline: median -> background -> detector, sweeps cut from the angle sequence; RAM: sizeof(struct sonar_pipeline) ~ 515 KB at 400 x 1200. */
+/* pipeline.h -- beam-by-beam pipeline: median -> background -> detector, sweeps cut from the angle sequence; RAM: struct sonar_pipeline, the background's cells plus the detector's runs and two beams (docs/sizes.md). */
 #ifndef SONAR_PIPELINE_H
 #define SONAR_PIPELINE_H
 

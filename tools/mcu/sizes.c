@@ -1,0 +1,29 @@
+/* sizes.c -- not run: compiled for each target, its arrays' sizes (read back with nm -S by tools/sizes.sh) are the core's state structs' sizeof, for docs/sizes.md; no code. */
+#include "sonar/background.h"
+#include "sonar/cpframe.h"
+#include "sonar/detector.h"
+#include "sonar/median.h"
+#include "sonar/obstacle.h"
+#include "sonar/ping.h"
+#include "sonar/ping360.h"
+#include "sonar/pipeline.h"
+#include "sonar/pose.h"
+#include "sonar/sweep.h"
+#include "sonar/tracker.h"
+
+/* One array per struct: sizeof_<header>__<struct>. */
+#define SIZE(h, s) unsigned char sizeof_##h##__##s[sizeof(struct s)];
+SIZE(pipeline, sonar_pipeline)
+SIZE(background, sonar_background)
+SIZE(detector, sonar_detector)
+SIZE(detector, sonar_detections)
+SIZE(tracker, sonar_tracker)
+SIZE(tracker, sonar_track)
+SIZE(median, sonar_median2d)
+SIZE(obstacle, sonar_obstacle)
+SIZE(pose, sonar_pose_ring)
+SIZE(sweep, sonar_sweep)
+SIZE(ping, sonar_ping_parser)
+SIZE(ping360, sonar_ping360)
+SIZE(cpframe, sonar_cpf_parser)
+SIZE(pipeline, sonar_pipeline_config)
