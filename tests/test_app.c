@@ -216,7 +216,7 @@ static void test_beams_carry_their_acquisition(void **state)
     assert_int_equal(cap.last_raw.angle % STEP, 0);
     assert_true(cap.sweeps >= 2);
     assert_int_equal(cap.dets[1], 1); /* the bright patch at 100..140 gradians */
-    app_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(&app, source_link_state(&src), &cap.st);
     assert_int_equal(cap.statuses, 1);
     assert_int_equal(cap.st.driver.beams, (uint32_t)cap.raw);
     assert_int_equal(cap.st.parser.frames, (uint32_t)cap.raw + 1); /* + device_information */
@@ -240,7 +240,7 @@ static void test_garbage_and_corrupt_frames_are_counted_not_published(void **sta
         fake_ns += 200000000;
         sent += step(0, 0);
     }
-    app_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(&app, source_link_state(&src), &cap.st);
     assert_true(cap.st.parser.checksum_errors >= 6);
     assert_true(cap.st.parser.bytes_dropped > 0);
     assert_true(cap.st.parser.resyncs > 0);
@@ -277,7 +277,7 @@ static void test_sink_failures_are_counted(void **state)
     cap.fail = 1;
     for (i = 0; i < 50; i++)
         (void)step(0, 0);
-    app_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(&app, source_link_state(&src), &cap.st);
     assert_int_equal(sink.errors, (unsigned long)(cap.raw + cap.sweeps));
     assert_int_equal(cap.st.sink_errors, (uint32_t)(cap.raw + cap.sweeps));
     teardown_app();

@@ -179,7 +179,7 @@ static void test_emit_rules_and_detection(void **state)
         add((uint16_t)a, 40, 49, 60); /* 5 beams x 10 cells at 4..5 m around angle 2 */
     sonar_det_link(&det);
     assert_int_equal(sonar_det_seed(&det, centres, part, &groups), 1);
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 1);
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 1);
     assert_int_equal(o.points, 50);
     assert_true(fabs(o.mean_intensity - 60.0f) < 1e-6);
     assert_true(fabs(o.range_m - 4.5f) < 0.02);
@@ -188,20 +188,20 @@ static void test_emit_rules_and_detection(void **state)
     assert_true(abs(at.x - 4498) < 5);
     /* The same cluster against each rule. */
     det.cfg.min_range_m = 5.0f;
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
     det.cfg.min_range_m = 0.0f;
     det.cfg.min_beams = 6;
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
     det.cfg.min_beams = 0;
     det.cfg.max_extent_m = 0.5f; /* ~1.1 m along the diagonal */
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
     det.cfg.max_extent_m = 0.0f;
     det.cfg.max_aspect = 0.5f;   /* 1 m along, ~0.28 m across */
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
     det.cfg.max_aspect = 0.0f;
     det.cfg.split_points = 60;
-    assert_int_equal(sonar_det_emit(&det, 0, 1, &o, &at), 0); /* a cut piece needs split_points cells */
-    assert_int_equal(sonar_det_emit(&det, 0, 0, &o, &at), 1); /* a whole group does not */
+    assert_int_equal(sonar_det_accept(&det, 0, 1, &o, &at), 0); /* a cut piece needs split_points cells */
+    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 1); /* a whole group does not */
 }
 
 int main(void)

@@ -34,7 +34,7 @@ static void setup_mav(void)
     char err[200];
     sonar_pipeline_defaults(&c);
     assert_int_equal(app_init(&app, &c, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)), HOST_OK);
-    assert_int_equal(mav_parse(&m, &mc, err, sizeof(err)), HOST_OK);
+    assert_int_equal(mav_init(&m, &mc, err, sizeof(err)), HOST_OK);
     assert_int_equal(mav_attach(&m, &app), HOST_OK);
     m.t0_us = 1000000;
 }

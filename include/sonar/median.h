@@ -34,7 +34,7 @@ struct sonar_median2d {
     uint8_t ring[SONAR_MAX_MEDIAN2D][SONAR_MAX_SAMPLES + 2 * SONAR_MEDIAN2D_PAD]; /* rows, border included */
     struct sonar_median_row meta[SONAR_MAX_MEDIAN2D];
     uint32_t pushed;  /* rows pushed this sweep */
-    uint32_t emitted; /* rows emitted this sweep */
+    uint32_t released; /* rows released this sweep */
     uint16_t n;       /* samples per row this sweep */
     uint8_t k;
 };

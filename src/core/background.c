@@ -89,13 +89,13 @@ static void seed(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n
  * Steady state over len samples, as byte min/max only (no branches), so that with the constant
  * len of a full block -O2 vectorises it: up = max(x, m) - m, dn = m - min(x, m).
  */
-#define TRACK_SPAN(b, in, fg, len, step, margin) TRACK_SPAN_G(b, in, fg, len, step, GATE_SAT(m, margin))
+#define FOLLOW_SPAN(b, in, fg, len, step, margin) FOLLOW_SPAN_G(b, in, fg, len, step, GATE_SAT(m, margin))
 /* margin <= 16 keeps m * margin / 16 within a byte: no saturation, a quarter fewer vector ops. */
-#define TRACK_SPAN_SMALL(b, in, fg, len, step, margin) TRACK_SPAN_G(b, in, fg, len, step, GATE_BYTE(m, margin))
+#define FOLLOW_SPAN_SMALL(b, in, fg, len, step, margin) FOLLOW_SPAN_G(b, in, fg, len, step, GATE_BYTE(m, margin))
 #define GATE16(m, margin) ((uint16_t)(((uint16_t)(m) * (margin)) >> 4))
 #define GATE_SAT(m, margin) (uint8_t)(GATE16(m, margin) < 255u ? GATE16(m, margin) : 255u)
 #define GATE_BYTE(m, margin) (uint8_t)GATE16(m, margin)
-#define TRACK_SPAN_G(b, in, fg, len, step, GATE)                                                                   \
+#define FOLLOW_SPAN_G(b, in, fg, len, step, GATE)                                                                   \
     for (i = 0; i < (len); i++) {                                                                                  \
         uint8_t x = (in)[i], m = (b)[i];                                                                           \
         uint8_t hi = x > m ? x : m, lo = x < m ? x : m;                                                            \
@@ -167,7 +167,7 @@ static int gate_shift(uint8_t margin, unsigned *shift, uint32_t *mask)
     return 0;
 }
 
-static void track4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
+static void follow_row4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
 {
     uint32_t s4 = 0x01010101u * step, mask;
     unsigned shift;
@@ -214,27 +214,27 @@ static void pair4(uint8_t *b, uint8_t *a, const uint8_t *in, uint8_t *fg, int wo
 }
 #endif
 
-/* in and fg may be the same buffer: each block of in is copied before fg is written (track4 reads each word first). */
-static void track(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n, uint8_t step, uint8_t margin)
+/* in and fg may be the same buffer: each block of in is copied before fg is written (follow_row4 reads each word first). */
+static void follow_row(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t n, uint8_t step, uint8_t margin)
 {
     uint8_t blk[BLOCK];
     int i, i0;
 #if SONAR_SIMD32
     i0 = (int)n & ~3;
-    track4(b, in, fg, i0 / 4, step, margin);
+    follow_row4(b, in, fg, i0 / 4, step, margin);
     memcpy(blk, in + i0, (size_t)((int)n - i0));
-    TRACK_SPAN(b + i0, blk, fg + i0, (int)n - i0, step, margin)
+    FOLLOW_SPAN(b + i0, blk, fg + i0, (int)n - i0, step, margin)
     return;
 #endif
     if (margin <= 16)
         for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
             memcpy(blk, in + i0, BLOCK);
-            TRACK_SPAN_SMALL(b + i0, blk, fg + i0, BLOCK, step, margin)
+            FOLLOW_SPAN_SMALL(b + i0, blk, fg + i0, BLOCK, step, margin)
         }
     else
         for (i0 = 0; i0 + BLOCK <= (int)n; i0 += BLOCK) {
             memcpy(blk, in + i0, BLOCK);
-            TRACK_SPAN(b + i0, blk, fg + i0, BLOCK, step, margin)
+            FOLLOW_SPAN(b + i0, blk, fg + i0, BLOCK, step, margin)
         }
     if (i0 < (int)n) {
         /* The ragged end as one more full block through copies: the scalar loop cost a third of the beam. */
@@ -244,13 +244,13 @@ static void track(uint8_t *restrict b, const uint8_t *in, uint8_t *fg, uint16_t 
         memset(tin + len, 0, BLOCK - len);
         memcpy(tb, b + i0, len);
         memcpy(tin, in + i0, len);
-        TRACK_SPAN(tb, tin, tfg, BLOCK, step, margin)
+        FOLLOW_SPAN(tb, tin, tfg, BLOCK, step, margin)
         memcpy(b + i0, tb, len);
         memcpy(fg + i0, tfg, len);
     }
 }
 
-/* Auto mode's steady state (PAIR_SPAN): in and fg may be the same buffer, as in track. */
+/* Auto mode's steady state (PAIR_SPAN): in and fg may be the same buffer, as in follow_row. */
 static void pair(uint8_t *restrict b, uint8_t *restrict a, const uint8_t *in, uint8_t *fg, uint16_t n, uint8_t step,
                  uint8_t margin)
 {
@@ -274,7 +274,7 @@ static void pair(uint8_t *restrict b, uint8_t *restrict a, const uint8_t *in, ui
             PAIR_SPAN(b + i0, a + i0, blk, fg + i0, BLOCK, step, margin)
         }
     if (i0 < (int)n) {
-        /* The ragged end as one more full block through copies, as in track. */
+        /* The ragged end as one more full block through copies, as in follow_row. */
         uint8_t tb[BLOCK], ta[BLOCK], tfg[BLOCK];
         size_t len = (size_t)((int)n - i0);
         memset(tb + len, 0, BLOCK - len);
@@ -290,7 +290,7 @@ static void pair(uint8_t *restrict b, uint8_t *restrict a, const uint8_t *in, ui
     }
 }
 
-/* One observation of a model row: seeded over its first warmup visits (no foreground then), then tracked. */
+/* One observation of a model row: seeded over its first warmup visits (no foreground then), then followed. */
 static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_t *in, uint8_t *fg, uint16_t n,
                     uint8_t step, uint8_t margin)
 {
@@ -299,7 +299,7 @@ static void observe(uint8_t *row, uint8_t *visits, unsigned warmup, const uint8_
     if (v <= warmup)
         seed(row, in, fg, n, v);
     else
-        track(row, in, fg, n, step, margin);
+        follow_row(row, in, fg, n, step, margin);
 }
 
 /*

@@ -1,4 +1,4 @@
-/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> links (detector_link.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_emit.c); no heap. */
+/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> links (detector_link.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_accept.c); no heap. */
 #include "sonar/detector.h"
 
 #include <math.h>
@@ -115,7 +115,7 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
             int cut = 0;
             for (q = 0; q < k; q++)
                 cut |= q != j && part[q] == part[j];
-            if (!sonar_det_emit(d, j, cut, &o, &a))
+            if (!sonar_det_accept(d, j, cut, &o, &a))
                 continue;
             /* Largest first, at most max_clusters; equal sizes keep cluster order. */
             for (pos = out->count; pos > 0 && out->det[pos - 1].points < o.points; pos--)

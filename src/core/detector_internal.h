@@ -21,10 +21,10 @@ void sonar_det_link(struct sonar_detector *d);
 uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint16_t *groups);
 
 /*
- * Stage 4, detector_emit.c: cluster j -> detection *o and its device-frame centroid *at (mm), when
+ * Stage 4, detector_accept.c: cluster j -> detection *o and its device-frame centroid *at (mm), when
  * it passes every rule (cut: it is a piece of a wider group). Returns 1, or 0 when not an object.
  */
-int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at);
+int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at);
 
 /* Squared distance in mm^2. */
 static inline int64_t sonar_det_dist2_mm(int32_t ax, int32_t ay, int32_t bx, int32_t by)

@@ -213,7 +213,8 @@ static void row5(const uint8_t *const *p, uint8_t *out, int n)
 #endif
 
 /* Filters row e of the sweep, whose rows 0..last are (partly) in the ring. */
-static void emit(struct sonar_median2d *m, uint32_t e, uint32_t last, uint8_t *out, struct sonar_median_row *out_meta)
+static void release_row(struct sonar_median2d *m, uint32_t e, uint32_t last, uint8_t *out,
+                        struct sonar_median_row *out_meta)
 {
     const uint8_t *rows[SONAR_MAX_MEDIAN2D];
     unsigned k = m->k, h = k / 2u, r;
@@ -230,7 +231,7 @@ static void emit(struct sonar_median2d *m, uint32_t e, uint32_t last, uint8_t *o
         row5(rows, out, (int)m->n);
 #endif
     *out_meta = m->meta[e % k];
-    m->emitted = e + 1;
+    m->released = e + 1;
 }
 
 int sonar_median2d_push(struct sonar_median2d *m, const uint8_t *row, uint16_t n, const struct sonar_median_row *meta,
@@ -258,7 +259,7 @@ int sonar_median2d_push(struct sonar_median2d *m, const uint8_t *row, uint16_t n
     h = m->k / 2u;
     if (t < h)
         return 0;
-    emit(m, t - h, t, out, out_meta);
+    release_row(m, t - h, t, out, out_meta);
     return 1;
 }
 
@@ -266,11 +267,11 @@ int sonar_median2d_flush(struct sonar_median2d *m, uint8_t *out, struct sonar_me
 {
     if (m == NULL || out == NULL || out_meta == NULL)
         return SONAR_ERR_ARG;
-    if (m->emitted >= m->pushed) {
+    if (m->released >= m->pushed) {
         m->pushed = 0;
-        m->emitted = 0;
+        m->released = 0;
         return 0;
     }
-    emit(m, m->emitted, m->pushed - 1u, out, out_meta);
+    release_row(m, m->released, m->pushed - 1u, out, out_meta);
     return 1;
 }

@@ -86,7 +86,7 @@ int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_co
     return sonar_detector_init(&p->det, &cfg->detector);
 }
 
-static void emit(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
+static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
 {
     struct sonar_beam b;
     if (p->cfg->on_beam == NULL)
@@ -240,12 +240,12 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
     uint8_t *b = p->buf[p->cur];
     int r, done, seeding = sonar_background_seeding(&p->bg, angle);
-    emit(p, SONAR_STAGE_MEDIAN, utime, angle, b);
+    tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
     if (!done && (r = sonar_background_apply_keep(&p->bg, angle, b, b, p->n, sp, keep_spans(p, angle, sp))) != SONAR_OK)
         return r;
-    emit(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
+    tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
         return r == SONAR_ERR_FULL ? SONAR_OK : r;
@@ -621,7 +621,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     }
     p->n = b->n;
     p->range_m = b->range_m;
-    emit(p, SONAR_STAGE_RAW, b->utime, b->angle, b->samples);
+    tap(p, SONAR_STAGE_RAW, b->utime, b->angle, b->samples);
     cut = sonar_sweep_step(&p->sweep, b->angle);
     if (cut != SONAR_SWEEP_SAME && (r = end_sweep(p)) != SONAR_OK)
         return r;

@@ -242,7 +242,7 @@ void app_forward(struct app *a, const struct app_beam *b)
     sinks_beam(a, &r);
 }
 
-void app_emit_status(struct app *a, const struct app_status *s)
+void app_send_status(struct app *a, const struct app_status *s)
 {
     unsigned i;
     for (i = 0; i < a->nsinks; i++) {
@@ -388,7 +388,7 @@ void app_pose_status(const struct app *a, struct app_status *s)
     s->pose.body_sweeps = a->pipe.body_sweeps;
 }
 
-void app_status(struct app *a, int link_state, struct app_status *s)
+void app_report_status(struct app *a, int link_state, struct app_status *s)
 {
     unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
     memcpy(a->sorted, a->proc_us, n * sizeof(float));
@@ -417,7 +417,7 @@ void app_status(struct app *a, int link_state, struct app_status *s)
         s->tracker.overflow = a->pipe.trk.overflow;
     }
     app_pose_status(a, s);
-    app_emit_status(a, s);
+    app_send_status(a, s);
 }
 
 int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen)

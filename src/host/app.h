@@ -90,7 +90,6 @@ enum app_link_event { APP_LINK_NONE = 0, APP_LINK_LOST = 1, APP_LINK_STOPPED = 2
 
 struct app {
     struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
-    int pcur;                             /* index of the running one */
     struct sonar_pipeline pipe;
     struct sonar_ping_parser parser;
     struct sonar_ping360 drv;
@@ -154,7 +153,7 @@ HOST_CHECK int app_push(struct app *a, const struct app_beam *b);
  */
 void app_detections(struct app *a, const struct sonar_detections *d);
 void app_forward(struct app *a, const struct app_beam *b);
-void app_emit_status(struct app *a, const struct app_status *s);
+void app_send_status(struct app *a, const struct app_status *s);
 
 /*
  * One sample of the vehicle's pose from any source (MAVLink, LCM, a pose file, a recording's
@@ -185,8 +184,8 @@ int64_t app_deadline(const struct app *a);
 /* Live link: motor_off. Returns 1 when already stopped (nothing to wait for), 0 when waiting, < 0 on error. */
 int app_link_stop(struct app *a, int64_t now_us);
 
-/* Fills *s and sends it to every sink. link_state: the driver's, or SONAR_P360_CONNECTING. */
-void app_status(struct app *a, int link_state, struct app_status *s);
+/* Collects the counters into *s and sends it to every sink (app_send_status). link_state: the driver's, or SONAR_P360_CONNECTING. */
+void app_report_status(struct app *a, int link_state, struct app_status *s);
 
 /*
  * SIGHUP: pcfg (copied) takes over at the next sweep (sonar_pipeline_reconfigure). Returns

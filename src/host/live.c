@@ -125,7 +125,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
                 aux[slot[i]].ops->ready(aux[slot[i]].self, pfd[i].revents, now);
         if (now >= next_status) {
             if (!src->ops->own_status)
-                app_status(a, src->ops->state(src->self), &st);
+                app_report_status(a, src->ops->state(src->self), &st);
             next_status = now + STATUS_US;
         }
     }
@@ -133,7 +133,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
     if (interrupted && app_finish(a) != SONAR_OK)
         fprintf(stderr, "sonard: finishing the last sweep failed\n");
     if (!src->ops->own_status)
-        app_status(a, src->ops->state(src->self), &st);
+        app_report_status(a, src->ops->state(src->self), &st);
     src->ops->close(src->self);
     for (k = 0; k < naux; k++)
         aux[k].ops->close(aux[k].self);

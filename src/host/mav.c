@@ -52,7 +52,7 @@ static int host_port(const char *s, char *host, size_t hn, char *port, size_t pn
     return 0;
 }
 
-int mav_parse(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen)
+int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen)
 {
     char host[128], port[16];
     memset(m, 0, sizeof(*m));

@@ -71,10 +71,10 @@ struct mav {
 };
 
 /*
- * Parses and checks cfg (the URL forms, the ids, the rate). Returns HOST_OK, or HOST_ERR_CONFIG
- * with err naming the part.
+ * Initialises m from cfg: checks it (the URL forms, the ids, the rate), parses the URL and sets up
+ * the obstacle map; opens nothing. Returns HOST_OK, or HOST_ERR_CONFIG with err naming the part.
  */
-HOST_CHECK int mav_parse(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
+HOST_CHECK int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
 
 /* Binds the app: adds the sink (HOST_OK or SONAR_ERR_FULL). Open with the live loop (mav_live). */
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);

@@ -147,7 +147,7 @@ static int run_live(struct sonard *s)
     if (live_run(&s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
-        app_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
+        app_report_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
         sink_summary(&s->app);
         if (s->have_mav) {
@@ -273,7 +273,7 @@ int main(int argc, char **argv)
         mc.rate_hz = s.opt.mav_rate;
         mc.angle_offset = s.opt.pipeline.detector.angle_offset;
         mc.min_range_m = s.opt.pipeline.detector.min_range_m;
-        if (mav_parse(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, &s.app) != HOST_OK) {
+        if (mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, &s.app) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }

@@ -155,7 +155,7 @@ static void on_status(struct source_coproc *s, const sonar_status_t *m)
     st.rows_bad = s->parser.counters.crc_errors + s->decode_errors;
     st.sink_errors = (uint32_t)m->sink_errors + (uint32_t)app_sink_errors(s->app);
     app_pose_status(s->app, &st); /* the pose is the host's own */
-    app_emit_status(s->app, &st);
+    app_send_status(s->app, &st);
 }
 
 static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int64_t now)

@@ -284,7 +284,7 @@ int main(void)
             return 9;
         t4 = board_micros();
         for (j = 0; j < k; j++)
-            (void)sonar_det_emit(&b.det, j, 1, &o, &at);
+            (void)sonar_det_accept(&b.det, j, 1, &o, &at);
         put_num("worst_insn_link", (uint64_t)(t2 - t1) * INSN_PER_US);
         put_num("worst_insn_seed_and_cut", (uint64_t)(t3 - t2) * INSN_PER_US);
         put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);

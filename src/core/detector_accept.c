@@ -1,4 +1,4 @@
-/* detector_emit.c -- stage 4: each cluster against the rules (cells, beams, range, aspect, extent, tracking gate), its incremental hull and the detection in metres; O(runs) per cluster. */
+/* detector_accept.c -- stage 4: each cluster against the rules (cells, beams, range, aspect, extent, tracking gate), its incremental hull and the detection in metres; O(runs) per cluster. */
 #include <math.h>
 #include <string.h>
 
@@ -70,7 +70,7 @@ static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, u
     return 1;
 }
 
-int sonar_det_emit(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
+int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
 {
     struct hull_scratch hs;
     uint64_t w = 0, s = 0, st = 0;
