@@ -22,7 +22,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/csv.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
+HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
             src/host/posefile.c src/host/pvbin.c src/host/discover.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
@@ -104,11 +104,11 @@ $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 $(BUILD)/sonard: $(BUILD)/host/sonard.o $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
 	$(CC) $(SAN) $(INPUTS) -o $@ -llcm $(LDLIBS)
 
-$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/csv_file.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/optschema.o $(BUILD)/host/discover.o \
+$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/csv_file.o $(BUILD)/host/optschema.o $(BUILD)/host/discover.o \
                      $(BUILD)/libsonarcore.a \
                      $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)

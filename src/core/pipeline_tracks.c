@@ -1,0 +1,279 @@
+/* pipeline_tracks.c -- a sweep's detections after the detector: located in the world when the poses say, repeated sightings dropped, tracked (body or world frame, with the sweep's coverage), and the view the outputs take; O(detections x tracks) a sweep, no heap. */
+#include "sonar/pipeline.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "pipeline_internal.h"
+#include "sonar/frame.h"
+
+/* The angle offset in whole gradians, as the cover map takes it. */
+static int offset_grad(const struct sonar_pipeline *p)
+{
+    float off = p->cfg->detector.angle_offset;
+    return (int)(off >= 0.0f ? off + 0.5f : off - 0.5f);
+}
+
+/* Time of the sweep's i-th beam. */
+static int64_t beam_utime(const struct sonar_pipeline *p, uint16_t i)
+{
+    return p->det.t0 + (int64_t)p->det.dt_ms[i] * 1000;
+}
+
+/* The gradian a beam pointed at in the world (from north), offset included: yaw is 400/360 gradians a degree. */
+static int world_grad(const struct sonar_pipeline *p, uint16_t i, const struct sonar_pose *q)
+{
+    return sonar_frame_wrap((int)p->det.angles[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / SONAR_DEG_PER_GRAD + 0.5));
+}
+
+/*
+ * sonar_tracker_cover in world gradians: each beam at its own heading, and the gradians between
+ * consecutive beams with poses up to max_step apart. A beam without a pose scanned nowhere known.
+ */
+static void world_cover(const struct sonar_pipeline *p, uint8_t *cover)
+{
+    uint16_t i;
+    int prev = -1;
+    memset(cover, 0, SONAR_GRAD_TURN / 8);
+    for (i = 0; i < p->out.beams; i++) {
+        struct sonar_pose q;
+        int g, d;
+        if (!sonar_pose_at(p->poses, beam_utime(p, i), &q)) {
+            prev = -1;
+            continue;
+        }
+        g = world_grad(p, i, &q);
+        d = prev < 0 ? 0 : sonar_frame_delta((uint16_t)prev, (uint16_t)g);
+        /* From g back to the beam before, if it is a step and not a jump. */
+        sonar_frame_mark_arc(cover, g, (d < 0 ? -d : d) <= (int)p->cfg->max_step ? g - d : g);
+        prev = g;
+    }
+}
+
+/* Tracks the track_m gate follows: confirmed and coasting ones, and tentative ones hit last sweep. */
+static int gated(const struct sonar_track *t)
+{
+    return !(t->state == SONAR_TRACK_TENTATIVE && t->det < 0);
+}
+
+/*
+ * The track_m gate for the sweep about to end, with world-frame tracks: each track where the
+ * beam that looked along its predicted bearing saw it, in that beam's body frame (the vehicle
+ * turns and moves under the sweep, so one pose for the sweep would put the gates seconds off).
+ * O(beams x tracks) pose lookups.
+ */
+int sonar_pipe_world_gates(struct sonar_pipeline *p)
+{
+    float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS], best[SONAR_MAX_CLUSTERS];
+    uint8_t idx[SONAR_MAX_CLUSTERS], n = 0, j, m = 0;
+    uint16_t i;
+    for (j = 0; j < p->trk.n && n < SONAR_MAX_CLUSTERS; j++)
+        if (gated(&p->trk.t[j])) {
+            best[n] = 1e9f;
+            idx[n++] = j;
+        }
+    for (i = 0; i < p->det.beams; i++) {
+        struct sonar_pose q;
+        int64_t t = beam_utime(p, i);
+        double th = ((double)p->det.angles[i] + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD;
+        if (!sonar_pose_at(p->poses, t, &q))
+            continue;
+        for (j = 0; j < n; j++) {
+            float wx, wy, bx, by, e;
+            sonar_tracker_predict(&p->trk.t[idx[j]], t, &wx, &wy);
+            sonar_pose_to_body(&q, wx, wy, &bx, &by);
+            e = (float)fabs(remainder(sonar_frame_bearing_deg((double)bx, (double)by) - th, 360.0));
+            if (e < best[j]) {
+                best[j] = e;
+                gx[j] = bx;
+                gy[j] = by;
+            }
+        }
+    }
+    /* A track whose bearing no beam came near (outside a sector) expects nothing this sweep. */
+    for (j = 0; j < n; j++)
+        if (best[j] <= (float)SONAR_DEG_PER_GRAD * (float)p->cfg->max_step) {
+            gx[m] = gx[j];
+            gy[m] = gy[j];
+            m++;
+        }
+    return sonar_detector_set_tracks(&p->det, gx, gy, m);
+}
+
+/* A detection's radius: centroid to its farthest hull vertex, metres. */
+static float det_radius(const struct sonar_detection *d)
+{
+    float best = 0.0f;
+    uint8_t v;
+    for (v = 0; v < d->hull_count; v++) {
+        float dx = d->hull_x[v] - d->x_m, dy = d->hull_y[v] - d->y_m, e = sqrtf(dx * dx + dy * dy);
+        best = e > best ? e : best;
+    }
+    return best;
+}
+
+/* Where a sweep's detections were in the world, when the poses say. */
+struct located {
+    uint8_t world;                 /* every detection and the sweep's last beam have a pose */
+    uint8_t ok[SONAR_MAX_CLUSTERS]; /* this one has */
+    float north[SONAR_MAX_CLUSTERS], east[SONAR_MAX_CLUSTERS];
+    struct sonar_pose pose;        /* the vehicle at the sweep's last beam (world) */
+};
+
+static void locate(const struct sonar_pipeline *p, const struct sonar_detections *d, struct located *w)
+{
+    uint8_t i;
+    memset(w, 0, sizeof(*w));
+    if (p->poses == NULL || !sonar_pose_at(p->poses, d->utime, &w->pose))
+        return;
+    w->world = 1;
+    for (i = 0; i < d->count; i++) {
+        struct sonar_pose q;
+        if (sonar_pose_at(p->poses, d->det[i].utime, &q)) {
+            sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &w->north[i], &w->east[i]);
+            w->ok[i] = 1;
+        } else {
+            w->world = 0;
+        }
+    }
+}
+
+/*
+ * A turning vehicle's sweep can look at the same part of the world twice (the head turns one
+ * way and the heading with it: one turn of the head covers more than one of the world). A
+ * detection within SONAR_PIPE_DUP_M in the world of a larger one seen more than
+ * SONAR_PIPE_DUP_US apart is that object seen again: dropped (counted), so the sweep reports
+ * each object once, as the tracker expects. Objects side by side are seen within a beam or two.
+ */
+static void drop_repeats(struct sonar_pipeline *p, struct sonar_detections *d, struct located *w)
+{
+    uint8_t i, j, k = 0;
+    for (i = 0; i < d->count; i++) {
+        int dup = 0;
+        for (j = 0; j < i && !dup; j++) {
+            float dn = w->north[j] - w->north[i], de = w->east[j] - w->east[i];
+            int64_t dt = d->det[j].utime - d->det[i].utime;
+            dup = w->ok[i] && w->ok[j] && dn * dn + de * de < SONAR_PIPE_DUP_M * SONAR_PIPE_DUP_M &&
+                  (dt < 0 ? -dt : dt) > SONAR_PIPE_DUP_US;
+        }
+        if (dup) {
+            p->repeats++;
+            continue;
+        }
+        if (k != i) {
+            d->det[k] = d->det[i];
+            w->ok[k] = w->ok[i];
+            w->north[k] = w->north[i];
+            w->east[k] = w->east[i];
+        }
+        k++;
+    }
+    d->count = k;
+}
+
+/*
+ * The sweep's detections (p->out) into the tracker, over the gradians and ranges the sweep
+ * scanned (cover 0: unknown, every track in view), in the world frame when the sweep has it.
+ * Then, in the body frame, the track_m gate of the next sweep follows the tracks, predicted one
+ * sweep on, instead of this sweep's detections: confirmed and coasting ones, and tentative ones
+ * hit this sweep (leaving those out cost AquaScan sonar11 0.013 of F1: a person's second sighting
+ * needs the gate). In the world frame world_gates places them when that sweep ends.
+ */
+static int track(struct sonar_pipeline *p, const struct located *w, int have_cover)
+{
+    struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
+    struct sonar_tracker_sweep sw;
+    uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0;
+    float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS];
+    const int world = w->world;
+    int64_t ahead;
+    int r;
+    if (world) {
+        sonar_tracker_reframe(&p->trk, &w->pose, 1);
+        p->last_pose = w->pose;
+        p->world_sweeps++;
+    } else {
+        /* Stale: back to the body frame where the vehicle was last known to be. */
+        sonar_tracker_reframe(&p->trk, &p->last_pose, 0);
+        p->body_sweeps++;
+    }
+    for (i = 0; i < p->out.count; i++) {
+        obs[i].x_m = world ? w->north[i] : p->out.det[i].x_m;
+        obs[i].y_m = world ? w->east[i] : p->out.det[i].y_m;
+        obs[i].utime = p->out.det[i].utime;
+        obs[i].size_m = det_radius(&p->out.det[i]);
+    }
+    if (have_cover && world)
+        world_cover(p, cover);
+    else if (have_cover)
+        sonar_tracker_cover(cover, p->det.angles, p->out.beams, p->cfg->max_step, offset_grad(p));
+    sw.utime = p->out.utime;
+    sw.beams = p->out.beams;
+    sw.cover = have_cover ? cover : NULL;
+    sw.min_range_m = p->cfg->detector.min_range_m;
+    sw.max_range_m = have_cover ? p->range_m : (float)SONAR_PIPE_MAX_RANGE_M;
+    sw.origin_x = world ? w->pose.north_m : 0.0f;
+    sw.origin_y = world ? w->pose.east_m : 0.0f;
+    if ((r = sonar_tracker_update(&p->trk, obs, p->out.count, &sw)) != SONAR_OK)
+        return r;
+    if (!(p->cfg->detector.track_m > 0.0f) || world || !have_cover)
+        return SONAR_OK;
+    ahead = p->out.utime + (p->out.utime - p->det.t0);
+    for (i = 0; i < p->trk.n; i++) {
+        const struct sonar_track *t = &p->trk.t[i];
+        if (!gated(t) || n >= SONAR_MAX_CLUSTERS)
+            continue;
+        sonar_tracker_predict(t, ahead, &gx[n], &gy[n]);
+        n++;
+    }
+    return sonar_detector_set_tracks(&p->det, gx, gy, n);
+}
+
+int sonar_pipe_finish_sweep(struct sonar_pipeline *p, int have_cover)
+{
+    struct located w;
+    locate(p, &p->out, &w);
+    drop_repeats(p, &p->out, &w);
+    p->out.world = (uint8_t)(w.world && p->cfg->track);
+    return p->cfg->track ? track(p, &w, have_cover) : SONAR_OK;
+}
+
+int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections *d)
+{
+    if (p == NULL || p->cfg == NULL || d == NULL || d->count > SONAR_MAX_CLUSTERS)
+        return SONAR_ERR_ARG;
+    p->out = *d;
+    return sonar_pipe_finish_sweep(p, 0);
+}
+
+void sonar_pipeline_view(const struct sonar_pipeline *p, struct sonar_view *v)
+{
+    const struct sonar_detections *d = &p->out;
+    uint8_t i;
+    memset(v, 0, sizeof(*v));
+    v->world = p->out.world && p->trk.world;
+    if (p->poses != NULL)
+        v->have_pose = (uint8_t)sonar_pose_at(p->poses, d->utime, &v->pose);
+    for (i = 0; i < d->count; i++) {
+        struct sonar_pose q;
+        if (p->poses != NULL && sonar_pose_at(p->poses, d->det[i].utime, &q)) {
+            sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &v->det_north[i], &v->det_east[i]);
+            v->det_world[i] = 1;
+        }
+    }
+    for (i = 0; i < p->trk.n && p->cfg->track; i++) {
+        const struct sonar_track *t = &p->trk.t[i];
+        struct sonar_pose q;
+        if (!p->trk.world) {
+            v->trk_x[i] = t->px;
+            v->trk_y[i] = t->py;
+            v->trk_vx[i] = t->vx;
+            v->trk_vy[i] = t->vy;
+            continue;
+        }
+        if (!sonar_pose_at(p->poses, t->utime, &q))
+            q = p->last_pose; /* a track last seen before the poses kept: the latest pose */
+        sonar_pose_to_body(&q, t->px, t->py, &v->trk_x[i], &v->trk_y[i]);
+        sonar_pose_rotate(-q.yaw_deg, t->vx, t->vy, &v->trk_vx[i], &v->trk_vy[i]);
+    }
+}
