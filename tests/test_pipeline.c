@@ -297,6 +297,20 @@ static void test_moving_vehicle_body_frame_baseline(void **state)
     assert_true(found > 3); /* with the poses: the post in turns 3 to 5, nothing else */
 }
 
+/* The beam at gradian a of turn: faint speckle; in turn 3 a speck at gradian 50 and an object on 397..399. */
+static void speck_beam(uint8_t *s, int turn, int a)
+{
+    int i;
+    for (i = 0; i < N; i++)
+        s[i] = (uint8_t)(10 + (i * 31 + a * 17 + turn * 7) % 9);
+    if (turn == 3 && a == 50)
+        for (i = 150; i < 162; i++)
+            s[i] = 90;
+    if (turn == 3 && a >= 397)
+        for (i = 200; i < 206; i++)
+            s[i] = 200;
+}
+
 /*
  * The CFAR window across beams, one beam late: over an empty scene learnt for two turns, a speck in
  * one beam (gradian 50) is diluted by its neighbours and not found, an object three beams wide at the
@@ -307,7 +321,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
 {
     struct sonar_pipeline_config c;
     uint8_t s[N];
-    int turn, a, i;
+    int turn, a;
     (void)state;
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
@@ -316,14 +330,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
     for (turn = 0; turn < 4; turn++)
         for (a = 0; a < 400; a++) {
-            for (i = 0; i < N; i++)
-                s[i] = (uint8_t)(10 + (i * 31 + a * 17 + turn * 7) % 9);
-            if (turn == 3 && a == 50)
-                for (i = 150; i < 162; i++)
-                    s[i] = 90;
-            if (turn == 3 && a >= 397)
-                for (i = 200; i < 206; i++)
-                    s[i] = 200;
+            speck_beam(s, turn, a);
             push((uint16_t)a, s, N, 10.0f);
             /* the detector holds one beam fewer than were pushed this turn */
             assert_int_equal(pipe_.det.beams, a);
@@ -338,14 +345,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
     for (turn = 0; turn < 4; turn++)
         for (a = 0; a < 400; a++) {
-            for (i = 0; i < N; i++)
-                s[i] = (uint8_t)(10 + (i * 31 + a * 17 + turn * 7) % 9);
-            if (turn == 3 && a == 50)
-                for (i = 150; i < 162; i++)
-                    s[i] = 90;
-            if (turn == 3 && a >= 397)
-                for (i = 200; i < 206; i++)
-                    s[i] = 200;
+            speck_beam(s, turn, a);
             push((uint16_t)a, s, N, 10.0f);
         }
     assert_int_equal(sonar_pipeline_finish(&pipe_), SONAR_OK);

@@ -407,6 +407,29 @@ static void pool_water(double r, double *nu, double *mu, double *c)
  * between wall_near and wall_far (< 0: none), the objects, summed in power; the noise floor
  * subtracted; clipped to 0..255.
  */
+/*
+ * Object k as the beam at th (radians) sees it at time t from (vn, ve): its distance d, the
+ * bearing off the beam's axis delta, its half-width alpha, and the beam pattern's gain (Gaussian of
+ * sigma sig_beam beyond its edge); 0 when it is absent (not there yet, gone, faded this sweep) or
+ * below 2 % of the axis.
+ */
+static double object_gain(const struct scene *s, int k, int sweep, double t, double th, double vn, double ve,
+                          double sig_beam, double *d, double *delta, double *alpha)
+{
+    const struct scene_object *o = &s->obj[k];
+    double ox, oy, ovx, ovy, e, gain;
+    if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
+        return 0.0;
+    ox -= vn;
+    oy -= ve;
+    *d = sqrt(ox * ox + oy * oy);
+    *delta = fabs(remainder(th - atan2(oy, ox), 2.0 * PI));
+    *alpha = asin(fmin(1.0, o->r / *d));
+    e = *delta > *alpha ? *delta - *alpha : 0.0;
+    gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam));
+    return gain < 0.02 ? 0.0 : gain;
+}
+
 static void pool_beam(const struct scene *s, int sweep, double t, double th, double vn, double ve, double wall_near,
                       double wall_far, double range_m, int n, struct scene_rng *g, uint8_t *out)
 {
@@ -436,18 +459,8 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
     }
     for (k = 0; k < s->nobj; k++) {
         const struct scene_object *o = &s->obj[k];
-        double ox, oy, ovx, ovy, d, phi, delta, alpha, e, gain, near, far;
-        if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
-            continue;
-        ox -= vn;
-        oy -= ve;
-        d = sqrt(ox * ox + oy * oy);
-        phi = atan2(oy, ox);
-        delta = fabs(remainder(th - phi, 2.0 * PI));
-        alpha = asin(fmin(1.0, o->r / d));
-        e = delta > alpha ? delta - alpha : 0.0;
-        gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam));
-        if (gain < 0.02)
+        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
+        if (gain == 0.0)
             continue;
         /* A body's echo lasts through it (the labelled people are 0.7-1 m deep); it casts no shadow a sweep shows. */
         near = d - o->r;
@@ -525,18 +538,8 @@ void scene_beam(const struct scene *s, int sweep, double t, int angle, double ra
     }
     for (k = 0; k < s->nobj; k++) {
         const struct scene_object *o = &s->obj[k];
-        double ox, oy, ovx, ovy, d, phi, delta, alpha, e, gain, near, far;
-        if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
-            continue;
-        ox -= vn;
-        oy -= ve;
-        d = sqrt(ox * ox + oy * oy);
-        phi = atan2(oy, ox);
-        delta = fabs(remainder(th - phi, 2.0 * PI));
-        alpha = asin(fmin(1.0, o->r / d));
-        e = delta > alpha ? delta - alpha : 0.0;
-        gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam));
-        if (gain < 0.02)
+        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
+        if (gain == 0.0)
             continue;
         near = d - o->r;
         far = d + 0.3 * o->r + 0.05;

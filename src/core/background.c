@@ -166,47 +166,65 @@ static int gate_shift(uint8_t margin, unsigned *shift, uint32_t *mask)
     return 0;
 }
 
+/* The gate of each byte of m: a shift for a margin that allows one (gate_shift), else gate4. */
+struct gate_rule {
+    uint32_t margin, mask;
+    unsigned shift;
+    int shifted;
+};
+
+static struct gate_rule gate_rule(uint8_t margin)
+{
+    struct gate_rule g;
+    g.margin = margin;
+    g.shifted = gate_shift(margin, &g.shift, &g.mask);
+    return g;
+}
+
+static uint32_t gate_of(struct gate_rule g, uint32_t m)
+{
+    return g.shifted ? (m >> g.shift) & g.mask : gate4(m, g.margin);
+}
+
+/* m stepped by at most s4 per byte, up (up = uqsub8(x, m)) or down (dn = uqsub8(m, x)): never carries or borrows across bytes (see above). */
+static uint32_t step4(uint32_t m, uint32_t up, uint32_t dn, uint32_t s4)
+{
+    return m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
+}
+
 static void follow_row4(uint8_t *b, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
 {
-    uint32_t s4 = 0x01010101u * step, mask;
-    unsigned shift;
-    int w, shifted = gate_shift(margin, &shift, &mask);
+    uint32_t s4 = 0x01010101u * step;
+    struct gate_rule g = gate_rule(margin);
+    int w;
     for (w = 0; w < words; w++) {
-        uint32_t x, m, up, dn, gate;
+        uint32_t x, m, up, dn;
         memcpy(&x, in + 4 * w, 4);
         memcpy(&m, b + 4 * w, 4);
         up = __uqsub8(x, m);
         dn = __uqsub8(m, x);
-        gate = shifted ? (m >> shift) & mask : gate4(m, margin);
-        x = __uqsub8(up, gate); /* the foreground */
+        x = __uqsub8(up, gate_of(g, m)); /* the foreground */
         memcpy(fg + 4 * w, &x, 4);
-        m = m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
+        m = step4(m, up, dn, s4);
         memcpy(b + 4 * w, &m, 4);
     }
 }
 
-/* m stepped towards x by at most s4 per byte: never carries or borrows across bytes (see above). */
-static uint32_t towards4(uint32_t m, uint32_t x, uint32_t s4)
-{
-    uint32_t up = __uqsub8(x, m), dn = __uqsub8(m, x);
-    return m + (up - __uqsub8(up, s4)) - (dn - __uqsub8(dn, s4));
-}
-
 static void pair4(uint8_t *b, uint8_t *a, const uint8_t *in, uint8_t *fg, int words, uint8_t step, uint8_t margin)
 {
-    uint32_t s4 = 0x01010101u * step, mask;
-    unsigned shift;
-    int w, shifted = gate_shift(margin, &shift, &mask);
+    uint32_t s4 = 0x01010101u * step;
+    struct gate_rule g = gate_rule(margin);
+    int w;
     for (w = 0; w < words; w++) {
         uint32_t x, m, c, top, out;
         memcpy(&x, in + 4 * w, 4);
         memcpy(&m, b + 4 * w, 4);
         memcpy(&c, a + 4 * w, 4);
         top = c + __uqsub8(m, c); /* max(m, c) per byte */
-        out = __uqsub8(__uqsub8(x, top), shifted ? (top >> shift) & mask : gate4(top, margin));
+        out = __uqsub8(__uqsub8(x, top), gate_of(g, top));
         memcpy(fg + 4 * w, &out, 4);
-        m = towards4(m, x, s4);
-        c = towards4(c, x, s4);
+        m = step4(m, __uqsub8(x, m), __uqsub8(m, x), s4);
+        c = step4(c, __uqsub8(x, c), __uqsub8(c, x), s4);
         memcpy(b + 4 * w, &m, 4);
         memcpy(a + 4 * w, &c, 4);
     }

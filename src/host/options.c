@@ -299,9 +299,8 @@ static int given(const struct sonard_options *o, const char *name)
 static int check_whole(struct sonard_options *o, char *err, size_t errlen)
 {
     const char *why;
-    int bgw = opt_find(&schema, "bg-warmup");
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
-    if (bgw < 0 || !opt_was_given(&o->given, (size_t)bgw))
+    if (!given(o, "bg-warmup"))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
     /* The study's median background goes with its rules, unless they are given: its configuration replays as it always has. */
     {
