@@ -22,17 +22,19 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/source_replay.c \
+HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/source_replay.c \
             src/host/posefile.c src/host/pvbin.c src/host/discover.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
-LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(BUILD)/msg/msg.o \
+MSG_SRC   = $(wildcard src/msg/*.c)
+MSG_OBJ   = $(MSG_SRC:src/msg/%.c=$(BUILD)/msg/%.o)
+LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(MSG_OBJ) \
             $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/source_pose_lcm.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
 UNIT      = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover
-UNIT_LIVE = app sinks mav source_pose_lcm
+UNIT_LIVE = app sinks mav source_pose_lcm msg
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
@@ -94,7 +96,7 @@ $(BUILD)/host/source_pose_lcm.o: src/host/source_pose_lcm.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 
-$(BUILD)/msg/msg.o: src/msg/msg.c $(BUILD)/lcm/.stamp
+$(BUILD)/msg/%.o: src/msg/%.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 
@@ -129,7 +131,7 @@ $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 # The app core and the sinks are tested with the live objects and the generated LCM types.
 $(UNIT_LIVE:%=$(BUILD)/tests/test_%): $(BUILD)/tests/test_%: tests/test_%.c $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(TEST_CFLAGS) -I$(BUILD)/lcm/c -isystem $(BUILD)/mavlink $(INPUTS) -o $@ -lcmocka -llcm $(LDLIBS)
+	$(CC) $(TEST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -isystem $(BUILD)/mavlink $(INPUTS) -o $@ -lcmocka -llcm $(LDLIBS)
 
 $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
@@ -300,7 +302,7 @@ ARM_M4F = -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 ARM_CFLAGS = $(WARN) -Os -ffunction-sections -fdata-sections -Iinclude
 
 # The co-processor firmware for QEMU's mps2-an500 (Cortex-M7): the core, the board, the LCM encoders.
-MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c src/msg/msg.c $(CORE_SRC)
+MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
 MCU_LCM   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.c)
 MCU_FLAGS = $(ARM_M7) $(MCU_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 

@@ -43,7 +43,7 @@ def main():
     from sonar import config_t
     c = config_t()
     c.range_m, c.speed_of_sound, c.samples, c.gain, c.frequency = 12.0, 1500.0, 200, 0, 750
-    c.start_angle, c.stop_angle, c.step, c.full_circle, c.use_auto, c.baud = 100, 300, 2, False, False, 115200
+    c.start_angle, c.stop_angle, c.step, c.full_circle, c.use_auto = 100, 300, 2, False, False
     c.median, c.median2d, c.max_step, c.bg_mode, c.bg_warmup, c.bg_step, c.bg_margin = 5, 0, 20, 1, 2, 1, 8
     c.threshold_k, c.min_threshold, c.max_clusters, c.iterations, c.link_beams = 3.0, 16, 8, 10, 9  # 9: out of range
     c.min_points, c.link_m, c.track_points, c.beam_every = 20, 0.15, 10, 0

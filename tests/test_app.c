@@ -27,13 +27,13 @@ static int64_t fake_wall(void *u) { (void)u; return 1700000000000000 + fake_ns /
 /* What the sinks saw. */
 struct capture {
     int raw, fg, sweeps, statuses, fail;
-    struct app_beam last_raw;
+    struct sonar_record last_raw;
     uint8_t last_raw_samples[N];
     int dets[16];
-    struct app_status st;
+    struct sonar_status st;
 };
 
-static int cap_beam(void *self, const struct app_beam *b)
+static int cap_beam(void *self, const struct sonar_record *b)
 {
     struct capture *c = self;
     if (b->stage == SONAR_STAGE_RAW) {
@@ -57,7 +57,7 @@ static int cap_det(void *self, const struct sonar_detections *d, const struct so
     return c->fail ? -1 : 0;
 }
 
-static int cap_status(void *self, const struct app_status *s)
+static int cap_status(void *self, const struct sonar_status *s)
 {
     struct capture *c = self;
     c->statuses++;
@@ -65,7 +65,8 @@ static int cap_status(void *self, const struct app_status *s)
     return 0;
 }
 
-static struct app app;
+static struct app_storage app_mem;
+static struct app *app;
 static struct source_link src;
 static struct capture cap;
 static struct app_sink sink;
@@ -112,13 +113,13 @@ static void setup_app(long max_sweeps, uint8_t stages)
     assert_int_equal(fcntl(sv[0], F_SETFL, O_NONBLOCK), 0);
     assert_int_equal(fcntl(sv[1], F_SETFL, O_NONBLOCK), 0);
     assert_int_equal(source_link_parse(&src, "tcp:127.0.0.1:1", 0, err, sizeof(err)), HOST_OK);
-    assert_int_equal(app_init(&app, &p, &d, &io, &clk, 1500.0f, max_sweeps, err, sizeof(err)), HOST_OK);
-    assert_int_equal(app_add_sink(&app, &sink), HOST_OK);
+    assert_int_equal(app_init(&app, &app_mem, &p, &d, &io, &clk, max_sweeps, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_add_sink(app, &sink), HOST_OK);
     /* The socketpair stands in for the TCP connection source_link would open. */
-    src.app = &app;
-    app.link = src.desc;
+    src.app = app;
+    app_set_link(app, src.desc);
     src.link.fd = sv[0];
-    assert_int_equal(app_link_up(&app, fake_ns / 1000), SONAR_OK);
+    assert_int_equal(app_link_up(app, fake_ns / 1000), SONAR_OK);
 }
 
 static void teardown_app(void)
@@ -216,7 +217,7 @@ static void test_beams_carry_their_acquisition(void **state)
     assert_int_equal(cap.last_raw.angle % STEP, 0);
     assert_true(cap.sweeps >= 2);
     assert_int_equal(cap.dets[1], 1); /* the bright patch at 100..140 gradians */
-    app_report_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(app, source_link_state(&src), &cap.st);
     assert_int_equal(cap.statuses, 1);
     assert_int_equal(cap.st.driver.beams, (uint32_t)cap.raw);
     assert_int_equal(cap.st.parser.frames, (uint32_t)cap.raw + 1); /* + device_information */
@@ -240,7 +241,7 @@ static void test_garbage_and_corrupt_frames_are_counted_not_published(void **sta
         fake_ns += 200000000;
         sent += step(0, 0);
     }
-    app_report_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(app, source_link_state(&src), &cap.st);
     assert_true(cap.st.parser.checksum_errors >= 6);
     assert_true(cap.st.parser.bytes_dropped > 0);
     assert_true(cap.st.parser.resyncs > 0);
@@ -257,9 +258,9 @@ static void test_max_sweeps_then_beams_ignored(void **state)
     (void)state;
     (void)device_answer(-1, 0);
     setup_app(2, 1u << SONAR_STAGE_RAW);
-    for (i = 0; i < 200 && !app.sweeps_done; i++)
+    for (i = 0; i < 200 && !app_done(app); i++)
         (void)step(0, 0);
-    assert_int_equal(app.sweeps_done, 1);
+    assert_int_equal(app_done(app), 1);
     assert_int_equal(cap.sweeps, 2);
     i = cap.raw;
     (void)step(0, 0);
@@ -277,7 +278,7 @@ static void test_sink_failures_are_counted(void **state)
     cap.fail = 1;
     for (i = 0; i < 50; i++)
         (void)step(0, 0);
-    app_report_status(&app, source_link_state(&src), &cap.st);
+    app_report_status(app, source_link_state(&src), &cap.st);
     assert_int_equal(sink.errors, (unsigned long)(cap.raw + cap.sweeps));
     assert_int_equal(cap.st.sink_errors, (uint32_t)(cap.raw + cap.sweeps));
     teardown_app();
@@ -295,11 +296,11 @@ static void test_reconfigure_at_the_next_sweep_and_bad_config_kept_out(void **st
         (void)step(0, 0);
     assert_int_equal(cap.dets[1], 1);
     p.detector.link_beams = 9;
-    assert_int_equal(app_reconfigure(&app, &p, err, sizeof(err)), HOST_ERR_CONFIG);
+    assert_int_equal(app_reconfigure(app, &p, err, sizeof(err)), HOST_ERR_CONFIG);
     assert_non_null(strstr(err, "link_beams: 1..8"));
     p = pipe_cfg();
     p.detector.min_points = 60000; /* nothing is that big */
-    assert_int_equal(app_reconfigure(&app, &p, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_reconfigure(app, &p, err, sizeof(err)), HOST_OK);
     s0 = cap.sweeps;
     for (i = 0; i < 130; i++)
         (void)step(0, 0);
@@ -324,7 +325,7 @@ static void test_link_lost_and_stop(void **state)
     source_link_ready(&src, POLLIN, fake_ns / 1000);
     assert_int_equal(src.link.fd, -1);
     assert_true(src.reconnect_at > fake_ns / 1000 && src.reconnect_at < INT64_MAX);
-    assert_int_equal(app.drv.counters.reconnects, 1);
+    assert_int_equal(app_device(app)->drv.counters.reconnects, 1);
     /* Stopping with no link is immediate. */
     source_link_stop(&src, fake_ns / 1000);
     assert_true(source_link_stopped(&src));
@@ -358,10 +359,10 @@ static void test_replay_source_rows_and_bad_rows(void **state)
     errf = fmemopen(msgs, sizeof(msgs), "w");
     assert_non_null(in);
     assert_non_null(errf);
-    assert_int_equal(app_init(&app, &p, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)), HOST_OK);
-    assert_int_equal(app_add_sink(&app, &sink), HOST_OK);
+    assert_int_equal(app_init(&app, &app_mem, &p, NULL, NULL, &clk, 0, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_add_sink(app, &sink), HOST_OK);
     source_replay_stream(&r, in, "mem.csv", -1.0, 1500.0);
-    assert_int_equal(source_replay_run(&r, &app, errf), 20);
+    assert_int_equal(source_replay_run(&r, app, errf), 20);
     fclose(errf);
     fclose(in);
     assert_int_equal(cap.raw, 20);
@@ -369,7 +370,7 @@ static void test_replay_source_rows_and_bad_rows(void **state)
     assert_int_equal(cap.last_raw.sample_period, -1);
     assert_true(cap.last_raw.range_m == 3.0f);
     assert_true(cap.last_raw.utime == 10000000 + 19);
-    assert_int_equal(app.rows_bad, 4);
+    assert_int_equal(app_rows_bad(app), 4);
     assert_non_null(strstr(msgs, "mem.csv:21: timestamp seconds '9223372036854775' is not an integer"));
     assert_non_null(strstr(msgs, "mem.csv:22: metadata range_m=1e308 is not a number in 0..1000; row skipped"));
     assert_non_null(strstr(msgs, "mem.csv:23: metadata sample_period=1e30"));

@@ -10,7 +10,8 @@
 #include "ardupilotmega/mavlink.h"
 #include "mav.h"
 
-static struct app app;
+static struct app_storage app_mem;
+static struct app *app;
 static struct mav m;
 static int64_t wall = 1700000000000000;
 
@@ -33,9 +34,9 @@ static void setup_mav(void)
     struct mav_config mc = {"udpin:127.0.0.1:14550", 1, 158, 1, 20.0f, 0.0f, 0.0f};
     char err[200];
     sonar_pipeline_defaults(&c);
-    assert_int_equal(app_init(&app, &c, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_init(&app, &app_mem, &c, NULL, NULL, &clk, 0, err, sizeof(err)), HOST_OK);
     assert_int_equal(mav_init(&m, &mc, err, sizeof(err)), HOST_OK);
-    assert_int_equal(mav_attach(&m, &app), HOST_OK);
+    assert_int_equal(mav_attach(&m, app), HOST_OK);
     m.t0_us = 1000000;
 }
 
@@ -60,14 +61,14 @@ static void test_poses_in(void **state)
     /* An ATTITUDE alone is held back for a second, while a position may yet come. */
     mavlink_msg_attitude_pack_status(1, 1, &st, &msg, 10, 0, 0, 1.5707963f, 0, 0, 0);
     feed_msg(&msg, 0);
-    assert_int_equal(app.poses.n, 0);
+    assert_int_equal(app_poses(app)->n, 0);
     wall += 50000;
     mavlink_msg_local_position_ned_pack_status(1, 1, &st, &msg, 60, 12.5f, -3.0f, 0, 0, 0, 0);
     feed_msg(&msg, 0);
     mavlink_msg_attitude_pack_status(1, 1, &st, &msg, 60, 0, 0, -1.5707963f, 0, 0, 0);
     feed_msg(&msg, 0);
-    assert_int_equal(app.poses.n, 1);
-    assert_int_equal(sonar_pose_at(&app.poses, wall, &p), 1);
+    assert_int_equal(app_poses(app)->n, 1);
+    assert_int_equal(sonar_pose_at(app_poses(app), wall, &p), 1);
     assert_true(p.north_m == 12.5f && p.east_m == -3.0f && p.yaw_deg > 269.9f && p.yaw_deg < 270.1f);
     assert_int_equal(m.n.attitudes, 2);
     assert_int_equal(m.n.positions, 1);
@@ -90,7 +91,7 @@ static void test_poses_in(void **state)
         mav_bytes(&m, noise, sizeof(noise), wall);
     }
     assert_int_equal(m.n.rx_foreign, 1);
-    assert_int_equal(app.poses.n, 1);
+    assert_int_equal(app_poses(app)->n, 1);
     /* A pose that jumps 500 m in 50 ms is refused by the poses and counted here. */
     wall += 50000;
     mavlink_msg_local_position_ned_pack_status(1, 1, &st, &msg, 160, 512.5f, -3.0f, 0, 0, 0, 0);
@@ -115,7 +116,7 @@ static void test_obstacle_distance_encoded(void **state)
     memset(s, 10, sizeof(s));
     for (a = 0; a < 400; a++) /* two turns: the floor learns the noise, then a wall 4 m ahead */
         for (i = 0; i < 2; i++) {
-            struct app_beam b;
+            struct sonar_record b;
             memset(&b, 0, sizeof(b));
             memset(s + 78, (a < 10 || a > 390) && i == 1 ? 200 : 10, 3);
             b.utime = wall + (int64_t)(i * 400 + (size_t)a) * 10000;

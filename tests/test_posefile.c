@@ -14,7 +14,8 @@
 #include "posefile.h"
 
 static char path[64];
-static struct app app;
+static struct app_storage app_mem;
+static struct app *app;
 static struct posefile pf;
 
 static int64_t zero_ns(void *u)
@@ -41,7 +42,7 @@ static void start_app(void)
     struct app_clock clk = {zero_ns, zero_ns, NULL};
     char err[128];
     sonar_pipeline_defaults(&c);
-    assert_int_equal(app_init(&app, &c, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_init(&app, &app_mem, &c, NULL, NULL, &clk, 0, err, sizeof(err)), HOST_OK);
 }
 
 static void test_header_by_name(void **state)
@@ -51,11 +52,11 @@ static void test_header_by_name(void **state)
     write_file("yaw_deg, utime_us ,east_m,north_m,depth_m\n720,2000000,10,20,5\n");
     assert_int_equal(posefile_open(&pf, path, err, sizeof(err)), HOST_OK);
     start_app();
-    posefile_feed(&pf, &app, 3000000, NULL);
+    posefile_feed(&pf, app, 3000000, NULL);
     assert_int_equal(pf.good, 1);
-    assert_int_equal(app.poses.n, 1);
-    assert_true(app.poses.s[0].utime == 2000000 && app.poses.s[0].north_m == 20.0f && app.poses.s[0].east_m == 10.0f);
-    assert_true(app.poses.s[0].yaw_deg == 0.0f); /* 720 degrees modulo 360 */
+    assert_int_equal(app_poses(app)->n, 1);
+    assert_true(app_poses(app)->s[0].utime == 2000000 && app_poses(app)->s[0].north_m == 20.0f && app_poses(app)->s[0].east_m == 10.0f);
+    assert_true(app_poses(app)->s[0].yaw_deg == 0.0f); /* 720 degrees modulo 360 */
     posefile_close(&pf);
     unlink(path);
     write_file("utime_us,north_m,east_m\n1,2,3\n");
@@ -89,13 +90,13 @@ static void test_read_ahead_and_bad_rows(void **state)
                "5000000,0.4,0,15\n");
     assert_int_equal(posefile_open(&pf, path, err, sizeof(err)), HOST_OK);
     start_app();
-    posefile_feed(&pf, &app, 1100000, e);
+    posefile_feed(&pf, app, 1100000, e);
     assert_int_equal(pf.good, 1);
-    posefile_feed(&pf, &app, 2000000, e);
+    posefile_feed(&pf, app, 2000000, e);
     assert_int_equal(pf.good, 3);
     assert_int_equal(pf.bad, 5);
-    assert_int_equal(app.poses.n, 3);
-    posefile_feed(&pf, &app, 9000000, e);
+    assert_int_equal(app_poses(app)->n, 3);
+    posefile_feed(&pf, app, 9000000, e);
     assert_int_equal(pf.good, 4);
     fclose(e);
     assert_non_null(strstr(out, ":4: pose at 1.200000 s is not later than the pose before it; row skipped"));

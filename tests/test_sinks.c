@@ -37,9 +37,9 @@ static int capture_tx(void *user, const char *channel, const uint8_t *buf, size_
 
 static uint8_t samples[1200];
 
-static struct app_beam beam(uint8_t stage)
+static struct sonar_record beam(uint8_t stage)
 {
-    struct app_beam b;
+    struct sonar_record b;
     int i;
     memset(&b, 0, sizeof(b));
     for (i = 0; i < 1200; i++)
@@ -62,7 +62,7 @@ static void test_lcm_beam_round_trip(void **state)
 {
     static struct sink_lcm s;
     static struct sent out;
-    struct app_beam b = beam(SONAR_STAGE_RAW);
+    struct sonar_record b = beam(SONAR_STAGE_RAW);
     sonar_beam_t m;
     (void)state;
     memset(&out, 0, sizeof(out));
@@ -96,7 +96,7 @@ static void test_lcm_detections_and_status(void **state)
     static struct sink_lcm s;
     static struct sent out;
     static struct sonar_detections d;
-    struct app_status st;
+    struct sonar_status st;
     static struct sonar_tracker tk;
     sonar_detections_t m;
     sonar_tracks_t mt;
@@ -181,7 +181,7 @@ static void test_csv_sink_writes_a_row_that_reads_back(void **state)
     static struct sink_csv s;
     static struct csv_reader r;
     static struct csv_row row;
-    struct app_beam b = beam(SONAR_STAGE_FOREGROUND);
+    struct sonar_record b = beam(SONAR_STAGE_FOREGROUND);
     char text[8192], err[128];
     FILE *f = fmemopen(text, sizeof(text), "w");
     (void)state;

@@ -13,7 +13,8 @@
 
 #include <cmocka.h>
 
-static struct app app;
+static struct app_storage app_mem;
+static struct app *app;
 static struct source_pose_lcm src;
 
 static int64_t zero(void *u)
@@ -44,8 +45,8 @@ static void test_poses_over_lcm(void **state)
     char err[160];
     (void)state;
     sonar_pipeline_defaults(&c);
-    assert_int_equal(app_init(&app, &c, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)), HOST_OK);
-    assert_int_equal(source_pose_lcm_open(&src, NULL, "memq://", "PORT_", &app, err, sizeof(err)), HOST_OK);
+    assert_int_equal(app_init(&app, &app_mem, &c, NULL, NULL, &clk, 0, err, sizeof(err)), HOST_OK);
+    assert_int_equal(source_pose_lcm_open(&src, NULL, "memq://", "PORT_", app, err, sizeof(err)), HOST_OK);
     assert_string_equal(src.channel, "PORT_SONAR_POSE");
     publish(1000000, 3.0f, 4.0f, 90.0f);
     publish(1100000, 3.1f, 4.0f, 91.0f);
@@ -55,10 +56,10 @@ static void test_poses_over_lcm(void **state)
     assert_int_equal(src.received, 4);
     assert_int_equal(src.bad, 1);
     assert_int_equal(src.refused, 1);
-    assert_int_equal(sonar_pose_at(&app.poses, 1050000, &p), 1);
+    assert_int_equal(sonar_pose_at(app_poses(app), 1050000, &p), 1);
     assert_true(p.north_m > 3.04f && p.north_m < 3.06f && p.yaw_deg > 90.4f && p.yaw_deg < 90.6f);
     source_pose_lcm_close(&src);
-    assert_int_equal(source_pose_lcm_open(&src, NULL, "nosuch://", "", &app, err, sizeof(err)), HOST_ERR_IO);
+    assert_int_equal(source_pose_lcm_open(&src, NULL, "nosuch://", "", app, err, sizeof(err)), HOST_ERR_IO);
     assert_non_null(strstr(err, "--pose-lcm nosuch://: LCM could not start this provider"));
 }
 

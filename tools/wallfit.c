@@ -205,7 +205,7 @@ static int beyond_then(const struct probe *p, int k, double yaw_deg, double rang
     return best < 0.0 || best > range_m;
 }
 
-static int probe_beam(void *self, const struct app_beam *b)
+static int probe_beam(void *self, const struct sonar_record *b)
 {
     struct probe *p = self;
     struct sonar_pose q = {b->utime, b->north_m, b->east_m, b->yaw_deg};
@@ -287,7 +287,9 @@ int main(int argc, char **argv)
 {
     static struct probe probe;
     struct sonar_obstacle_config oc;
-    static struct app app;
+    static struct app_storage mem;
+    struct app *app = NULL;
+    const struct sonar_pipeline *pipe;
     static struct source_replay rp;
     static struct posefile pf;
     static struct scene scene;
@@ -332,7 +334,7 @@ int main(int argc, char **argv)
         return 2;
     }
     sonar_pipeline_defaults(&c);
-    if (app_init(&app, &c, NULL, NULL, &clk, 1500.0f, 0, err, sizeof(err)) != HOST_OK ||
+    if (app_init(&app, &mem, &c, NULL, NULL, &clk, 0, err, sizeof(err)) != HOST_OK ||
         source_replay_open(&rp, csv, -1.0, 1500.0, err, sizeof(err)) != HOST_OK ||
         posefile_open(&pf, pose, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonar-wallfit: %s\n", err);
@@ -350,14 +352,15 @@ int main(int argc, char **argv)
     probe.sink.self = &probe;
     probe.sink.stages = 1u << SONAR_STAGE_MEDIAN;
     probe.sink.beam = probe_beam;
-    if (app_add_sink(&app, &probe.sink) != HOST_OK)
+    if (app_add_sink(app, &probe.sink) != HOST_OK)
         return 2;
-    (void)source_replay_run(&rp, &app, stderr);
-    if (!app.pipe.bg.world) {
+    (void)source_replay_run(&rp, app, stderr);
+    pipe = app_pipeline(app);
+    if (!pipe->bg.world) {
         fprintf(stderr, "sonar-wallfit: the background is not in the world frame (no pose?)\n");
         return 1;
     }
-    printf("grid cell %.3f m, range cell %.4f m\n", (double)app.pipe.bg.cell_m, (double)(app.pipe.range_m / (float)app.pipe.n));
+    printf("grid cell %.3f m, range cell %.4f m\n", (double)pipe->bg.cell_m, (double)(pipe->range_m / (float)pipe->n));
     for (i = 0; i < nw; i++) {
         double dn = walls[i][2] - walls[i][0], de = walls[i][3] - walls[i][1], len = sqrt(dn * dn + de * de), s;
         double nn = -de / len, ne = dn / len, sum = 0.0, sum2 = 0.0;
@@ -365,7 +368,7 @@ int main(int argc, char **argv)
         /* Every 0.2 m, a metre clear of the corners (where two walls meet, the fit mixes them). */
         for (s = 1.0; s <= len - 1.0; s += 0.2) {
             int peak;
-            double off = fit(&app.pipe.bg, walls[i][0] + s * dn / len, walls[i][1] + s * de / len, nn, ne, &peak);
+            double off = fit(&pipe->bg, walls[i][0] + s * dn / len, walls[i][1] + s * de / len, nn, ne, &peak);
             tried++;
             if (isnan(off))
                 continue;

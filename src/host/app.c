@@ -1,11 +1,11 @@
-/* app.c -- the app core: parser -> driver -> beam records -> pipeline -> sinks; counters and status; O(sinks) per record on top of the pipeline, no heap. */
-#include "app.h"
+/* app.c -- the app core: beam records -> pipeline -> sinks, sweeps, poses, reloads; O(sinks) per record on top of the pipeline, no heap. */
+#include "app_internal.h"
 
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#include "sonar/geometry.h"
+/* struct app_storage must hold a struct app: a negative array size stops the build when it does not. */
+typedef char app_storage_fits[sizeof(struct app) <= sizeof(struct app_storage) ? 1 : -1];
 
 void app_say(const struct app *a, const char *fmt, ...)
 {
@@ -26,7 +26,7 @@ static void tally(struct app_sink *s, int r, unsigned long *ok)
         (*ok)++;
 }
 
-static void sinks_beam(struct app *a, const struct app_beam *b)
+static void sinks_beam(struct app *a, const struct sonar_record *b)
 {
     unsigned i;
     for (i = 0; i < a->nsinks; i++) {
@@ -41,7 +41,7 @@ static void sinks_beam(struct app *a, const struct app_beam *b)
 static void on_stage(void *user, int stage, const struct sonar_beam *b)
 {
     struct app *a = user;
-    struct app_beam r;
+    struct sonar_record r;
     if (stage == SONAR_STAGE_RAW)
         return; /* app_push already gave the raw beam to the sinks, with all its metadata */
     r = a->cur;
@@ -79,14 +79,15 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
-int app_init(struct app *a, const struct sonar_pipeline_config *pcfg, const struct sonar_ping360_config *dcfg,
-             const struct sonar_ping360_io *io, const struct app_clock *clock, float speed_of_sound, long max_sweeps,
-             char *err, size_t errlen)
+int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipeline_config *pcfg,
+             const struct sonar_ping360_config *dcfg, const struct sonar_ping360_io *io, const struct app_clock *clock,
+             long max_sweeps, char *err, size_t errlen)
 {
+    struct app *a = (struct app *)(void *)mem; /* the storage is only ever used as this */
+    struct sonar_pose_limits lim;
     const char *why;
     memset(a, 0, sizeof(*a));
     a->clock = *clock;
-    a->speed_of_sound = speed_of_sound;
     a->max_sweeps = max_sweeps;
     a->link = "";
     a->pcfg[0] = *pcfg;
@@ -97,32 +98,26 @@ int app_init(struct app *a, const struct sonar_pipeline_config *pcfg, const stru
         snprintf(err, errlen, "pipeline configuration: %s", why ? why : "invalid");
         return HOST_ERR_CONFIG;
     }
-    {
-        struct sonar_pose_limits lim;
-        sonar_pose_limits_default(&lim);
-        if (sonar_pose_init(&a->poses, &lim) != SONAR_OK) {
-            snprintf(err, errlen, "pose limits: invalid");
-            return HOST_ERR_CONFIG;
-        }
-        sonar_pipeline_set_poses(&a->pipe, &a->poses);
-    }
-    if (sonar_ping_parser_init(&a->parser, 0) != SONAR_OK) {
-        snprintf(err, errlen, "Ping parser: invalid limit");
+    sonar_pose_limits_default(&lim);
+    if (sonar_pose_init(&a->poses, &lim) != SONAR_OK) {
+        snprintf(err, errlen, "pose limits: invalid");
         return HOST_ERR_CONFIG;
     }
+    sonar_pipeline_set_poses(&a->pipe, &a->poses);
     if (dcfg != NULL) {
         int r;
         if ((why = sonar_ping360_config_check(dcfg)) != NULL) {
             snprintf(err, errlen, "device configuration: %s", why);
             return HOST_ERR_CONFIG;
         }
-        if ((r = sonar_ping360_init(&a->drv, dcfg, io)) != SONAR_OK) {
+        if ((r = sonar_device_init(&a->dev, dcfg, io)) != SONAR_OK) {
             snprintf(err, errlen, "--range %.1f m with --samples %u cannot be set on a Ping360 (sample period outside "
                                   "80..40000 ticks of 25 ns): %s", (double)dcfg->range_m, dcfg->samples, sonar_err_str(r));
             return HOST_ERR_CONFIG;
         }
-        a->have_drv = 1;
+        a->have_dev = 1;
     }
+    *out = a;
     return HOST_OK;
 }
 
@@ -155,7 +150,7 @@ int app_pose(struct app *a, const struct sonar_pose *p, const char **why)
 }
 
 /* The beam's pose: the source's (kept for the detections too), else looked up; says when it goes stale or comes back. */
-static void beam_pose(struct app *a, struct app_beam *b)
+static void beam_pose(struct app *a, struct sonar_record *b)
 {
     struct sonar_pose q;
     int state;
@@ -172,19 +167,19 @@ static void beam_pose(struct app *a, struct app_beam *b)
         b->east_m = q.east_m;
         b->yaw_deg = q.yaw_deg;
     }
-    state = b->has_pose ? APP_POSE_OK : a->poses.accepted > 0 ? APP_POSE_STALE : APP_POSE_NONE;
-    if (state == APP_POSE_STALE && a->pose_state != APP_POSE_STALE) {
+    state = b->has_pose ? SONAR_POSE_OK : a->poses.accepted > 0 ? SONAR_POSE_STALE : SONAR_POSE_NONE;
+    if (state == SONAR_POSE_STALE && a->pose_state != SONAR_POSE_STALE) {
         a->pose_stale++;
         app_say(a, "pose: stale (none within 1 s of the beam at %.3f s): body-frame processing until it returns",
                 (double)b->utime * 1e-6);
-    } else if (state == APP_POSE_OK && a->pose_state != APP_POSE_OK) {
+    } else if (state == SONAR_POSE_OK && a->pose_state != SONAR_POSE_OK) {
         app_say(a, "pose: %s at %.3f s: detections and tracks in the world frame",
-                a->pose_state == APP_POSE_STALE ? "back" : "known", (double)b->utime * 1e-6);
+                a->pose_state == SONAR_POSE_STALE ? "back" : "known", (double)b->utime * 1e-6);
     }
     a->pose_state = state;
 }
 
-int app_push(struct app *a, const struct app_beam *b)
+int app_push(struct app *a, const struct sonar_record *b)
 {
     struct sonar_beam pb;
     int64_t t0;
@@ -232,9 +227,9 @@ void app_detections(struct app *a, const struct sonar_detections *d)
     to_sinks(a, &a->pipe.out, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
-void app_forward(struct app *a, const struct app_beam *b)
+void app_forward(struct app *a, const struct sonar_record *b)
 {
-    struct app_beam r;
+    struct sonar_record r;
     if (a->sweeps_done)
         return;
     r = *b;
@@ -242,7 +237,7 @@ void app_forward(struct app *a, const struct app_beam *b)
     sinks_beam(a, &r);
 }
 
-void app_send_status(struct app *a, const struct app_status *s)
+void app_send_status(struct app *a, const struct sonar_status *s)
 {
     unsigned i;
     for (i = 0; i < a->nsinks; i++) {
@@ -258,166 +253,14 @@ int app_finish(struct app *a)
     return sonar_pipeline_finish(&a->pipe);
 }
 
-/* A device beam becomes a record: the driver's settings, the receive time, the range they give. */
-static void device_beam(struct app *a, const struct sonar_ping360_data *d)
+const struct sonar_pose_ring *app_poses(const struct app *a)
 {
-    struct app_beam b;
-    b.utime = a->clock.wall_us(a->clock.user);
-    b.angle = d->angle;
-    b.n = d->data_length;
-    b.gain = d->gain;
-    b.sample_period = d->sample_period;
-    b.transmit_duration = d->transmit_duration;
-    b.transmit_frequency = d->transmit_frequency;
-    b.speed_of_sound = a->speed_of_sound;
-    b.range_m = (float)sonar_geometry_range_m(d->sample_period, d->data_length, a->speed_of_sound);
-    b.stage = SONAR_STAGE_RAW;
-    b.has_pose = 0;
-    b.north_m = b.east_m = b.yaw_deg = 0.0f;
-    b.samples = d->data;
-    if (app_push(a, &b) != HOST_OK)
-        return; /* counted in beams_rejected; the sinks still had the raw beam */
+    return &a->poses;
 }
 
-static int on_event(struct app *a, const struct sonar_ping360_event *ev)
+int app_pose_at(const struct app *a, int64_t t, struct sonar_pose *q)
 {
-    switch (ev->kind) {
-    case SONAR_P360_EV_READY:
-        app_say(a, "Ping360 firmware %u.%u.%u on %s", a->drv.info.fw_major, a->drv.info.fw_minor, a->drv.info.fw_patch,
-            a->link);
-        app_say(a, "scanning (%s)", a->drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping");
-        return APP_LINK_NONE;
-    case SONAR_P360_EV_BEAM:
-        device_beam(a, &ev->data);
-        return APP_LINK_NONE;
-    case SONAR_P360_EV_LINK_LOST:
-        a->backoff_us = ev->backoff_us;
-        return APP_LINK_LOST;
-    case SONAR_P360_EV_STOPPED:
-        return APP_LINK_STOPPED;
-    default:
-        return APP_LINK_NONE;
-    }
-}
-
-int app_link_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us)
-{
-    const uint8_t *in = buf;
-    struct sonar_ping_frame f;
-    while (sonar_ping_parser_next(&a->parser, &in, &len, &f) == 1) {
-        struct sonar_ping360_event ev;
-        int r;
-        if (sonar_ping360_handle(&a->drv, &f, now_us, &ev) != SONAR_OK)
-            ev.kind = SONAR_P360_EV_NONE; /* a failed send: the request's timeout retries it */
-        if ((r = on_event(a, &ev)) != APP_LINK_NONE)
-            return r;
-    }
-    return APP_LINK_NONE;
-}
-
-/* Fresh framing for a new connection; the counters carry on. */
-static void reset_parser(struct app *a)
-{
-    struct sonar_ping_counters c = a->parser.counters;
-    if (sonar_ping_parser_init(&a->parser, 0) == SONAR_OK) /* cannot fail with these arguments */
-        a->parser.counters = c;
-}
-
-int app_link_up(struct app *a, int64_t now_us)
-{
-    reset_parser(a);
-    return sonar_ping360_connected(&a->drv, now_us);
-}
-
-void app_link_down(struct app *a, int64_t now_us)
-{
-    reset_parser(a);
-    /* A driver that gave up itself already set backoff_us (APP_LINK_LOST); one that did not, now does. */
-    if (a->drv.state != SONAR_P360_DOWN && a->drv.state != SONAR_P360_STOPPED) {
-        sonar_ping360_link_lost(&a->drv, now_us);
-        a->backoff_us = a->drv.backoff_us;
-    }
-}
-
-int app_link_poll(struct app *a, int64_t now_us)
-{
-    struct sonar_ping360_event ev;
-    if (!a->have_drv || sonar_ping360_poll(&a->drv, now_us, &ev) != SONAR_OK)
-        return APP_LINK_NONE;
-    return on_event(a, &ev);
-}
-
-int64_t app_deadline(const struct app *a)
-{
-    return a->have_drv ? sonar_ping360_deadline(&a->drv) : INT64_MAX;
-}
-
-int app_link_stop(struct app *a, int64_t now_us)
-{
-    int r = sonar_ping360_stop(&a->drv, now_us);
-    if (r != SONAR_OK)
-        return r;
-    return a->drv.state == SONAR_P360_STOPPED;
-}
-
-static int cmpf(const void *x, const void *y)
-{
-    float p = *(const float *)x, q = *(const float *)y;
-    return p < q ? -1 : p > q;
-}
-
-unsigned long app_sink_errors(const struct app *a)
-{
-    unsigned long e = 0;
-    unsigned i;
-    for (i = 0; i < a->nsinks; i++)
-        e += a->sinks[i]->errors;
-    return e;
-}
-
-void app_pose_status(const struct app *a, struct app_status *s)
-{
-    s->pose.state = a->pose_state;
-    s->pose.accepted = a->poses.accepted;
-    s->pose.out_of_order = a->poses.out_of_order;
-    s->pose.jumps = a->poses.jumps;
-    s->pose.bad = a->poses.bad;
-    s->pose.thinned = a->poses.thinned;
-    s->pose.stale = a->pose_stale;
-    s->pose.world_sweeps = a->pipe.world_sweeps;
-    s->pose.body_sweeps = a->pipe.body_sweeps;
-}
-
-void app_report_status(struct app *a, int link_state, struct app_status *s)
-{
-    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
-    memcpy(a->sorted, a->proc_us, n * sizeof(float));
-    qsort(a->sorted, n, sizeof(float), cmpf);
-    memset(s, 0, sizeof(*s));
-    s->utime = a->clock.wall_us(a->clock.user);
-    s->link_state = link_state;
-    s->link = a->link;
-    s->fw[0] = a->drv.info.fw_major;
-    s->fw[1] = a->drv.info.fw_minor;
-    s->fw[2] = a->drv.info.fw_patch;
-    s->parser = a->parser.counters;
-    s->driver = a->drv.counters;
-    s->sweeps = a->sweeps;
-    s->beams_rejected = a->beams_rejected;
-    s->rows_bad = a->rows_bad;
-    s->sink_errors = (uint32_t)app_sink_errors(a);
-    s->last_sweep_s = a->last_sweep_s;
-    s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
-    s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
-    if (a->pipe.cfg->track) {
-        s->tracker.live = a->pipe.trk.n;
-        s->tracker.ended = a->pipe.trk.deleted;
-        s->tracker.bad_detections = a->pipe.trk.bad_detections;
-        s->tracker.clock_back = a->pipe.trk.clock_back;
-        s->tracker.overflow = a->pipe.trk.overflow;
-    }
-    app_pose_status(a, s);
-    app_send_status(a, s);
+    return sonar_pose_at(&a->poses, t, q);
 }
 
 int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen)

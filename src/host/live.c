@@ -15,7 +15,7 @@
 
 static int64_t now_us(const struct app *a)
 {
-    return a->clock.mono_ns(a->clock.user) / 1000;
+    return app_mono_us(a);
 }
 
 void live_no_stop(void *self, int64_t now_us)
@@ -39,7 +39,7 @@ int live_no_state(const void *self)
 int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
              live_reload_fn reload, void *reload_user)
 {
-    struct app_status st;
+    struct sonar_status st;
     sigset_t mask;
     unsigned k;
     int sigfd, stop = 0, interrupted = 0;
@@ -67,7 +67,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
         int64_t now = now_us(a), wake;
         int np = 1, ms, src_at = -1, i;
         short events;
-        if (!stop && a->sweeps_done) {
+        if (!stop && app_done(a)) {
             stop = 1;
             stop_deadline = now + STOP_GRACE_US;
             src->ops->stop(src->self, now);

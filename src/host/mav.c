@@ -147,7 +147,7 @@ static void heartbeat(struct mav *m, int64_t now_mono)
 /* How old a sector may be: a little over one sweep (the last one's time; 40 s, the slowest, before any). */
 static int64_t max_age(const struct mav *m)
 {
-    double s = m->app != NULL && m->app->last_sweep_s > 0.0f ? (double)m->app->last_sweep_s : 40.0;
+    double s = m->app != NULL && app_last_sweep_s(m->app) > 0.0f ? (double)app_last_sweep_s(m->app) : 40.0;
     return (int64_t)(s * 1.2e6);
 }
 
@@ -159,7 +159,7 @@ static void pack_od(struct mav *m, mavlink_message_t *msg, int64_t now_wall, int
 {
     uint16_t dist[SONAR_OBS_SECTORS], mn, mx;
     struct sonar_pose q;
-    int have = m->app != NULL && sonar_pose_at(&m->app->poses, now_wall, &q);
+    int have = m->app != NULL && app_pose_at(m->app, now_wall, &q);
     sonar_obstacle_map(&m->obs, now_wall, max_age(m), have ? &q : NULL, dist, &mn, &mx);
     mavlink_msg_obstacle_distance_pack_status(m->cfg.sysid, m->cfg.compid, txs(m), msg,
                                               (uint64_t)(now_mono - m->t0_us), MAV_DISTANCE_SENSOR_ULTRASOUND, dist,
@@ -177,7 +177,7 @@ size_t mav_obstacle_distance(struct mav *m, uint8_t *buf, int64_t now_wall_us, i
 static void obstacle_distance(struct mav *m, int64_t now_mono)
 {
     mavlink_message_t msg;
-    int64_t wall = m->app->clock.wall_us(m->app->clock.user);
+    int64_t wall = app_wall_us(m->app);
     if (m->obs.beams == 0)
         return; /* nothing scanned yet: every sector would be unknown */
     pack_od(m, &msg, wall, now_mono);
@@ -194,7 +194,7 @@ static void obstacle_distance(struct mav *m, int64_t now_mono)
 
 /* ---- the sink: filtered beams into the map, confirmed tracks out ---- */
 
-static int sink_beam(void *self, const struct app_beam *b)
+static int sink_beam(void *self, const struct sonar_record *b)
 {
     struct mav *m = self;
     float bearing = ((float)b->angle + m->cfg.angle_offset) * (float)SONAR_DEG_PER_GRAD;
@@ -206,7 +206,7 @@ static int sink_beam(void *self, const struct app_beam *b)
     if (sonar_obstacle_beam(&m->obs, b->utime, bearing, b->has_pose ? &q : NULL, b->samples, b->n, b->range_m) != SONAR_OK)
         return HOST_ERR_IO;
     if (m->unsent_us == 0)
-        m->unsent_us = m->app->clock.wall_us(m->app->clock.user);
+        m->unsent_us = app_wall_us(m->app);
     return HOST_OK;
 }
 
@@ -219,7 +219,7 @@ static int sink_detections(void *self, const struct sonar_detections *d, const s
                            const struct sonar_view *v)
 {
     struct mav *m = self;
-    int64_t now = m->app->clock.mono_ns(m->app->clock.user) / 1000;
+    int64_t now = app_mono_us(m->app);
     uint32_t t = boot_ms(m, now);
     uint16_t mn, mx, dist[SONAR_OBS_SECTORS];
     uint8_t i;
@@ -393,7 +393,7 @@ static void mav_ready(void *self, short revents, int64_t now)
     (void)revents;
     for (reads = 0; reads < 16; reads++) {
         /* Each datagram its own receive time: two poses read in one wake are not one instant. */
-        int64_t wall = m->app->clock.wall_us(m->app->clock.user);
+        int64_t wall = app_wall_us(m->app);
         ssize_t r;
         if (m->kind == MAV_UDPIN) {
             struct sockaddr_storage from;

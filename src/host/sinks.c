@@ -19,25 +19,11 @@ static int lcm_send(struct sink_lcm *s, const char *channel, int len)
     return s->tx(s->tx_user, channel, s->buf, (size_t)len) == 0 ? HOST_OK : HOST_ERR_PUBLISH;
 }
 
-static int lcm_beam(void *self, const struct app_beam *b)
+static int lcm_beam(void *self, const struct sonar_record *b)
 {
     struct sink_lcm *s = self;
     sonar_beam_t m;
-    m.utime = b->utime;
-    m.angle = (int16_t)b->angle;
-    m.gain = (int8_t)b->gain;
-    m.sample_period = (int16_t)b->sample_period;
-    m.transmit_duration = (int16_t)b->transmit_duration;
-    m.transmit_frequency = (int16_t)b->transmit_frequency;
-    m.speed_of_sound = b->speed_of_sound;
-    m.range_m = b->range_m;
-    m.stage = (int8_t)b->stage;
-    m.has_pose = (int8_t)b->has_pose;
-    m.north_m = b->has_pose ? b->north_m : 0.0f;
-    m.east_m = b->has_pose ? b->east_m : 0.0f;
-    m.yaw_deg = b->has_pose ? b->yaw_deg : 0.0f;
-    m.number_of_samples = (int16_t)b->n;
-    m.samples = (uint8_t *)(uintptr_t)b->samples; /* encode only reads it */
+    msg_beam(b, &m);
     return lcm_send(s, b->stage == SONAR_STAGE_RAW ? s->beam : s->filtered,
                     sonar_beam_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
@@ -59,48 +45,11 @@ static int lcm_detections(void *self, const struct sonar_detections *d, const st
     return lcm_send(s, s->tracks, sonar_tracks_t_encode(s->buf, 0, (int)sizeof(s->buf), &t));
 }
 
-static int lcm_status(void *self, const struct app_status *st)
+static int lcm_status(void *self, const struct sonar_status *st)
 {
     struct sink_lcm *s = self;
     sonar_status_t m;
-    m.utime = st->utime;
-    m.link_state = (int8_t)st->link_state;
-    m.link = (char *)(uintptr_t)st->link;
-    m.fw_major = (int8_t)st->fw[0];
-    m.fw_minor = (int8_t)st->fw[1];
-    m.fw_patch = (int8_t)st->fw[2];
-    m.frames = st->parser.frames;
-    m.checksum_errors = st->parser.checksum_errors;
-    m.resyncs = st->parser.resyncs;
-    m.oversize = st->parser.oversize;
-    m.bytes_dropped = st->parser.bytes_dropped;
-    m.timeouts = st->driver.timeouts;
-    m.retries = st->driver.retries;
-    m.nacks = st->driver.nacks;
-    m.reconnects = st->driver.reconnects;
-    m.stale = st->driver.stale;
-    m.beams = st->driver.beams;
-    m.sweeps = st->sweeps;
-    m.beams_rejected = st->beams_rejected;
-    m.rows_bad = st->rows_bad;
-    m.sink_errors = st->sink_errors;
-    m.last_sweep_s = st->last_sweep_s;
-    m.beam_us_p50 = st->beam_us_p50;
-    m.beam_us_p99 = st->beam_us_p99;
-    m.stack_used = (int32_t)st->stack_used;
-    m.tracks = (int16_t)st->tracker.live;
-    m.tracks_ended = st->tracker.ended;
-    m.track_bad_detections = st->tracker.bad_detections;
-    m.track_clock_back = st->tracker.clock_back;
-    m.track_overflow = st->tracker.overflow;
-    m.pose_state = (int8_t)st->pose.state;
-    m.pose_accepted = st->pose.accepted;
-    m.pose_out_of_order = st->pose.out_of_order;
-    m.pose_jumps = st->pose.jumps;
-    m.pose_bad = st->pose.bad;
-    m.pose_stale = st->pose.stale;
-    m.world_sweeps = st->pose.world_sweeps;
-    m.body_sweeps = st->pose.body_sweeps;
+    msg_status(st, &m);
     return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
 }
 
@@ -147,7 +96,7 @@ void sink_lcm_close(struct sink_lcm *s)
     s->lcm = NULL;
 }
 
-static int csv_beam(void *self, const struct app_beam *b)
+static int csv_beam(void *self, const struct sonar_record *b)
 {
     struct sink_csv *s = self;
     struct csv_meta m = csv_meta_none();

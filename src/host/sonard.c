@@ -23,7 +23,8 @@ struct sonard {
     struct sonard_options opt, reload; /* running options, and the scratch a SIGHUP parses into */
     int argc;
     char **argv;
-    struct app app;
+    struct app_storage app_mem;
+    struct app *app;
     struct sink_lcm lcm;
     struct sink_csv csv;
     struct sink_report report;
@@ -76,7 +77,7 @@ static int reload(void *user)
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", r < 0 ? err : "no reload from --help");
         return HOST_ERR_CONFIG;
     }
-    if (app_reconfigure(&s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
+    if (app_reconfigure(s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
     }
@@ -98,7 +99,7 @@ static int open_sinks(struct sonard *s, char *err, size_t errlen)
         if ((r = sink_lcm_open(&s->lcm, o->lcm_url, o->channel_prefix, o->publish_filtered, err, errlen)) != HOST_OK)
             return r;
         s->have_lcm = 1;
-        if (app_add_sink(&s->app, &s->lcm.sink) != HOST_OK)
+        if (app_add_sink(s->app, &s->lcm.sink) != HOST_OK)
             return HOST_ERR_CONFIG;
     }
     if (o->csv_out != NULL) {
@@ -107,19 +108,19 @@ static int open_sinks(struct sonard *s, char *err, size_t errlen)
             return HOST_ERR_IO;
         }
         sink_csv_init(&s->csv, s->csv_out, live ? SONAR_STAGE_RAW : o->stage);
-        if (app_add_sink(&s->app, &s->csv.sink) != HOST_OK)
+        if (app_add_sink(s->app, &s->csv.sink) != HOST_OK)
             return HOST_ERR_CONFIG;
     }
     if (o->json || !o->quiet) {
         sink_report_init(&s->report, stdout, o->json);
-        if (app_add_sink(&s->app, &s->report.sink) != HOST_OK)
+        if (app_add_sink(s->app, &s->report.sink) != HOST_OK)
             return HOST_ERR_CONFIG;
     }
     return HOST_OK;
 }
 
 /* Exit summary of the live run: every counter SONAR_STATUS carries. */
-static void summary(const struct app_status *st)
+static void summary(const struct sonar_status *st)
 {
     fprintf(stderr,
             "sonard: status frames %" PRIu32 " checksum_errors %" PRIu32 " resyncs %" PRIu32 " oversize %" PRIu32
@@ -134,22 +135,23 @@ static void summary(const struct app_status *st)
 static void sink_summary(const struct app *a)
 {
     unsigned i;
-    for (i = 0; i < a->nsinks; i++)
-        fprintf(stderr, "sonard: sink %s: beams %lu detections %lu status %lu errors %lu\n", a->sinks[i]->name,
-                a->sinks[i]->n_beams, a->sinks[i]->n_detections, a->sinks[i]->n_statuses, a->sinks[i]->errors);
+    const struct app_sink *k;
+    for (i = 0; (k = app_sink_at(a, i)) != NULL; i++)
+        fprintf(stderr, "sonard: sink %s: beams %lu detections %lu status %lu errors %lu\n", k->name, k->n_beams,
+                k->n_detections, k->n_statuses, k->errors);
 }
 
 static int run_live(struct sonard *s)
 {
-    struct app_status st;
+    struct sonar_status st;
     struct live_source ls;
     source_link_live(&s->link, &ls);
-    if (live_run(&s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
+    if (live_run(s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
-        app_report_status(&s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
+        app_report_status(s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
-        sink_summary(&s->app);
+        sink_summary(s->app);
         if (s->have_mav) {
             char line[512];
             mav_summary(&s->mav, line, sizeof(line));
@@ -166,14 +168,14 @@ static int run_coproc(struct sonard *s)
 {
     struct live_source ls;
     source_coproc_live(&s->coproc, &ls);
-    if (live_run(&s->app, &ls, s->aux, s->naux, NULL, NULL) != HOST_OK)
+    if (live_run(s->app, &ls, s->aux, s->naux, NULL, NULL) != HOST_OK)
         return 2;
     if (!s->opt.quiet) {
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
                         " before_config %u\n",
                 s->coproc.parser.counters.frames, s->coproc.parser.counters.crc_errors, s->coproc.parser.counters.oversize,
                 s->coproc.parser.counters.bytes_dropped, s->coproc.decode_errors, s->coproc.dropped_before_config);
-        sink_summary(&s->app);
+        sink_summary(s->app);
     }
     return s->coproc.refused ? 2 : 0;
 }
@@ -184,16 +186,16 @@ static int run_replay(struct sonard *s)
     double ms;
     unsigned long good, used;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    good = source_replay_run(&s->replay, &s->app, stderr);
+    good = source_replay_run(&s->replay, s->app, stderr);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
-    used = good - s->app.beams_rejected;
+    used = good - app_beams_rejected(s->app);
     fflush(stdout);
     if (!s->opt.quiet)
         fprintf(stderr, "sonard: %s: %lu rows used, %lu skipped, %" PRIu32 " sweeps, %.1f ms (%.2f us/beam)\n",
-                s->opt.replay, used, (unsigned long)s->app.rows_bad, s->app.sweeps, ms, used ? ms * 1e3 / (double)used : 0.0);
-    else if (s->app.rows_bad)
-        fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)s->app.rows_bad);
+                s->opt.replay, used, (unsigned long)app_rows_bad(s->app), app_sweeps(s->app), ms, used ? ms * 1e3 / (double)used : 0.0);
+    else if (app_rows_bad(s->app))
+        fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)app_rows_bad(s->app));
     source_replay_close(&s->replay);
     if (s->replay.pose != NULL) {
         if (s->pose.bad)
@@ -257,13 +259,13 @@ int main(int argc, char **argv)
             s.replay.pose = &s.pose;
         }
     }
-    if (app_init(&s.app, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock, (float)s.opt.speed_of_sound,
+    if (app_init(&s.app, &s.app_mem, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock,
                  s.opt.sweeps, err, sizeof(err)) != HOST_OK ||
         open_sinks(&s, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         return 2;
     }
-    app_set_log(&s.app, log_stderr, &s);
+    app_set_log(s.app, log_stderr, &s);
     if (s.opt.mavlink != NULL) {
         struct mav_config mc;
         mc.url = s.opt.mavlink;
@@ -273,7 +275,7 @@ int main(int argc, char **argv)
         mc.rate_hz = s.opt.mav_rate;
         mc.angle_offset = s.opt.pipeline.detector.angle_offset;
         mc.min_range_m = s.opt.pipeline.detector.min_range_m;
-        if (mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, &s.app) != HOST_OK) {
+        if (mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, s.app) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }
@@ -282,7 +284,7 @@ int main(int argc, char **argv)
     }
     /* Poses over LCM (SONAR_POSE): on sonard's own LCM, or on --pose-lcm URL. */
     if (s.opt.replay == NULL && (s.have_lcm || s.opt.pose_lcm != NULL)) {
-        if (source_pose_lcm_open(&s.plcm, s.have_lcm ? s.lcm.lcm : NULL, s.opt.pose_lcm, s.opt.channel_prefix, &s.app, err,
+        if (source_pose_lcm_open(&s.plcm, s.have_lcm ? s.lcm.lcm : NULL, s.opt.pose_lcm, s.opt.channel_prefix, s.app, err,
                                  sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
@@ -291,7 +293,7 @@ int main(int argc, char **argv)
         s.have_plcm = 1;
     }
     if (s.opt.replay != NULL)
-        s.app.link = s.opt.replay;
+        app_set_link(s.app, s.opt.replay);
     rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);
     if (s.csv_out != NULL && fclose(s.csv_out) != 0)
         s.csv.sink.errors++;

@@ -15,66 +15,10 @@
 
 static int build_config(struct source_coproc *s, const struct sonard_options *o, char *err, size_t errlen)
 {
-    const struct sonar_ping360_config *d = &o->device;
-    const struct sonar_pipeline_config *p = &o->pipeline;
     uint8_t msg[400];
     sonar_config_t c;
     int n;
-    memset(&c, 0, sizeof(c));
-    c.range_m = d->range_m;
-    c.speed_of_sound = d->speed_of_sound;
-    c.samples = (int16_t)d->samples;
-    c.transmit_duration = (int16_t)d->transmit_duration;
-    c.gain = (int8_t)d->gain;
-    c.frequency = (int16_t)d->frequency;
-    c.start_angle = (int16_t)d->start_angle;
-    c.stop_angle = (int16_t)d->stop_angle;
-    c.step = (int8_t)d->step;
-    c.full_circle = (int8_t)d->full_circle;
-    c.use_auto = (int8_t)d->use_auto;
-    c.baud = 115200;
-    c.median = (int8_t)p->median;
-    c.median2d = (int8_t)p->median2d;
-    c.max_step = (int16_t)p->max_step;
-    c.bg_mode = (int8_t)p->background.mode;
-    c.bg_warmup = (int8_t)p->background.warmup;
-    c.bg_step = (int8_t)p->background.step;
-    c.bg_margin = (int8_t)p->background.margin;
-    c.threshold_mode = (int8_t)p->detector.threshold_mode;
-    c.cfar_across = (int8_t)p->detector.cfar.across;
-    c.cfar_cut = (int8_t)p->detector.cfar.cut;
-    c.cfar_guard = (int8_t)p->detector.cfar.guard;
-    c.cfar_train = (int8_t)p->detector.cfar.train;
-    c.cfar_rank16 = (int8_t)p->detector.cfar.rank16;
-    c.cfar_scale = p->detector.cfar.scale;
-    c.cfar_floor = p->detector.cfar.floor;
-    c.threshold_k = p->detector.threshold_k;
-    c.min_threshold = p->detector.min_threshold;
-    c.max_clusters = p->detector.max_clusters;
-    c.iterations = p->detector.iterations;
-    c.link_beams = p->detector.link_beams;
-    c.min_points = p->detector.min_points;
-    c.link_m = p->detector.link_m;
-    c.angle_offset = p->detector.angle_offset;
-    c.min_beams = p->detector.min_beams;
-    c.max_extent_m = p->detector.max_extent_m;
-    c.split_points = p->detector.split_points;
-    c.min_range_m = p->detector.min_range_m;
-    c.max_aspect = p->detector.max_aspect;
-    c.track_m = p->detector.track_m;
-    c.track_points = p->detector.track_points;
-    c.track = p->track != 0;
-    c.track_accel_mps2 = p->tracker.accel_mps2;
-    c.track_manoeuvre_mps2 = p->tracker.manoeuvre_mps2;
-    c.track_meas_m = p->tracker.meas_m;
-    c.track_speed0_mps = p->tracker.speed0_mps;
-    c.track_max_speed_mps = p->tracker.max_speed_mps;
-    c.track_gate = p->tracker.gate;
-    c.track_confirm_m = (int8_t)p->tracker.confirm_m;
-    c.track_confirm_n = (int8_t)p->tracker.confirm_n;
-    c.track_max_misses = (int16_t)p->tracker.max_misses;
-    c.track_max_dt_s = p->tracker.max_dt_s;
-    c.beam_every = (int16_t)o->coproc_beams;
+    msg_config(&o->device, &o->pipeline, (uint16_t)o->coproc_beams, &c);
     n = sonar_config_t_encode(msg, 0, (int)sizeof(msg), &c);
     if (n < 0 || (s->config_len = sonar_cpf_encode(s->config, sizeof(s->config), SONAR_CPF_CONFIG, msg, (uint16_t)n)) < 0) {
         snprintf(err, errlen, "--coprocessor: the configuration does not fit a frame");
@@ -129,32 +73,13 @@ static void try_open(struct source_coproc *s, int64_t now)
 
 static void on_status(struct source_coproc *s, const sonar_status_t *m)
 {
-    struct app_status st;
-    memset(&st, 0, sizeof(st));
-    st.utime = m->utime;
-    st.link_state = m->link_state;
+    struct sonar_status st;
+    msg_status_in(m, &st);
     st.link = s->desc;
-    st.fw[0] = (uint8_t)m->fw_major;
-    st.fw[1] = (uint8_t)m->fw_minor;
-    st.fw[2] = (uint8_t)m->fw_patch;
-    st.parser.frames = (uint32_t)m->frames;
-    st.parser.checksum_errors = (uint32_t)m->checksum_errors;
-    st.parser.resyncs = (uint32_t)m->resyncs;
-    st.parser.oversize = (uint32_t)m->oversize;
-    st.parser.bytes_dropped = (uint32_t)m->bytes_dropped;
-    st.driver.timeouts = (uint32_t)m->timeouts;
-    st.driver.retries = (uint32_t)m->retries;
-    st.driver.nacks = (uint32_t)m->nacks;
-    st.driver.reconnects = (uint32_t)m->reconnects;
-    st.driver.stale = (uint32_t)m->stale;
-    st.driver.beams = (uint32_t)m->beams;
-    st.sweeps = (uint32_t)m->sweeps;
-    st.beams_rejected = (uint32_t)m->beams_rejected;
-    st.stack_used = m->stack_used < 0 ? 0u : (uint32_t)m->stack_used;
-    /* The link's own health, as the host sees it, rides in the counters the firmware leaves free. */
-    st.rows_bad = s->parser.counters.crc_errors + s->decode_errors;
-    st.sink_errors = (uint32_t)m->sink_errors + (uint32_t)app_sink_errors(s->app);
-    app_pose_status(s->app, &st); /* the pose is the host's own */
+    /* The host's own side of it: the link's bad frames, its sinks, its poses. */
+    st.coproc.frames_bad = s->parser.counters.crc_errors + s->decode_errors;
+    st.sink_errors = (uint32_t)app_sink_errors(s->app);
+    app_pose_status(s->app, &st);
     app_send_status(s->app, &st);
 }
 
@@ -203,26 +128,15 @@ static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int6
     }
     case SONAR_CPF_BEAM: {
         sonar_beam_t m;
-        struct app_beam b;
+        struct sonar_record b;
         if (!s->configured)
             break;
         if (sonar_beam_t_decode(f->payload, 0, f->len, &m) < 0) {
             s->decode_errors++;
             break;
         }
-        b.utime = m.utime;
-        b.angle = (uint16_t)m.angle;
-        b.n = (uint16_t)m.number_of_samples;
-        b.gain = m.gain;
-        b.sample_period = m.sample_period;
-        b.transmit_duration = m.transmit_duration;
-        b.transmit_frequency = m.transmit_frequency;
-        b.speed_of_sound = m.speed_of_sound;
-        b.range_m = m.range_m;
-        b.stage = SONAR_STAGE_RAW;
-        b.has_pose = 0;
-        b.north_m = b.east_m = b.yaw_deg = 0.0f;
-        b.samples = m.samples;
+        msg_beam_in(&m, &b);
+        b.has_pose = 0; /* the vehicle's pose is the host's: app_forward looks it up */
         app_forward(s->app, &b);
         sonar_beam_t_decode_cleanup(&m);
         break;
@@ -236,8 +150,8 @@ static void readable(struct source_coproc *s, int64_t now)
 {
     uint8_t buf[4096];
     int reads;
-    const int was_done = s->app->sweeps_done;
-    for (reads = 0; reads < 16 && !(!was_done && s->app->sweeps_done) && !s->stopped; reads++) {
+    const int was_done = app_done(s->app);
+    for (reads = 0; reads < 16 && !(!was_done && app_done(s->app)) && !s->stopped; reads++) {
         ssize_t n = link_read(&s->link, buf, sizeof(buf));
         const uint8_t *in = buf;
         size_t len;
@@ -258,7 +172,7 @@ static void v_start(void *self, struct app *a, int64_t now)
 {
     struct source_coproc *s = self;
     s->app = a;
-    a->link = s->desc;
+    app_set_link(a, s->desc);
     try_open(s, now);
 }
 

@@ -33,16 +33,24 @@ int source_link_send(void *user, const uint8_t *buf, size_t len)
 void source_link_break(void *user)
 {
     struct source_link *s = user;
-    link_line_break(&s->link, s->app->clock.mono_ns(s->app->clock.user) / 1000);
+    link_line_break(&s->link, app_mono_us(s->app));
+}
+
+/* The driver's state (down before the app has one). */
+static int link_device_state(const struct source_link *s)
+{
+    const struct sonar_device *d = app_device(s->app);
+    return d != NULL ? d->drv.state : SONAR_P360_DOWN;
 }
 
 /* Gives the link up: closed now, reopened after backoff_us (serial auto-baud: the next rate at once). */
 static void drop(struct source_link *s, int64_t now, const char *why)
 {
-    int was_probing = s->app->drv.state == SONAR_P360_PROBING || s->app->drv.state == SONAR_P360_DOWN;
+    int state = link_device_state(s);
+    int was_probing = state == SONAR_P360_PROBING || state == SONAR_P360_DOWN;
     uint32_t backoff;
     link_close(&s->link);
-    app_link_down(s->app, now);
+    backoff = app_link_down(s->app, now);
     if (s->stopping) {
         s->stopped = 1;
         return;
@@ -52,7 +60,8 @@ static void drop(struct source_link *s, int64_t now, const char *why)
         say(s, "no answer; trying %ld baud", s->link.baud);
         return;
     }
-    backoff = s->app->backoff_us ? s->app->backoff_us : SOURCE_LINK_RETRY_US;
+    if (backoff == 0)
+        backoff = SOURCE_LINK_RETRY_US;
     s->reconnect_at = now + backoff;
     say(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
 }
@@ -82,7 +91,7 @@ static void try_open(struct source_link *s, int64_t now)
 void source_link_start(struct source_link *s, struct app *a, int64_t now_us)
 {
     s->app = a;
-    a->link = s->desc;
+    app_set_link(a, s->desc);
     try_open(s, now_us);
 }
 
@@ -98,8 +107,8 @@ static void read_link(struct source_link *s, int64_t now)
     int reads;
     /* Bounded, and it leaves once the app has its sweeps, so signals, timers and --sweeps are served
      * (while stopping it goes on reading: motor_off's ack comes this way). */
-    const int was_done = s->app->sweeps_done;
-    for (reads = 0; reads < SOURCE_LINK_READS && !(!was_done && s->app->sweeps_done); reads++) {
+    const int was_done = app_done(s->app);
+    for (reads = 0; reads < SOURCE_LINK_READS && !(!was_done && app_done(s->app)); reads++) {
         ssize_t n = link_read(&s->link, buf, sizeof(buf));
         int ev;
         if (n < 0) {
@@ -179,7 +188,7 @@ int source_link_stopped(const struct source_link *s)
 
 int source_link_state(const struct source_link *s)
 {
-    return s->link.fd >= 0 && s->link.connecting ? SONAR_P360_CONNECTING : s->app->drv.state;
+    return s->link.fd >= 0 && s->link.connecting ? SONAR_P360_CONNECTING : link_device_state(s);
 }
 
 void source_link_close(struct source_link *s)

@@ -6,7 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "sonar_pose_t.h"
+#include "msg.h"
 
 static void on_pose(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
@@ -19,10 +19,7 @@ static void on_pose(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
         s->bad++;
         return;
     }
-    p.utime = m.utime;
-    p.north_m = m.north_m;
-    p.east_m = m.east_m;
-    p.yaw_deg = m.yaw_deg;
+    msg_pose_in(&m, &p);
     sonar_pose_t_decode_cleanup(&m);
     if (app_pose(s->app, &p, NULL) != HOST_OK)
         s->refused++;

@@ -98,7 +98,7 @@ static void show_progress(struct source_replay *r, const struct app *a, FILE *er
     double dt = now_s() - t0;
     long at = ftell(r->csv.f);
     double rate = dt > 0.0 ? (double)r->csv.good / dt : 0.0;
-    fprintf(errf, "\r%s: beams %lu  sweeps %" PRIu32 "  %.0f beams/s", r->csv.path, r->csv.good, a->sweeps, rate);
+    fprintf(errf, "\r%s: beams %lu  sweeps %" PRIu32 "  %.0f beams/s", r->csv.path, r->csv.good, app_sweeps(a), rate);
     if (size > 0 && at >= 0) {
         double frac = (double)at / (double)size;
         fprintf(errf, "  %3.0f %%", 100.0 * frac);
@@ -137,11 +137,11 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
             next_show = now_s() + 0.25;
         }
         const struct csv_row *w = &r->row;
-        struct app_beam b;
+        struct sonar_record b;
         double c = w->speed_of_sound > 0.0 ? w->speed_of_sound : r->speed_of_sound;
         int pr;
         if (got < 0) {
-            a->rows_bad++;
+            app_row_bad(a);
             if (errf != NULL)
                 fprintf(errf, "%s:%lu: %s; row skipped\n", r->csv.path, r->csv.line, err);
             continue;
@@ -174,7 +174,7 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
         if (r->pose != NULL)
             posefile_feed(r->pose, a, b.utime + SONAR_POSE_STALE_US, errf);
         if ((pr = app_push(a, &b)) != HOST_OK) {
-            a->rows_bad++;
+            app_row_bad(a);
             if (errf != NULL)
                 fprintf(errf, "%s:%lu: %s; row skipped\n", r->csv.path, r->csv.line, host_err_str(pr));
         }

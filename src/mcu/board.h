@@ -7,8 +7,9 @@
 
 #define BOARD_UART_SONAR 0 /* Ping Protocol to the Ping360 */
 #define BOARD_UART_HOST 1  /* co-processor frames to the onboard computer */
+#define BOARD_SONAR_BAUD 115200u /* both UARTs' bit rate: the Ping360's serial default (the host does not set it) */
 
-/* Clocks, UARTs (115200 8N1, receive by interrupt into a ring), the 1 kHz tick. */
+/* Clocks, UARTs (BOARD_SONAR_BAUD 8N1, receive by interrupt into a ring), the 1 kHz tick. */
 void board_init(void);
 
 /* Bytes received on uart (0 or 1) since the last call, at most cap; never blocks. */

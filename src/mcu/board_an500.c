@@ -4,7 +4,7 @@
 #include <stdint.h>
 
 #define SYSCLK_HZ 25000000u
-#define BAUD 115200u
+#define BAUD BOARD_SONAR_BAUD
 
 #define REG(a) (*(volatile uint32_t *)(uintptr_t)(a))
 /* CMSDK APB UART */

@@ -1,11 +1,19 @@
-/* msg.h -- core structs to LCM messages, once, for the host's LCM sink and the co-processor firmware; no heap (the messages point into the caller's structs). */
+/* msg.h -- core structs <-> LCM messages, once: the only code that assigns message fields, for the host's sinks and sources and the co-processor firmware; no heap (messages point into the caller's structs). */
 #ifndef SONAR_MSG_H
 #define SONAR_MSG_H
 
 #include "sonar/detector.h"
+#include "sonar/device.h"
+#include "sonar/ping360.h"
+#include "sonar/pose.h"
 #include "sonar/pipeline.h"
+#include "sonar/status.h"
 #include "sonar/tracker.h"
+#include "sonar_beam_t.h"
+#include "sonar_config_t.h"
 #include "sonar_detections_t.h"
+#include "sonar_pose_t.h"
+#include "sonar_status_t.h"
 #include "sonar_tracks_t.h"
 
 /*
@@ -25,5 +33,32 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d);
  */
 void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct sonar_view *v,
                 sonar_track_t *t, sonar_tracks_t *m);
+
+/* A beam record <-> sonar.beam_t; the samples are borrowed both ways (m->samples points at b's, b->samples at m's). */
+void msg_beam(const struct sonar_record *b, sonar_beam_t *m);
+void msg_beam_in(const sonar_beam_t *m, struct sonar_record *b);
+
+/*
+ * A status record <-> sonar.status_t; the link string is borrowed both ways. Counters beyond
+ * the record's 32 bits are held at 2^32 - 1 on the way in, negative ones at 0.
+ */
+void msg_status(const struct sonar_status *s, sonar_status_t *m);
+void msg_status_in(const sonar_status_t *m, struct sonar_status *s);
+
+/* A pose <-> sonar.pose_t (SONAR_POSE). */
+void msg_pose(const struct sonar_pose *p, sonar_pose_t *m);
+void msg_pose_in(const sonar_pose_t *m, struct sonar_pose *p);
+
+/*
+ * The co-processor's configuration: acquisition d, pipeline p and every Nth beam forwarded
+ * (0 = none) <-> sonar.config_t. The way in fills every field of *d (baud: the firmware's own
+ * serial rate to the sonar, which the host does not set) and every field of *p the message
+ * carries (callbacks and user stay as they were); a value that does not fit its field becomes
+ * one the core's checks refuse by name. Nothing is checked here.
+ */
+void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipeline_config *p, uint16_t beam_every,
+                sonar_config_t *c);
+void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_config *d,
+                   struct sonar_pipeline_config *p, uint16_t *beam_every);
 
 #endif

@@ -2,12 +2,14 @@
 #include "sonar/background.h"
 #include "sonar/cpframe.h"
 #include "sonar/detector.h"
+#include "sonar/device.h"
 #include "sonar/median.h"
 #include "sonar/obstacle.h"
 #include "sonar/ping.h"
 #include "sonar/ping360.h"
 #include "sonar/pipeline.h"
 #include "sonar/pose.h"
+#include "sonar/status.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
 
@@ -25,5 +27,7 @@ SIZE(pose, sonar_pose_ring)
 SIZE(sweep, sonar_sweep)
 SIZE(ping, sonar_ping_parser)
 SIZE(ping360, sonar_ping360)
+SIZE(device, sonar_device)
+SIZE(status, sonar_status)
 SIZE(cpframe, sonar_cpf_parser)
 SIZE(pipeline, sonar_pipeline_config)

@@ -1,0 +1,50 @@
+/* status.h -- the health record both ends report (SONAR_STATUS): counters of the device, the pipeline, the tracker, the pose and the co-processor link, one meaning each; RAM: struct sonar_status (docs/sizes.md). */
+#ifndef SONAR_STATUS_H
+#define SONAR_STATUS_H
+
+#include <stdint.h>
+
+#include "sonar/device.h"
+#include "sonar/pipeline.h"
+
+enum sonar_pose_state { SONAR_POSE_NONE = 0, SONAR_POSE_OK = 1, SONAR_POSE_STALE = 2 };
+
+struct sonar_status {
+    int64_t utime;
+    int link_state;                        /* enum sonar_ping360_state (SONAR_P360_CONNECTING included) */
+    const char *link;                      /* "tcp:127.0.0.1:5000", "replay:FILE", "coprocessor:uart0"; borrowed */
+    uint8_t fw[3];                         /* the Ping360's firmware version, 0.0.0 until probed */
+    struct sonar_ping_counters parser;     /* every parser counter */
+    struct sonar_ping360_counters driver;  /* every driver counter */
+    uint32_t sweeps;
+    uint32_t beams_rejected;               /* beams the pipeline refused (bad geometry) */
+    uint32_t rows_bad;                     /* replay: malformed rows skipped */
+    uint32_t sink_errors;                  /* host sink calls that failed, all sinks */
+    float last_sweep_s;                    /* seconds the last sweep took */
+    float beam_us_p50, beam_us_p99;        /* per-beam processing time */
+    uint32_t stack_used;                   /* co-processor: stack high-water mark, bytes; 0 on the host */
+    struct {
+        uint32_t live, ended, bad_detections, clock_back, overflow;
+    } tracker;                             /* all 0 with tracking off */
+    struct {
+        int state;                         /* enum sonar_pose_state, at the latest beam */
+        uint32_t accepted, out_of_order, jumps, bad, thinned; /* the ring's counters */
+        uint32_t stale;                    /* times the pose went stale (none within 1 s of a beam) */
+        uint32_t world_sweeps, body_sweeps; /* sweeps tracked in each frame */
+    } pose;
+    struct {
+        uint32_t rx_crc_errors;            /* host frames the firmware dropped for their CRC */
+        uint32_t tx_dropped;               /* frames the firmware's host link could not take */
+        uint32_t config_refused;           /* configurations the firmware refused */
+        uint32_t frames_bad;               /* firmware frames the host dropped (CRC or undecodable) */
+    } coproc;                              /* all 0 without a co-processor */
+};
+
+/*
+ * Fills the device's and the pipeline's part of *s: fw, parser, driver (from dev, or left as they
+ * are when dev is NULL), the tracker's counters and the sweeps per frame (from p, which must be
+ * initialised). Other fields are left as they are.
+ */
+void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p);
+
+#endif

@@ -1,0 +1,102 @@
+/* device.c -- parser bytes to the Ping360 driver, its beams to records; O(bytes) per call, no heap. */
+#include "sonar/device.h"
+
+#include <string.h>
+
+#include "sonar/geometry.h"
+#include "sonar/pipeline.h"
+
+int sonar_device_init(struct sonar_device *d, const struct sonar_ping360_config *cfg, const struct sonar_ping360_io *io)
+{
+    int r;
+    if (d == NULL)
+        return SONAR_ERR_ARG;
+    memset(d, 0, sizeof(*d));
+    if ((r = sonar_ping_parser_init(&d->parser, 0)) != SONAR_OK)
+        return r;
+    return sonar_ping360_init(&d->drv, cfg, io);
+}
+
+int sonar_device_reconfigure(struct sonar_device *d, const struct sonar_ping360_config *cfg, int64_t now)
+{
+    struct sonar_ping360 fresh;
+    int r;
+    if ((r = sonar_ping360_init(&fresh, cfg, &d->drv.io)) != SONAR_OK)
+        return r;
+    fresh.counters = d->drv.counters;
+    d->drv = fresh;
+    return sonar_ping360_connected(&d->drv, now);
+}
+
+/* A driver event for the caller: a beam becomes a raw record at the settings it was taken with. */
+static int event(struct sonar_device *d, const struct sonar_ping360_event *pe, struct sonar_device_event *ev)
+{
+    struct sonar_record *b = &ev->beam;
+    if (pe->kind == SONAR_P360_EV_NONE)
+        return 0;
+    ev->kind = pe->kind;
+    ev->backoff_us = pe->backoff_us;
+    if (pe->kind == SONAR_P360_EV_LINK_LOST)
+        d->backoff_us = pe->backoff_us;
+    memset(b, 0, sizeof(*b));
+    if (pe->kind == SONAR_P360_EV_BEAM) {
+        const struct sonar_ping360_data *p = &pe->data;
+        b->angle = p->angle;
+        b->n = p->data_length;
+        b->gain = p->gain;
+        b->sample_period = p->sample_period;
+        b->transmit_duration = p->transmit_duration;
+        b->transmit_frequency = p->transmit_frequency;
+        b->speed_of_sound = d->drv.cfg.speed_of_sound;
+        b->range_m = (float)sonar_geometry_range_m(p->sample_period, p->data_length, d->drv.cfg.speed_of_sound);
+        b->stage = SONAR_STAGE_RAW;
+        b->samples = p->data;
+    }
+    return 1;
+}
+
+int sonar_device_bytes(struct sonar_device *d, const uint8_t **in, size_t *len, int64_t now, struct sonar_device_event *ev)
+{
+    struct sonar_ping_frame f;
+    while (sonar_ping_parser_next(&d->parser, in, len, &f) == 1) {
+        struct sonar_ping360_event pe;
+        if (sonar_ping360_handle(&d->drv, &f, now, &pe) != SONAR_OK)
+            pe.kind = SONAR_P360_EV_NONE; /* a request that did not fit: its timeout sends it again */
+        if (event(d, &pe, ev))
+            return 1;
+    }
+    return 0;
+}
+
+int sonar_device_poll(struct sonar_device *d, int64_t now, struct sonar_device_event *ev)
+{
+    struct sonar_ping360_event pe;
+    if (sonar_ping360_poll(&d->drv, now, &pe) != SONAR_OK)
+        return 0;
+    return event(d, &pe, ev);
+}
+
+/* Fresh framing for a new connection; the counters carry on. */
+static void reframe(struct sonar_device *d)
+{
+    struct sonar_ping_counters c = d->parser.counters;
+    if (sonar_ping_parser_init(&d->parser, 0) == SONAR_OK) /* cannot fail with these arguments */
+        d->parser.counters = c;
+}
+
+int sonar_device_up(struct sonar_device *d, int64_t now)
+{
+    reframe(d);
+    return sonar_ping360_connected(&d->drv, now);
+}
+
+uint32_t sonar_device_down(struct sonar_device *d, int64_t now)
+{
+    reframe(d);
+    /* A driver that gave up itself already has its backoff; one that did not, now does. */
+    if (d->drv.state != SONAR_P360_DOWN && d->drv.state != SONAR_P360_STOPPED) {
+        sonar_ping360_link_lost(&d->drv, now);
+        d->backoff_us = d->drv.backoff_us;
+    }
+    return d->backoff_us;
+}

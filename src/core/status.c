@@ -1,0 +1,22 @@
+/* status.c -- the device's and the pipeline's counters into a status record; O(1), no heap. */
+#include "sonar/status.h"
+
+void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p)
+{
+    if (dev != NULL) {
+        s->fw[0] = dev->drv.info.fw_major;
+        s->fw[1] = dev->drv.info.fw_minor;
+        s->fw[2] = dev->drv.info.fw_patch;
+        s->parser = dev->parser.counters;
+        s->driver = dev->drv.counters;
+    }
+    if (p->cfg != NULL && p->cfg->track) {
+        s->tracker.live = p->trk.n;
+        s->tracker.ended = p->trk.deleted;
+        s->tracker.bad_detections = p->trk.bad_detections;
+        s->tracker.clock_back = p->trk.clock_back;
+        s->tracker.overflow = p->trk.overflow;
+    }
+    s->pose.world_sweeps = p->world_sweeps;
+    s->pose.body_sweeps = p->body_sweeps;
+}

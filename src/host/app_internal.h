@@ -1,0 +1,33 @@
+/* app_internal.h -- struct app, shared by app.c (records, sinks, sweeps), app_device.c (the live link) and app_status.c (health); nothing else includes it. */
+#ifndef SONARD_APP_INTERNAL_H
+#define SONARD_APP_INTERNAL_H
+
+#include "app.h"
+
+struct app {
+    struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
+    struct sonar_pipeline pipe;
+    struct sonar_device dev;
+    int have_dev;
+    struct app_clock clock;
+    app_log_fn log;
+    void *log_user;
+    struct app_sink *sinks[APP_MAX_SINKS];
+    unsigned nsinks;
+    struct sonar_record cur;    /* the beam in the pipeline: stage callbacks get only its samples */
+    long max_sweeps;            /* stop after this many; 0 = never */
+    int sweeps_done;            /* max_sweeps reached: later beams are ignored */
+    uint32_t sweeps, beams_rejected, rows_bad;
+    int64_t sweep_t0;
+    float last_sweep_s;
+    const char *link;
+    struct sonar_pose_ring poses;  /* every pose source's samples (app_pose) */
+    struct sonar_view view;        /* the sweep going to the sinks, in both frames */
+    int pose_state;                /* enum sonar_pose_state at the latest beam */
+    uint32_t pose_stale;
+    float proc_us[APP_PROC_RING];
+    float sorted[APP_PROC_RING];
+    unsigned long nproc;
+};
+
+#endif

@@ -1,0 +1,86 @@
+/* app_status.c -- the app's health: counters collected into a status record, the per-beam time percentiles, the accessors sources and sinks read; O(APP_PROC_RING log APP_PROC_RING) a report. */
+#include "app_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int cmpf(const void *x, const void *y)
+{
+    float p = *(const float *)x, q = *(const float *)y;
+    return p < q ? -1 : p > q;
+}
+
+unsigned long app_sink_errors(const struct app *a)
+{
+    unsigned long e = 0;
+    unsigned i;
+    for (i = 0; i < a->nsinks; i++)
+        e += a->sinks[i]->errors;
+    return e;
+}
+
+void app_pose_status(const struct app *a, struct sonar_status *s)
+{
+    s->pose.state = a->pose_state;
+    s->pose.accepted = a->poses.accepted;
+    s->pose.out_of_order = a->poses.out_of_order;
+    s->pose.jumps = a->poses.jumps;
+    s->pose.bad = a->poses.bad;
+    s->pose.thinned = a->poses.thinned;
+    s->pose.stale = a->pose_stale;
+    s->pose.world_sweeps = a->pipe.world_sweeps;
+    s->pose.body_sweeps = a->pipe.body_sweeps;
+}
+
+void app_report_status(struct app *a, int link_state, struct sonar_status *s)
+{
+    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
+    memcpy(a->sorted, a->proc_us, n * sizeof(float));
+    qsort(a->sorted, n, sizeof(float), cmpf);
+    memset(s, 0, sizeof(*s));
+    s->utime = app_wall_us(a);
+    s->link_state = link_state;
+    s->link = a->link;
+    sonar_status_fill(s, a->have_dev ? &a->dev : NULL, &a->pipe);
+    s->sweeps = a->sweeps;
+    s->beams_rejected = a->beams_rejected;
+    s->rows_bad = a->rows_bad;
+    s->sink_errors = (uint32_t)app_sink_errors(a);
+    s->last_sweep_s = a->last_sweep_s;
+    s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
+    s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
+    app_pose_status(a, s);
+    app_send_status(a, s);
+}
+
+int64_t app_mono_us(const struct app *a)
+{
+    return a->clock.mono_ns(a->clock.user) / 1000;
+}
+
+int64_t app_wall_us(const struct app *a)
+{
+    return a->clock.wall_us(a->clock.user);
+}
+
+uint32_t app_sweeps(const struct app *a) { return a->sweeps; }
+int app_done(const struct app *a) { return a->sweeps_done; }
+uint32_t app_beams_rejected(const struct app *a) { return a->beams_rejected; }
+uint32_t app_rows_bad(const struct app *a) { return a->rows_bad; }
+float app_last_sweep_s(const struct app *a) { return a->last_sweep_s; }
+const struct sonar_pipeline *app_pipeline(const struct app *a) { return &a->pipe; }
+
+void app_row_bad(struct app *a)
+{
+    a->rows_bad++;
+}
+
+const struct app_sink *app_sink_at(const struct app *a, unsigned i)
+{
+    return i < a->nsinks ? a->sinks[i] : NULL;
+}
+
+void app_set_link(struct app *a, const char *desc)
+{
+    a->link = desc;
+}

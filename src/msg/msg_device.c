@@ -1,0 +1,157 @@
+/* msg_device.c -- beam records, status records and poses <-> their LCM messages, field by field, both ways; O(fields) per call, no heap (messages point into the caller's structs). */
+#include "msg.h"
+
+#include <string.h>
+
+void msg_beam(const struct sonar_record *b, sonar_beam_t *m)
+{
+    m->utime = b->utime;
+    m->angle = (int16_t)b->angle;
+    m->gain = (int8_t)b->gain;
+    m->sample_period = b->sample_period;
+    m->transmit_duration = b->transmit_duration;
+    m->transmit_frequency = b->transmit_frequency;
+    m->speed_of_sound = b->speed_of_sound;
+    m->range_m = b->range_m;
+    m->stage = (int8_t)b->stage;
+    m->has_pose = (int8_t)(b->has_pose != 0);
+    m->north_m = b->has_pose ? b->north_m : 0.0f;
+    m->east_m = b->has_pose ? b->east_m : 0.0f;
+    m->yaw_deg = b->has_pose ? b->yaw_deg : 0.0f;
+    m->number_of_samples = (int16_t)b->n;
+    m->samples = (uint8_t *)(uintptr_t)b->samples; /* encode only reads it */
+}
+
+void msg_beam_in(const sonar_beam_t *m, struct sonar_record *b)
+{
+    b->utime = m->utime;
+    b->angle = (uint16_t)(m->angle < 0 ? 0 : m->angle);
+    b->n = (uint16_t)(m->number_of_samples < 0 ? 0 : m->number_of_samples);
+    b->gain = m->gain;
+    b->sample_period = m->sample_period;
+    b->transmit_duration = m->transmit_duration;
+    b->transmit_frequency = m->transmit_frequency;
+    b->speed_of_sound = m->speed_of_sound;
+    b->range_m = m->range_m;
+    b->stage = (uint8_t)(m->stage < 0 ? 0 : m->stage);
+    b->has_pose = (uint8_t)(m->has_pose != 0);
+    b->north_m = b->has_pose ? m->north_m : 0.0f;
+    b->east_m = b->has_pose ? m->east_m : 0.0f;
+    b->yaw_deg = b->has_pose ? m->yaw_deg : 0.0f;
+    b->samples = m->samples;
+}
+
+static uint32_t to_u32(int64_t v)
+{
+    return v < 0 ? 0u : v > 4294967295 ? 4294967295u : (uint32_t)v;
+}
+
+void msg_status(const struct sonar_status *s, sonar_status_t *m)
+{
+    memset(m, 0, sizeof(*m));
+    m->utime = s->utime;
+    m->link_state = (int8_t)s->link_state;
+    m->link = (char *)(uintptr_t)(s->link != NULL ? s->link : ""); /* encode only reads it */
+    m->fw_major = (int8_t)s->fw[0];
+    m->fw_minor = (int8_t)s->fw[1];
+    m->fw_patch = (int8_t)s->fw[2];
+    m->frames = s->parser.frames;
+    m->checksum_errors = s->parser.checksum_errors;
+    m->resyncs = s->parser.resyncs;
+    m->oversize = s->parser.oversize;
+    m->bytes_dropped = s->parser.bytes_dropped;
+    m->timeouts = s->driver.timeouts;
+    m->retries = s->driver.retries;
+    m->nacks = s->driver.nacks;
+    m->reconnects = s->driver.reconnects;
+    m->stale = s->driver.stale;
+    m->beams = s->driver.beams;
+    m->sweeps = s->sweeps;
+    m->beams_rejected = s->beams_rejected;
+    m->rows_bad = s->rows_bad;
+    m->sink_errors = s->sink_errors;
+    m->last_sweep_s = s->last_sweep_s;
+    m->beam_us_p50 = s->beam_us_p50;
+    m->beam_us_p99 = s->beam_us_p99;
+    m->stack_used = (int32_t)(s->stack_used > 2147483647u ? 2147483647u : s->stack_used);
+    m->tracks = (int16_t)(s->tracker.live > 32767u ? 32767u : s->tracker.live);
+    m->tracks_ended = s->tracker.ended;
+    m->track_bad_detections = s->tracker.bad_detections;
+    m->track_clock_back = s->tracker.clock_back;
+    m->track_overflow = s->tracker.overflow;
+    m->pose_state = (int8_t)s->pose.state;
+    m->pose_accepted = s->pose.accepted;
+    m->pose_out_of_order = s->pose.out_of_order;
+    m->pose_jumps = s->pose.jumps;
+    m->pose_bad = s->pose.bad;
+    m->pose_stale = s->pose.stale;
+    m->world_sweeps = s->pose.world_sweeps;
+    m->body_sweeps = s->pose.body_sweeps;
+    m->coproc_rx_crc_errors = s->coproc.rx_crc_errors;
+    m->coproc_tx_dropped = s->coproc.tx_dropped;
+    m->coproc_config_refused = s->coproc.config_refused;
+    m->coproc_frames_bad = s->coproc.frames_bad;
+}
+
+void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
+{
+    memset(s, 0, sizeof(*s));
+    s->utime = m->utime;
+    s->link_state = m->link_state;
+    s->link = m->link;
+    s->fw[0] = (uint8_t)m->fw_major;
+    s->fw[1] = (uint8_t)m->fw_minor;
+    s->fw[2] = (uint8_t)m->fw_patch;
+    s->parser.frames = to_u32(m->frames);
+    s->parser.checksum_errors = to_u32(m->checksum_errors);
+    s->parser.resyncs = to_u32(m->resyncs);
+    s->parser.oversize = to_u32(m->oversize);
+    s->parser.bytes_dropped = to_u32(m->bytes_dropped);
+    s->driver.timeouts = to_u32(m->timeouts);
+    s->driver.retries = to_u32(m->retries);
+    s->driver.nacks = to_u32(m->nacks);
+    s->driver.reconnects = to_u32(m->reconnects);
+    s->driver.stale = to_u32(m->stale);
+    s->driver.beams = to_u32(m->beams);
+    s->sweeps = to_u32(m->sweeps);
+    s->beams_rejected = to_u32(m->beams_rejected);
+    s->rows_bad = to_u32(m->rows_bad);
+    s->sink_errors = to_u32(m->sink_errors);
+    s->last_sweep_s = m->last_sweep_s;
+    s->beam_us_p50 = m->beam_us_p50;
+    s->beam_us_p99 = m->beam_us_p99;
+    s->stack_used = to_u32(m->stack_used);
+    s->tracker.live = to_u32(m->tracks);
+    s->tracker.ended = to_u32(m->tracks_ended);
+    s->tracker.bad_detections = to_u32(m->track_bad_detections);
+    s->tracker.clock_back = to_u32(m->track_clock_back);
+    s->tracker.overflow = to_u32(m->track_overflow);
+    s->pose.state = m->pose_state;
+    s->pose.accepted = to_u32(m->pose_accepted);
+    s->pose.out_of_order = to_u32(m->pose_out_of_order);
+    s->pose.jumps = to_u32(m->pose_jumps);
+    s->pose.bad = to_u32(m->pose_bad);
+    s->pose.stale = to_u32(m->pose_stale);
+    s->pose.world_sweeps = to_u32(m->world_sweeps);
+    s->pose.body_sweeps = to_u32(m->body_sweeps);
+    s->coproc.rx_crc_errors = to_u32(m->coproc_rx_crc_errors);
+    s->coproc.tx_dropped = to_u32(m->coproc_tx_dropped);
+    s->coproc.config_refused = to_u32(m->coproc_config_refused);
+    s->coproc.frames_bad = to_u32(m->coproc_frames_bad);
+}
+
+void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)
+{
+    m->utime = p->utime;
+    m->north_m = p->north_m;
+    m->east_m = p->east_m;
+    m->yaw_deg = p->yaw_deg;
+}
+
+void msg_pose_in(const sonar_pose_t *m, struct sonar_pose *p)
+{
+    p->utime = m->utime;
+    p->north_m = m->north_m;
+    p->east_m = m->east_m;
+    p->yaw_deg = m->yaw_deg;
+}
