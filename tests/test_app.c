@@ -324,7 +324,7 @@ static void test_link_lost_and_stop(void **state)
     sv[1] = open("/dev/null", O_RDONLY);
     source_link_ready(&src, POLLIN, fake_ns / 1000);
     assert_int_equal(src.link.fd, -1);
-    assert_true(src.reconnect_at > fake_ns / 1000 && src.reconnect_at < INT64_MAX);
+    assert_true(src.link.reopen_at > fake_ns / 1000 && src.link.reopen_at < INT64_MAX);
     assert_int_equal(app_device(app)->drv.counters.reconnects, 1);
     /* Stopping with no link is immediate. */
     source_link_stop(&src, fake_ns / 1000);

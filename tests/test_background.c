@@ -364,7 +364,7 @@ static void test_auto_keeps_tracked_objects_out_of_the_model(void **state)
     for (sweep = 0; sweep < 40; sweep++)
         for (b = 0; b < 20; b++) {
             /* From the second sweep a tracker has the person: its span is kept on beams 4..6. */
-            int kept = sweep >= 1 && b >= 4 && b <= 6;
+            uint8_t kept = (uint8_t)(sweep >= 1 && b >= 4 && b <= 6);
             pool_beam(b, s);
             if (b == 5)
                 memcpy(before, bg.cell[50], 100);

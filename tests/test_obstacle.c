@@ -40,9 +40,9 @@ static void test_sectors(void **state)
     assert_int_equal(sonar_obstacle_init(&ob, &c), SONAR_OK);
     /* A full turn of 400 beams, 20 ms apart: a wall at 6 m (from sample 120) between 90 and 180 degrees. */
     for (a = 0; a < 400; a++)
-        beam(1000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f < 180.0f ? 120 : -1);
+        beam(1000000 + a * 20000, (float)a * 0.9f, (float)a * 0.9f >= 90.0f && (float)a * 0.9f < 180.0f ? 120 : -1);
     for (a = 0; a < 400; a++) /* a second turn: the floor has learnt the noise and the ring-down */
-        beam(9000000 + a * 20000, (float)a * 0.9f, a * 0.9f >= 90.0f && a * 0.9f <= 180.0f ? 120 : -1);
+        beam(9000000 + a * 20000, (float)a * 0.9f, (float)a * 0.9f >= 90.0f && (float)a * 0.9f <= 180.0f ? 120 : -1);
     sonar_obstacle_map(&ob, 17000000, 8000000, NULL, d, &mn, &mx);
     assert_int_equal(mn, 50);
     assert_int_equal(mx, 1000);
@@ -165,7 +165,7 @@ static void wall_x4(int64_t t0)
 static void test_oblique_wall(void **state)
 {
     uint16_t d[SONAR_OBS_SECTORS], mn, mx;
-    int k;
+    unsigned k;
     (void)state;
     wall_x4(2000000);
     sonar_obstacle_map(&ob, 3000000, 8000000, NULL, d, &mn, &mx);
@@ -180,7 +180,7 @@ static void test_oblique_wall(void **state)
     assert_int_equal(ob.echo[(k + SONAR_MAX_OBS_ECHOES - 1u) % SONAR_MAX_OBS_ECHOES].side, 1);
     /* Every echo point lies on the wall, to the sample (2.5 cm) and float rounding. */
     for (k = 0; k < 21; k++)
-        assert_true(fabs(ob.echo[(ob.head + SONAR_MAX_OBS_ECHOES - 21u + (unsigned)k) % SONAR_MAX_OBS_ECHOES].x_m - 4.0) <= 0.026);
+        assert_true(fabs(ob.echo[(ob.head + SONAR_MAX_OBS_ECHOES - 21u + k) % SONAR_MAX_OBS_ECHOES].x_m - 4.0) <= 0.026);
 }
 
 /*

@@ -1,10 +1,11 @@
-/* link.c -- non-blocking serial, UDP and TCP links for the Ping360; line breaks without sleeping. */
+/* link.c -- non-blocking serial, UDP, UDP-listener and TCP links and their lifecycle (open, connect, lose, reopen); line breaks without sleeping; O(1) per call. */
 #define _DEFAULT_SOURCE
 #include "link.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <netdb.h>
+#include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,13 +42,53 @@ static speed_t speed_of(long baud)
     }
 }
 
-int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t errlen)
+/* The forms kinds allows, for a message: "serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT". */
+static const char *forms(unsigned kinds, char *buf, size_t n)
 {
+    static const char *const name[] = {"serial:PATH[:BAUD]", "udp:HOST:PORT", "tcp:HOST:PORT", "udpin:ADDR:PORT"};
+    size_t k = 0;
+    unsigned i, left = 0;
+    for (i = 0; i < 4; i++)
+        left += (kinds >> i) & 1u;
+    buf[0] = '\0';
+    for (i = 0; i < 4; i++) {
+        if (!(kinds & (1u << i)))
+            continue;
+        left--;
+        k += (size_t)snprintf(buf + k, k < n ? n - k : 0, "%s%s", name[i], left == 0 ? "" : left == 1 ? " or " : ", ");
+    }
+    return buf;
+}
+
+/* "HOST:PORT" after a scheme, split at the last colon; the port 1..65535. Returns 0 or -1. */
+static int host_port(struct link *l, const char *rest)
+{
+    const char *colon = strrchr(rest, ':');
+    if (colon == NULL || colon == rest || colon[1] == '\0' || strlen(colon + 1) >= sizeof(l->port) ||
+        (size_t)(colon - rest) >= sizeof(l->host) || strspn(colon + 1, "0123456789") != strlen(colon + 1) ||
+        atoi(colon + 1) < 1 || atoi(colon + 1) > 65535)
+        return -1;
+    /* [v6]:PORT: the brackets only mark where the address ends */
+    if (rest[0] == '[' && colon[-1] == ']')
+        snprintf(l->host, sizeof(l->host), "%.*s", (int)(colon - rest) - 2, rest + 1);
+    else
+        snprintf(l->host, sizeof(l->host), "%.*s", (int)(colon - rest), rest);
+    snprintf(l->port, sizeof(l->port), "%s", colon + 1);
+    return 0;
+}
+
+int link_parse(struct link *l, const char *opt, const char *url, unsigned kinds, long baud_opt, char *err, size_t errlen)
+{
+    static const struct { const char *scheme; int kind; } net[] = {
+        {"udp:", LINK_UDP}, {"udpout:", LINK_UDP}, {"tcp:", LINK_TCP}, {"udpin:", LINK_UDP_LISTEN}};
+    char f[128];
     const char *rest;
+    size_t i;
     memset(l, 0, sizeof(*l));
     l->fd = -1;
     l->break_clear_at = l->send_u_at = INT64_MAX;
-    if (strncmp(url, "serial:", 7) == 0) {
+    l->reopen_at = INT64_MIN; /* due at once */
+    if (strncmp(url, "serial:", 7) == 0 && (kinds & LINK_ALLOW_SERIAL)) {
         const char *colon;
         rest = url + 7;
         colon = strrchr(rest, ':');
@@ -57,7 +98,7 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
             char *end;
             long b = strtol(colon + 1, &end, 10);
             if (*end != '\0' || speed_of(b) == 0) {
-                snprintf(err, errlen, "--sonar %s: baud '%s' is not one termios supports (9600..3000000)", url, colon + 1);
+                snprintf(err, errlen, "%s %s: baud '%s' is not one termios supports (9600..3000000)", opt, url, colon + 1);
                 return HOST_ERR_CONFIG;
             }
             l->baud = b;
@@ -66,7 +107,7 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
             snprintf(l->path, sizeof(l->path), "%s", rest);
         }
         if (l->path[0] == '\0') {
-            snprintf(err, errlen, "--sonar %s: no device path", url);
+            snprintf(err, errlen, "%s %s: no device path", opt, url);
             return HOST_ERR_CONFIG;
         }
         if (baud_opt == -1) {
@@ -81,21 +122,18 @@ int link_parse(struct link *l, const char *url, long baud_opt, char *err, size_t
         }
         return HOST_OK;
     }
-    if (strncmp(url, "udp:", 4) == 0 || strncmp(url, "tcp:", 4) == 0) {
-        const char *colon;
-        l->kind = url[0] == 'u' ? LINK_UDP : LINK_TCP;
-        rest = url + 4;
-        colon = strrchr(rest, ':');
-        if (colon == NULL || colon == rest || colon[1] == '\0' || strlen(colon + 1) >= sizeof(l->port) ||
-            strspn(colon + 1, "0123456789") != strlen(colon + 1) || atoi(colon + 1) < 1 || atoi(colon + 1) > 65535) {
-            snprintf(err, errlen, "--sonar %s: expected %s:HOST:PORT with a port 1..65535", url, l->kind == LINK_UDP ? "udp" : "tcp");
+    for (i = 0; i < sizeof(net) / sizeof(net[0]); i++) {
+        size_t k = strlen(net[i].scheme);
+        if (strncmp(url, net[i].scheme, k) != 0 || !(kinds & (1u << net[i].kind)))
+            continue;
+        l->kind = net[i].kind;
+        if (host_port(l, url + k) != 0) {
+            snprintf(err, errlen, "%s %s: expected %.*sHOST:PORT with a port 1..65535", opt, url, (int)k, net[i].scheme);
             return HOST_ERR_CONFIG;
         }
-        snprintf(l->host, sizeof(l->host), "%.*s", (int)(colon - rest), rest);
-        snprintf(l->port, sizeof(l->port), "%s", colon + 1);
         return HOST_OK;
     }
-    snprintf(err, errlen, "--sonar %s: not serial:, udp: or tcp:", url);
+    snprintf(err, errlen, "%s %s: not %s", opt, url, forms(kinds, f, sizeof(f)));
     return HOST_ERR_CONFIG;
 }
 
@@ -134,8 +172,8 @@ static int open_socket(struct link *l, char *err, size_t errlen)
     int fd, r;
     memset(&hints, 0, sizeof(hints));
     hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = l->kind == LINK_UDP ? SOCK_DGRAM : SOCK_STREAM;
-    hints.ai_flags = AI_NUMERICSERV;
+    hints.ai_socktype = l->kind == LINK_TCP ? SOCK_STREAM : SOCK_DGRAM;
+    hints.ai_flags = AI_NUMERICSERV | (l->kind == LINK_UDP_LISTEN ? AI_PASSIVE : 0);
     if ((r = getaddrinfo(l->host, l->port, &hints, &res)) != 0) {
         snprintf(err, errlen, "%s:%s: %s", l->host, l->port, gai_strerror(r));
         return -1;
@@ -145,6 +183,17 @@ static int open_socket(struct link *l, char *err, size_t errlen)
         snprintf(err, errlen, "socket: %s", strerror(errno));
         freeaddrinfo(res);
         return -1;
+    }
+    if (l->kind == LINK_UDP_LISTEN) {
+        r = bind(fd, res->ai_addr, res->ai_addrlen);
+        freeaddrinfo(res);
+        if (r != 0) {
+            snprintf(err, errlen, "%s:%s: cannot bind: %s", l->host, l->port, strerror(errno));
+            close(fd);
+            return -1;
+        }
+        l->fd = fd;
+        return 0;
     }
     r = connect(fd, res->ai_addr, res->ai_addrlen);
     freeaddrinfo(res);
@@ -158,7 +207,7 @@ static int open_socket(struct link *l, char *err, size_t errlen)
     return 0;
 }
 
-int link_open(struct link *l, int64_t now_us, char *err, size_t errlen)
+static int link_open(struct link *l, int64_t now_us, char *err, size_t errlen)
 {
     int r;
     l->break_clear_at = l->send_u_at = INT64_MAX;
@@ -170,7 +219,7 @@ int link_open(struct link *l, int64_t now_us, char *err, size_t errlen)
     return open_socket(l, err, errlen);
 }
 
-int link_finish_connect(struct link *l, char *err, size_t errlen)
+static int link_finish_connect(struct link *l, char *err, size_t errlen)
 {
     int e = 0;
     socklen_t len = sizeof(e);
@@ -187,6 +236,11 @@ ssize_t link_read(struct link *l, uint8_t *buf, size_t cap)
     ssize_t n;
     if (l->fd < 0)
         return HOST_ERR_CLOSED;
+    if (l->kind == LINK_UDP_LISTEN) {
+        l->from_len = sizeof(l->from);
+        n = recvfrom(l->fd, buf, cap, MSG_DONTWAIT, (struct sockaddr *)&l->from, &l->from_len);
+        return n >= 0 ? n : 0; /* a listener is never closed by its peers */
+    }
     n = read(l->fd, buf, cap);
     if (n > 0)
         return n;
@@ -220,7 +274,8 @@ void link_line_break(struct link *l, int64_t now_us)
     }
 }
 
-int64_t link_timers(struct link *l, int64_t now_us)
+/* The line-break steps. Returns the next time it needs a call, or INT64_MAX. */
+static int64_t link_timers(struct link *l, int64_t now_us)
 {
     if (l->fd >= 0 && now_us >= l->break_clear_at) {
         (void)ioctl(l->fd, TIOCCBRK);
@@ -243,7 +298,7 @@ int link_next_baud(struct link *l)
     return l->baud_index == 0 ? -1 : 0;
 }
 
-void link_close(struct link *l)
+static void shut(struct link *l)
 {
     if (l->fd >= 0)
         close(l->fd);
@@ -252,11 +307,82 @@ void link_close(struct link *l)
     l->break_clear_at = l->send_u_at = INT64_MAX;
 }
 
+void link_close(struct link *l)
+{
+    shut(l);
+    l->reopen_at = INT64_MAX;
+}
+
+void link_lost(struct link *l, int64_t now_us, uint32_t delay_us)
+{
+    shut(l);
+    l->reopen_at = now_us + (int64_t)delay_us;
+}
+
+int link_service_timers(struct link *l, int64_t now_us, char *err, size_t errlen)
+{
+    int ev = LINK_EV_NONE;
+    if (l->fd < 0 && now_us >= l->reopen_at) {
+        l->reopen_at = INT64_MAX;
+        if (link_open(l, now_us, err, errlen) != 0) {
+            link_lost(l, now_us, LINK_RETRY_US);
+            return LINK_EV_FAILED;
+        }
+        ev = l->connecting ? LINK_EV_NONE : LINK_EV_UP;
+    }
+    (void)link_timers(l, now_us);
+    return ev;
+}
+
+int link_service_fd(struct link *l, short revents, int64_t now_us, char *err, size_t errlen)
+{
+    if (l->fd < 0)
+        return LINK_EV_NONE;
+    if (l->connecting) {
+        if (!(revents & (POLLOUT | POLLERR | POLLHUP)))
+            return LINK_EV_NONE;
+        if (link_finish_connect(l, err, errlen) != HOST_OK) {
+            link_lost(l, now_us, LINK_RETRY_US);
+            return LINK_EV_FAILED;
+        }
+        return LINK_EV_UP;
+    }
+    if (revents & POLLIN)
+        return LINK_EV_DATA;
+    /* the serial adapter was unplugged, or the peer hung up, with nothing left to read */
+    return revents & (POLLERR | POLLHUP | POLLNVAL) ? LINK_EV_HUNGUP : LINK_EV_NONE;
+}
+
+int link_poll_fd(const struct link *l, short *events)
+{
+    *events = (short)(l->connecting ? POLLOUT : POLLIN);
+    return l->fd;
+}
+
+int64_t link_wake(const struct link *l)
+{
+    int64_t w = l->fd < 0 ? l->reopen_at : INT64_MAX;
+    if (l->break_clear_at < w)
+        w = l->break_clear_at;
+    if (l->send_u_at < w)
+        w = l->send_u_at;
+    return w;
+}
+
+int link_send_to(struct link *l, const uint8_t *buf, size_t n, const struct sockaddr_storage *addr, socklen_t len)
+{
+    if (l->fd < 0)
+        return HOST_ERR_IO;
+    /* Non-blocking: a full socket drops this datagram, never the loop's time. */
+    return sendto(l->fd, buf, n, MSG_DONTWAIT, (const struct sockaddr *)addr, len) == (ssize_t)n ? HOST_OK : HOST_ERR_IO;
+}
+
 const char *link_describe(const struct link *l, char *buf, size_t n)
 {
     if (l->kind == LINK_SERIAL)
         snprintf(buf, n, "serial:%s@%ld", l->path, l->baud);
     else
-        snprintf(buf, n, "%s:%s:%s", l->kind == LINK_UDP ? "udp" : "tcp", l->host, l->port);
+        snprintf(buf, n, strchr(l->host, ':') ? "%s:[%s]:%s" : "%s:%s:%s", l->kind == LINK_UDP ? "udp" : l->kind == LINK_TCP ? "tcp" : "udpin",
+                 l->host, l->port);
     return buf;
 }

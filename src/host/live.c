@@ -18,28 +18,11 @@ static int64_t now_us(const struct app *a)
     return app_mono_us(a);
 }
 
-void live_no_stop(void *self, int64_t now_us)
-{
-    (void)self;
-    (void)now_us;
-}
-
-int live_always_stopped(const void *self)
-{
-    (void)self;
-    return 1;
-}
-
-int live_no_state(const void *self)
-{
-    (void)self;
-    return 0;
-}
-
-int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
+int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
              live_reload_fn reload, void *reload_user)
 {
     struct sonar_status st;
+    const struct live_io_ops *io = &src->ops->io;
     sigset_t mask;
     unsigned k;
     int sigfd, stop = 0, interrupted = 0;
@@ -58,7 +41,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
     if (naux > LIVE_MAX_AUX)
         naux = LIVE_MAX_AUX;
     next_status = now_us(a) + STATUS_US;
-    src->ops->start(src->self, a, now_us(a));
+    io->start(src->self, a, now_us(a));
     for (k = 0; k < naux; k++)
         aux[k].ops->start(aux[k].self, a, now_us(a));
     for (;;) {
@@ -76,7 +59,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
             break;
         if (src->ops->stopped(src->self))
             break; /* the source gave up by itself (a co-processor refused the configuration) */
-        wake = src->ops->timers(src->self, now);
+        wake = io->timers(src->self, now);
         for (k = 0; k < naux; k++) {
             int64_t w = aux[k].ops->timers(aux[k].self, now);
             wake = w < wake ? w : wake;
@@ -90,7 +73,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
         pfd[0].fd = sigfd;
         pfd[0].events = POLLIN;
         pfd[0].revents = 0;
-        if ((pfd[1].fd = src->ops->fd(src->self, &events)) >= 0) {
+        if ((pfd[1].fd = io->fd(src->self, &events)) >= 0) {
             pfd[1].events = events;
             pfd[1].revents = 0;
             src_at = 1;
@@ -119,12 +102,12 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
             }
         }
         if (src_at == 1 && pfd[1].revents != 0)
-            src->ops->ready(src->self, pfd[1].revents, now);
+            io->ready(src->self, pfd[1].revents, now);
         for (i = src_at == 1 ? 2 : 1; i < np; i++)
             if (pfd[i].revents != 0)
                 aux[slot[i]].ops->ready(aux[slot[i]].self, pfd[i].revents, now);
         if (now >= next_status) {
-            if (!src->ops->own_status)
+            if (src->ops->state != NULL)
                 app_report_status(a, src->ops->state(src->self), &st);
             next_status = now + STATUS_US;
         }
@@ -132,9 +115,9 @@ int live_run(struct app *a, const struct live_source *src, const struct live_sou
     /* An interrupted sweep is still worth publishing; a --sweeps run already has all it asked for. */
     if (interrupted && app_finish(a) != SONAR_OK)
         fprintf(stderr, "sonard: finishing the last sweep failed\n");
-    if (!src->ops->own_status)
+    if (src->ops->state != NULL)
         app_report_status(a, src->ops->state(src->self), &st);
-    src->ops->close(src->self);
+    io->close(src->self);
     for (k = 0; k < naux; k++)
         aux[k].ops->close(aux[k].self);
     close(sigfd);

@@ -7,17 +7,21 @@
 /* Called on SIGHUP; returns HOST_OK or an error it has already reported (the running settings stay). */
 typedef int (*live_reload_fn)(void *user);
 
-/* A live source as the loop sees it: a descriptor, its events, timers, a stop; one const table per kind. */
-struct live_source_ops {
+/* What the loop needs of every source: a descriptor, its events, timers, a close; one const table per kind. */
+struct live_io_ops {
     void (*start)(void *self, struct app *a, int64_t now_us);
     int (*fd)(const void *self, short *events);          /* -1 when closed */
     void (*ready)(void *self, short revents, int64_t now_us);
     int64_t (*timers)(void *self, int64_t now_us);       /* returns when to call it next */
+    void (*close)(void *self);
+};
+
+/* The primary source (the sonar, or a co-processor): it is also stopped, and its state reported. */
+struct live_source_ops {
+    struct live_io_ops io;
     void (*stop)(void *self, int64_t now_us);
     int (*stopped)(const void *self);
-    int (*state)(const void *self);                      /* enum sonar_ping360_state for status */
-    void (*close)(void *self);
-    int own_status;                                      /* the source sends status itself (co-processor) */
+    int (*state)(const void *self); /* enum sonar_ping360_state for status; NULL: the source sends status itself */
 };
 
 struct live_source {
@@ -25,12 +29,13 @@ struct live_source {
     void *self;
 };
 
-#define LIVE_MAX_AUX 4
+/* A source served alongside (poses in, the autopilot's link): read and timed, never waited for. */
+struct live_aux {
+    const struct live_io_ops *ops;
+    void *self;
+};
 
-/* For sources with nothing to stop or report (poses in, the autopilot's link): stop is a no-op, they are always stopped, state 0. */
-void live_no_stop(void *self, int64_t now_us);
-int live_always_stopped(const void *self);
-int live_no_state(const void *self);
+#define LIVE_MAX_AUX 4
 
 /*
  * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the source
@@ -38,7 +43,7 @@ int live_no_state(const void *self);
  * 0): other sources served alongside (the autopilot's MAVLink), whose stop is never waited for.
  * Returns HOST_OK or HOST_ERR_IO (signalfd).
  */
-HOST_CHECK int live_run(struct app *a, const struct live_source *src, const struct live_source *aux, unsigned naux,
+HOST_CHECK int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
                         live_reload_fn reload, void *reload_user);
 
 #endif

@@ -57,7 +57,6 @@ int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errl
     char host[128], port[16];
     memset(m, 0, sizeof(*m));
     m->cfg = *cfg;
-    m->fd = -1;
     m->link.fd = -1;
     if (!(cfg->rate_hz >= 1.0f && cfg->rate_hz <= 50.0f)) {
         snprintf(err, errlen, "--mavlink-rate: %g is not in 1..50 messages a second", (double)cfg->rate_hz);
@@ -69,23 +68,22 @@ int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errl
     }
     if (strncmp(cfg->url, "udpin:", 6) == 0) {
         m->kind = MAV_UDPIN;
-        if (host_port(cfg->url + 6, host, sizeof(host), port, sizeof(port)) != 0) {
+        if (host_port(cfg->url + 6, host, sizeof(host), port, sizeof(port)) != 0 ||
+            link_parse(&m->link, "--mavlink", cfg->url, LINK_ALLOW_LISTEN, 0, err, errlen) != HOST_OK) {
             snprintf(err, errlen, "--mavlink %s: udpin:ADDR:PORT with a port 1..65535, e.g. udpin:0.0.0.0:14660", cfg->url);
             return HOST_ERR_CONFIG;
         }
     } else if (strncmp(cfg->url, "udpout:", 7) == 0) {
-        char u[200];
         m->kind = MAV_UDPOUT;
-        snprintf(u, sizeof(u), "udp:%s", cfg->url + 7);
         if (host_port(cfg->url + 7, host, sizeof(host), port, sizeof(port)) != 0 ||
-            link_parse(&m->link, u, 0, err, errlen) != HOST_OK) {
+            link_parse(&m->link, "--mavlink", cfg->url, LINK_ALLOW_UDP, 0, err, errlen) != HOST_OK) {
             snprintf(err, errlen, "--mavlink %s: udpout:HOST:PORT with a port 1..65535, e.g. udpout:192.168.2.1:14550",
                      cfg->url);
             return HOST_ERR_CONFIG;
         }
     } else if (strncmp(cfg->url, "serial:", 7) == 0) {
         m->kind = MAV_SERIAL;
-        if (link_parse(&m->link, cfg->url, 0, err, errlen) != HOST_OK)
+        if (link_parse(&m->link, "--mavlink", cfg->url, LINK_ALLOW_SERIAL, 0, err, errlen) != HOST_OK)
             return HOST_ERR_CONFIG;
     } else {
         snprintf(err, errlen, "--mavlink %s: udpin:ADDR:PORT, udpout:HOST:PORT or serial:PATH[:BAUD]", cfg->url);
@@ -116,9 +114,7 @@ static void send_msg(struct mav *m, const mavlink_message_t *msg, int64_t now_mo
         for (k = 0; k < MAV_PEERS; k++) {
             if (m->peer[k].len == 0 || now_mono - m->peer[k].seen_us > MAV_PEER_US)
                 continue;
-            /* Non-blocking: a full socket drops this message, never the sonar's time. */
-            if (sendto(m->fd, buf, len, MSG_DONTWAIT, (const struct sockaddr *)&m->peer[k].addr, m->peer[k].len) ==
-                (ssize_t)len)
+            if (link_send_to(&m->link, buf, len, &m->peer[k].addr, m->peer[k].len) == HOST_OK)
                 sent = 1;
         }
     } else if (m->link.fd >= 0) {
@@ -323,26 +319,25 @@ void mav_bytes(struct mav *m, const uint8_t *buf, size_t len, int64_t now_wall_u
 
 /* ---- the live loop's source ---- */
 
-static int open_udpin(struct mav *m)
+static void mav_read(struct mav *m, int64_t now);
+
+/* What the link did: up (said once it was down), failed (said once; it retries), readable, gone. */
+static void on_link(struct mav *m, int ev, const char *err, int64_t now)
 {
-    char host[128], port[16];
-    struct addrinfo hints, *ai = NULL;
-    int fd;
-    if (host_port(m->cfg.url + 6, host, sizeof(host), port, sizeof(port)) != 0)
-        return -1;
-    memset(&hints, 0, sizeof(hints));
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_DGRAM;
-    hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-    if (getaddrinfo(host, port, &hints, &ai) != 0 || ai == NULL)
-        return -1;
-    fd = socket(ai->ai_family, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    if (fd >= 0 && bind(fd, ai->ai_addr, ai->ai_addrlen) != 0) {
-        close(fd);
-        fd = -1;
+    if (ev == LINK_EV_UP && m->down) {
+        app_say(m->app, "--mavlink %s: open", m->desc);
+        m->down = 0;
+    } else if (ev == LINK_EV_FAILED && !m->down) {
+        app_say(m->app, "--mavlink %s: %s; running without the autopilot, retrying every second", m->desc, err);
+        m->down = 1;
+    } else if (ev == LINK_EV_DATA) {
+        mav_read(m, now);
+    } else if (ev == LINK_EV_HUNGUP) {
+        if (m->kind == MAV_SERIAL)
+            link_lost(&m->link, now, LINK_RETRY_US); /* unplugged: opened again in a second */
+        else
+            mav_read(m, now); /* a UDP socket's error (ICMP: nobody there yet) is read and forgotten */
     }
-    freeaddrinfo(ai);
-    return fd;
 }
 
 static void mav_start(void *self, struct app *a, int64_t now)
@@ -353,19 +348,13 @@ static void mav_start(void *self, struct app *a, int64_t now)
     m->t0_us = now;
     m->next_hb = now;
     m->next_od = now;
-    if (m->kind == MAV_UDPIN) {
-        if ((m->fd = open_udpin(m)) < 0)
-            app_say(m->app, "--mavlink %s: cannot bind: %s; running without the autopilot", m->desc, strerror(errno));
-    } else if (link_open(&m->link, now, err, sizeof(err)) != HOST_OK) {
-        app_say(m->app, "--mavlink %s: %s; running without the autopilot", m->desc, err);
-    }
+    on_link(m, link_service_timers(&m->link, now, err, sizeof(err)), err, now);
 }
 
 static int mav_fd(const void *self, short *events)
 {
     const struct mav *m = self;
-    *events = POLLIN;
-    return m->kind == MAV_UDPIN ? m->fd : m->link.fd;
+    return link_poll_fd(&m->link, events);
 }
 
 /* A udpin sender: remembered (the newest replaces the stalest) so that it is answered. */
@@ -385,32 +374,31 @@ static void remember(struct mav *m, const struct sockaddr_storage *a, socklen_t 
     m->peer[slot].seen_us = now_mono;
 }
 
+static void mav_read(struct mav *m, int64_t now)
+{
+    uint8_t buf[2048];
+    int reads;
+    for (reads = 0; reads < LINK_READS; reads++) {
+        /* Each datagram its own receive time: two poses read in one wake are not one instant. */
+        int64_t wall = app_wall_us(m->app);
+        ssize_t r = link_read(&m->link, buf, sizeof(buf));
+        if (r == HOST_ERR_CLOSED && m->kind == MAV_SERIAL) {
+            link_lost(&m->link, now, LINK_RETRY_US); /* unplugged: opened again in a second */
+            return;
+        }
+        if (r <= 0)
+            return; /* udpout: nobody listening there yet (ICMP) is no loss, it may come */
+        if (m->kind == MAV_UDPIN)
+            remember(m, &m->link.from, m->link.from_len, now);
+        mav_bytes(m, buf, (size_t)r, wall);
+    }
+}
+
 static void mav_ready(void *self, short revents, int64_t now)
 {
     struct mav *m = self;
-    uint8_t buf[2048];
-    int reads;
-    (void)revents;
-    for (reads = 0; reads < 16; reads++) {
-        /* Each datagram its own receive time: two poses read in one wake are not one instant. */
-        int64_t wall = app_wall_us(m->app);
-        ssize_t r;
-        if (m->kind == MAV_UDPIN) {
-            struct sockaddr_storage from;
-            socklen_t fl = sizeof(from);
-            r = recvfrom(m->fd, buf, sizeof(buf), MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
-            if (r < 0)
-                return;
-            remember(m, &from, fl, now);
-        } else {
-            r = link_read(&m->link, buf, sizeof(buf));
-            if (r == HOST_ERR_CLOSED && m->kind == MAV_UDPOUT)
-                return; /* nobody listening there yet (ICMP): keep sending, it may come */
-            if (r <= 0)
-                return;
-        }
-        mav_bytes(m, buf, (size_t)r, wall);
-    }
+    char err[200];
+    on_link(m, link_service_fd(&m->link, revents, now, err, sizeof(err)), err, now);
 }
 
 static int64_t mav_timers(void *self, int64_t now)
@@ -428,22 +416,23 @@ static int64_t mav_timers(void *self, int64_t now)
         if (m->next_od <= now)
             m->next_od = now + period;
     }
-    return m->next_hb < m->next_od ? m->next_hb : m->next_od;
+    {
+        char err[200];
+        int64_t w = m->next_hb < m->next_od ? m->next_hb : m->next_od;
+        on_link(m, link_service_timers(&m->link, now, err, sizeof(err)), err, now);
+        return link_wake(&m->link) < w ? link_wake(&m->link) : w;
+    }
 }
 
 static void mav_close(void *self)
 {
     struct mav *m = self;
-    if (m->fd >= 0)
-        close(m->fd);
-    m->fd = -1;
     link_close(&m->link);
 }
 
-static const struct live_source_ops mav_ops = {mav_start, mav_fd,   mav_ready, mav_timers,
-                                               live_no_stop,  live_always_stopped, live_no_state, mav_close, 0};
+static const struct live_io_ops mav_ops = {mav_start, mav_fd, mav_ready, mav_timers, mav_close};
 
-void mav_live(struct mav *m, struct live_source *out)
+void mav_live(struct mav *m, struct live_aux *out)
 {
     out->ops = &mav_ops;
     out->self = m;

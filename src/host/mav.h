@@ -42,8 +42,8 @@ struct mav {
     struct mav_config cfg;
     struct app *app;
     int kind;
-    int fd;                     /* udpin */
-    struct link link;           /* udpout, serial */
+    struct link link;           /* udpin (a listener), udpout, serial */
+    int down;                   /* the link failed to open; said once until it opens */
     char desc[160];
     struct {
         struct sockaddr_storage addr;
@@ -80,7 +80,7 @@ HOST_CHECK int mav_init(struct mav *m, const struct mav_config *cfg, char *err, 
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);
 
 /* The loop's view: a descriptor to read, timers for HEARTBEAT and OBSTACLE_DISTANCE; it never blocks the sonar. */
-void mav_live(struct mav *m, struct live_source *out);
+void mav_live(struct mav *m, struct live_aux *out);
 
 /* One line of counters and latency for stderr at exit. */
 void mav_summary(const struct mav *m, char *buf, size_t n);

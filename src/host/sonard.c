@@ -34,7 +34,7 @@ struct sonard {
     struct posefile pose;
     struct mav mav;
     struct source_pose_lcm plcm;
-    struct live_source aux[2];
+    struct live_aux aux[2];
     unsigned naux;
     int have_mav, have_plcm;
     FILE *csv_out;

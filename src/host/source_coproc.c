@@ -1,7 +1,6 @@
 /* source_coproc.c -- co-processor frames in (detections, status, beams, replies), the configuration out; resync on garbage, a corrupt frame counted and dropped, never published; O(bytes). */
 #include "source_coproc.h"
 
-#include <poll.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -30,9 +29,10 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
 int source_coproc_parse(struct source_coproc *s, const char *url, const struct sonard_options *o, char *err, size_t errlen)
 {
     memset(s, 0, sizeof(*s));
-    s->reconnect_at = INT64_MAX;
+    s->config_at = INT64_MAX;
     sonar_cpf_parser_init(&s->parser);
-    if (link_parse(&s->link, url, o->baud, err, errlen) != HOST_OK)
+    if (link_parse(&s->link, "--coprocessor", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, o->baud, err,
+                   errlen) != HOST_OK)
         return HOST_ERR_CONFIG;
     link_describe(&s->link, s->desc, sizeof(s->desc));
     return build_config(s, o, err, errlen);
@@ -47,28 +47,16 @@ static void send_config(struct source_coproc *s, int64_t now)
 
 static void lost(struct source_coproc *s, int64_t now, const char *why)
 {
-    link_close(&s->link);
     s->configured = 0;
+    s->config_at = INT64_MAX;
     sonar_cpf_parser_init(&s->parser);
     if (s->stopping) {
+        link_close(&s->link);
         s->stopped = 1;
         return;
     }
-    s->reconnect_at = now + 1000000;
+    link_lost(&s->link, now, LINK_RETRY_US);
     say(s, "co-processor link lost (%s); reconnecting in 1 s", why);
-}
-
-static void try_open(struct source_coproc *s, int64_t now)
-{
-    char err[256];
-    s->reconnect_at = INT64_MAX;
-    if (link_open(&s->link, now, err, sizeof(err)) != HOST_OK) {
-        s->reconnect_at = now + 1000000;
-        say(s, "%s; retrying in 1 s", err);
-        return;
-    }
-    if (!s->link.connecting)
-        send_config(s, now);
 }
 
 static void on_status(struct source_coproc *s, const sonar_status_t *m)
@@ -151,7 +139,7 @@ static void readable(struct source_coproc *s, int64_t now)
     uint8_t buf[4096];
     int reads;
     const int was_done = app_done(s->app);
-    for (reads = 0; reads < 16 && !(!was_done && app_done(s->app)) && !s->stopped; reads++) {
+    for (reads = 0; reads < LINK_READS && !(!was_done && app_done(s->app)) && !s->stopped; reads++) {
         ssize_t n = link_read(&s->link, buf, sizeof(buf));
         const uint8_t *in = buf;
         size_t len;
@@ -168,50 +156,58 @@ static void readable(struct source_coproc *s, int64_t now)
     }
 }
 
-static void v_start(void *self, struct app *a, int64_t now)
+/* What the link did: up (send the configuration), failed (said; it retries), readable, hung up. */
+static void on_link(struct source_coproc *s, int ev, const char *err, int64_t now)
 {
-    struct source_coproc *s = self;
-    s->app = a;
-    app_set_link(a, s->desc);
-    try_open(s, now);
-}
-
-static int v_fd(const void *self, short *events)
-{
-    const struct source_coproc *s = self;
-    *events = (short)(s->link.connecting ? POLLOUT : POLLIN);
-    return s->link.fd;
-}
-
-static void v_ready(void *self, short revents, int64_t now)
-{
-    struct source_coproc *s = self;
-    char err[256];
-    if (s->link.fd < 0)
-        return;
-    if (s->link.connecting && (revents & (POLLOUT | POLLERR | POLLHUP))) {
-        if (link_finish_connect(&s->link, err, sizeof(err)) != HOST_OK) {
-            link_close(&s->link);
-            s->reconnect_at = now + 1000000;
-            say(s, "%s; retrying in 1 s", err);
-        } else {
-            send_config(s, now);
-        }
-    } else if (revents & POLLIN) {
+    switch (ev) {
+    case LINK_EV_UP:
+        send_config(s, now);
+        break;
+    case LINK_EV_FAILED:
+        say(s, "%s; retrying in 1 s", err);
+        break;
+    case LINK_EV_DATA:
         readable(s, now);
-    } else if (revents & (POLLERR | POLLHUP | POLLNVAL)) {
+        break;
+    case LINK_EV_HUNGUP:
         lost(s, now, "hung up");
+        break;
+    default:
+        break;
     }
 }
 
 static int64_t v_timers(void *self, int64_t now)
 {
     struct source_coproc *s = self;
-    if (s->link.fd < 0 && !s->stopping && now >= s->reconnect_at)
-        try_open(s, now);
+    char err[256];
+    if (s->link.fd < 0 && s->stopping)
+        return INT64_MAX;
+    on_link(s, link_service_timers(&s->link, now, err, sizeof(err)), err, now);
     if (s->link.fd >= 0 && !s->link.connecting && !s->configured && now >= s->config_at)
         send_config(s, now); /* the firmware did not answer: the frame may have been lost */
-    return s->link.fd >= 0 && !s->configured && s->config_at < s->reconnect_at ? s->config_at : s->reconnect_at;
+    return s->link.fd >= 0 && !s->configured && s->config_at < link_wake(&s->link) ? s->config_at : link_wake(&s->link);
+}
+
+static void v_start(void *self, struct app *a, int64_t now)
+{
+    struct source_coproc *s = self;
+    s->app = a;
+    app_set_link(a, s->desc);
+    (void)v_timers(s, now);
+}
+
+static int v_fd(const void *self, short *events)
+{
+    const struct source_coproc *s = self;
+    return link_poll_fd(&s->link, events);
+}
+
+static void v_ready(void *self, short revents, int64_t now)
+{
+    struct source_coproc *s = self;
+    char err[256];
+    on_link(s, link_service_fd(&s->link, revents, now, err, sizeof(err)), err, now);
 }
 
 static void v_stop(void *self, int64_t now)
@@ -224,19 +220,14 @@ static void v_stop(void *self, int64_t now)
 
 static int v_stopped(const void *self) { return ((const struct source_coproc *)self)->stopped; }
 
-static int v_state(const void *self)
-{
-    const struct source_coproc *s = self;
-    return s->link.fd < 0 ? SONAR_P360_DOWN : s->link.connecting ? SONAR_P360_CONNECTING : SONAR_P360_SCANNING;
-}
-
 static void v_close(void *self)
 {
     struct source_coproc *s = self;
     link_close(&s->link);
 }
 
-static const struct live_source_ops ops = {v_start, v_fd, v_ready, v_timers, v_stop, v_stopped, v_state, v_close, 1};
+/* No state: the firmware's status frames are the status. */
+static const struct live_source_ops ops = {{v_start, v_fd, v_ready, v_timers, v_close}, v_stop, v_stopped, NULL};
 
 void source_coproc_live(struct source_coproc *s, struct live_source *out)
 {

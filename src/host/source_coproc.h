@@ -19,7 +19,7 @@ struct source_coproc {
     int configured;         /* the firmware answered "ok": its detections count from now on */
     int refused;            /* it answered "error: ...": sonard stops, exit 2 */
     int stopping, stopped;
-    int64_t reconnect_at, config_at;
+    int64_t config_at;       /* no answer by then: send the configuration again */
     uint32_t dropped_before_config, decode_errors;
     char desc[160];
     char why[256];          /* the refusal */

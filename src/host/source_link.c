@@ -1,4 +1,4 @@
-/* source_link.c -- link lifecycle around the app core: open, connect, read, lose, back off, reconnect, auto-baud; bounded reads per wake. */
+/* source_link.c -- the Ping360 on a link (link.c's lifecycle) feeding the app core: the probe on connect, the device's backoff, serial auto-baud; bounded reads per wake. */
 #include "source_link.h"
 
 #include <poll.h>
@@ -12,8 +12,7 @@
 int source_link_parse(struct source_link *s, const char *url, long baud, char *err, size_t errlen)
 {
     memset(s, 0, sizeof(*s));
-    s->reconnect_at = INT64_MAX;
-    if (link_parse(&s->link, url, baud, err, errlen) != 0)
+    if (link_parse(&s->link, "--sonar", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, baud, err, errlen) != 0)
         return HOST_ERR_CONFIG;
     link_describe(&s->link, s->desc, sizeof(s->desc));
     return HOST_OK;
@@ -43,26 +42,25 @@ static int link_device_state(const struct source_link *s)
     return d != NULL ? d->drv.state : SONAR_P360_DOWN;
 }
 
-/* Gives the link up: closed now, reopened after backoff_us (serial auto-baud: the next rate at once). */
+/* Gives the link up: closed now, reopened after the device's backoff (serial auto-baud: the next rate at once). */
 static void drop(struct source_link *s, int64_t now, const char *why)
 {
     int state = link_device_state(s);
     int was_probing = state == SONAR_P360_PROBING || state == SONAR_P360_DOWN;
-    uint32_t backoff;
-    link_close(&s->link);
-    backoff = app_link_down(s->app, now);
+    uint32_t backoff = app_link_down(s->app, now);
     if (s->stopping) {
+        link_close(&s->link);
         s->stopped = 1;
         return;
     }
     if (was_probing && s->link.autobaud && link_next_baud(&s->link) == 0) {
-        s->reconnect_at = now;
+        link_lost(&s->link, now, 0);
         say(s, "no answer; trying %ld baud", s->link.baud);
         return;
     }
     if (backoff == 0)
-        backoff = SOURCE_LINK_RETRY_US;
-    s->reconnect_at = now + backoff;
+        backoff = LINK_RETRY_US;
+    link_lost(&s->link, now, backoff);
     say(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
 }
 
@@ -74,33 +72,6 @@ static void handle(struct source_link *s, int ev, int64_t now)
         s->stopped = 1;
 }
 
-static void try_open(struct source_link *s, int64_t now)
-{
-    char err[256];
-    s->reconnect_at = INT64_MAX;
-    if (link_open(&s->link, now, err, sizeof(err)) != 0) {
-        s->reconnect_at = now + SOURCE_LINK_RETRY_US;
-        say(s, "%s; retrying in 1 s", err);
-        return;
-    }
-    link_describe(&s->link, s->desc, sizeof(s->desc));
-    if (!s->link.connecting && app_link_up(s->app, now) != SONAR_OK)
-        drop(s, now, "write failed");
-}
-
-void source_link_start(struct source_link *s, struct app *a, int64_t now_us)
-{
-    s->app = a;
-    app_set_link(a, s->desc);
-    try_open(s, now_us);
-}
-
-int source_link_fd(const struct source_link *s, short *events)
-{
-    *events = (short)(s->link.connecting ? POLLOUT : POLLIN);
-    return s->link.fd;
-}
-
 static void read_link(struct source_link *s, int64_t now)
 {
     uint8_t buf[4096];
@@ -108,7 +79,7 @@ static void read_link(struct source_link *s, int64_t now)
     /* Bounded, and it leaves once the app has its sweeps, so signals, timers and --sweeps are served
      * (while stopping it goes on reading: motor_off's ack comes this way). */
     const int was_done = app_done(s->app);
-    for (reads = 0; reads < SOURCE_LINK_READS && !(!was_done && app_done(s->app)); reads++) {
+    for (reads = 0; reads < LINK_READS && !(!was_done && app_done(s->app)); reads++) {
         ssize_t n = link_read(&s->link, buf, sizeof(buf));
         int ev;
         if (n < 0) {
@@ -124,45 +95,62 @@ static void read_link(struct source_link *s, int64_t now)
     }
 }
 
+/* What the link did: up (probe the device), failed (said; it retries), readable, hung up. */
+static void on_link(struct source_link *s, int ev, const char *err, int64_t now)
+{
+    switch (ev) {
+    case LINK_EV_UP:
+        link_describe(&s->link, s->desc, sizeof(s->desc));
+        if (app_link_up(s->app, now) != SONAR_OK)
+            drop(s, now, "write failed");
+        break;
+    case LINK_EV_FAILED:
+        say(s, "%s; retrying in 1 s", err);
+        break;
+    case LINK_EV_DATA:
+        read_link(s, now);
+        break;
+    case LINK_EV_HUNGUP:
+        drop(s, now, "hung up");
+        break;
+    default:
+        break;
+    }
+}
+
+void source_link_start(struct source_link *s, struct app *a, int64_t now_us)
+{
+    s->app = a;
+    app_set_link(a, s->desc);
+    (void)source_link_timers(s, now_us);
+}
+
+int source_link_fd(const struct source_link *s, short *events)
+{
+    return link_poll_fd(&s->link, events);
+}
+
 void source_link_ready(struct source_link *s, short revents, int64_t now)
 {
     char err[256];
-    if (s->link.fd < 0)
-        return;
-    if (s->link.connecting && (revents & (POLLOUT | POLLERR | POLLHUP))) {
-        if (link_finish_connect(&s->link, err, sizeof(err)) != 0) {
-            link_close(&s->link);
-            s->reconnect_at = now + SOURCE_LINK_RETRY_US;
-            say(s, "%s; retrying in 1 s", err);
-        } else if (app_link_up(s->app, now) != SONAR_OK) {
-            drop(s, now, "write failed");
-        }
-    } else if (revents & POLLIN) {
-        read_link(s, now);
-    } else if (revents & (POLLERR | POLLHUP | POLLNVAL)) {
-        /* the serial adapter was unplugged, or the peer hung up, with nothing left to read */
-        drop(s, now, "hung up");
-    }
+    int ev = link_service_fd(&s->link, revents, now, err, sizeof(err));
+    on_link(s, ev, err, now);
 }
 
 int64_t source_link_timers(struct source_link *s, int64_t now)
 {
-    int64_t wake = INT64_MAX, t;
-    if (s->link.fd < 0) {
-        if (s->stopping) {
-            s->stopped = 1;
-            return INT64_MAX;
-        }
-        if (now >= s->reconnect_at)
-            try_open(s, now);
-    } else if (!s->link.connecting) {
-        handle(s, app_link_poll(s->app, now), now);
+    char err[256];
+    int64_t wake, t;
+    if (s->link.fd < 0 && s->stopping) {
+        s->stopped = 1;
+        return INT64_MAX;
     }
-    if (s->reconnect_at < wake)
-        wake = s->reconnect_at;
+    if (s->link.fd >= 0 && !s->link.connecting)
+        handle(s, app_link_poll(s->app, now), now);
+    /* Reopens when due, and steps a line break. */
+    on_link(s, link_service_timers(&s->link, now, err, sizeof(err)), err, now);
+    wake = link_wake(&s->link);
     if (s->link.fd >= 0 && (t = app_deadline(s->app)) < wake)
-        wake = t;
-    if ((t = link_timers(&s->link, now)) < wake)
         wake = t;
     return wake;
 }
@@ -205,7 +193,7 @@ static int v_stopped(const void *s) { return source_link_stopped(s); }
 static int v_state(const void *s) { return source_link_state(s); }
 static void v_close(void *s) { source_link_close(s); }
 
-static const struct live_source_ops ops = {v_start, v_fd, v_ready, v_timers, v_stop, v_stopped, v_state, v_close, 0};
+static const struct live_source_ops ops = {{v_start, v_fd, v_ready, v_timers, v_close}, v_stop, v_stopped, v_state};
 
 void source_link_live(struct source_link *s, struct live_source *out)
 {

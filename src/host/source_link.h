@@ -6,13 +6,9 @@
 #include "link.h"
 #include "live.h"
 
-#define SOURCE_LINK_RETRY_US 1000000 /* after an open that failed */
-#define SOURCE_LINK_READS 16         /* reads per wake: a fast device cannot starve the loop */
-
 struct source_link {
     struct link link;
     struct app *app;
-    int64_t reconnect_at; /* INT64_MAX while open */
     int stopping;         /* motor_off requested: do not reconnect */
     int stopped;          /* motor_off acknowledged, or the link is gone while stopping */
     char desc[160];

@@ -88,9 +88,9 @@ static void pl_close(void *self)
     source_pose_lcm_close(self);
 }
 
-static const struct live_source_ops pl_ops = {pl_start, pl_fd, pl_ready, pl_timers, live_no_stop, live_always_stopped, live_no_state, pl_close, 0};
+static const struct live_io_ops pl_ops = {pl_start, pl_fd, pl_ready, pl_timers, pl_close};
 
-void source_pose_lcm_live(struct source_pose_lcm *s, struct live_source *out)
+void source_pose_lcm_live(struct source_pose_lcm *s, struct live_aux *out)
 {
     out->ops = &pl_ops;
     out->self = s;

@@ -27,7 +27,7 @@ HOST_CHECK int source_pose_lcm_open(struct source_pose_lcm *s, void *lcm, const 
 void source_pose_lcm_poll(struct source_pose_lcm *s);
 
 /* The loop's view of it: LCM's descriptor. */
-void source_pose_lcm_live(struct source_pose_lcm *s, struct live_source *out);
+void source_pose_lcm_live(struct source_pose_lcm *s, struct live_aux *out);
 
 void source_pose_lcm_close(struct source_pose_lcm *s);
 
