@@ -13,8 +13,8 @@ ARM_OBJCOPY ?= arm-none-eabi-objcopy
 WARN      = -std=c99 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror -Wcast-qual -Wstrict-prototypes \
             -Wmissing-prototypes -Wundef
 CORE_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -MMD -MP $(EXTRA_CFLAGS)
-HOST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L -MMD -MP $(EXTRA_CFLAGS)
-TEST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -D_POSIX_C_SOURCE=200809L -DUNIT_TESTING -MMD -MP $(EXTRA_CFLAGS)
+HOST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -Isrc/msg -D_POSIX_C_SOURCE=200809L -MMD -MP $(EXTRA_CFLAGS)
+TEST_CFLAGS = $(WARN) $(OPT) -g $(SAN) -Iinclude -Isrc/host -Isrc/msg -D_POSIX_C_SOURCE=200809L -DUNIT_TESTING -MMD -MP $(EXTRA_CFLAGS)
 # White-box tests of a module's stages see its private header; no other test does.
 WHITEBOX  = detector_stages median
 LDLIBS    = -lm
@@ -25,8 +25,9 @@ CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/source_replay.c \
             src/host/posefile.c src/host/pvbin.c src/host/discover.c
-HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o)
-MSG_SRC   = $(wildcard src/msg/*.c)
+HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o) $(BUILD)/msg/view.o
+# The LCM mappings (host and firmware); view.c (the outputs' view, host only, no LCM) goes with the host objects.
+MSG_SRC   = $(filter-out src/msg/view.c,$(wildcard src/msg/*.c))
 MSG_OBJ   = $(MSG_SRC:src/msg/%.c=$(BUILD)/msg/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(MSG_OBJ) \
             $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/source_pose_lcm.o
@@ -96,6 +97,10 @@ $(BUILD)/host/source_coproc.o: src/host/source_coproc.c $(BUILD)/lcm/.stamp
 $(BUILD)/host/source_pose_lcm.o: src/host/source_pose_lcm.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
+
+$(BUILD)/msg/view.o: src/msg/view.c
+	@mkdir -p $(dir $@)
+	$(CC) $(HOST_CFLAGS) -c $< -o $@
 
 $(BUILD)/msg/%.o: src/msg/%.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
@@ -334,9 +339,10 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
 MCU_UNIT = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline
-$(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
+# The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
+$(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)
-	$(ARM_CC) -std=c99 -Wall -Wextra -Werror -Wshadow $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/core -Wl,--defsym=STACK_SIZE=0x20000 \
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/msg $(if $(filter $*,$(WHITEBOX)),-Isrc/core) -Wl,--defsym=STACK_SIZE=0x20000 \
 	  -nostartfiles --specs=nano.specs --specs=nosys.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 ## mcu-demo: the demo's pool detected on the emulated co-processor (QEMU), the QEMU command line printed

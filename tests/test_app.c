@@ -46,7 +46,7 @@ static int cap_beam(void *self, const struct sonar_record *b)
     return c->fail ? -1 : 0;
 }
 
-static int cap_det(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v)
+static int cap_det(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
 {
     (void)tk;
     (void)v;

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "sonar/pipeline.h"
+#include "view.h"
 
 #define N 300
 
@@ -44,9 +45,9 @@ static void on_sweep(void *user, const struct sonar_detections *d)
         l->x[l->sweeps] = d->count ? d->det[0].x_m : 0.0f;
         l->y[l->sweeps] = d->count ? d->det[0].y_m : 0.0f;
         if (pipe_.poses != NULL) {
-            static struct sonar_view v;
+            static struct msg_view v;
             uint8_t k;
-            sonar_pipeline_view(&pipe_, &v);
+            msg_view_of(&pipe_, &v);
             l->world[l->sweeps] = v.world;
             l->det_world[l->sweeps] = d->count ? v.det_world[0] : 0;
             l->north[l->sweeps] = v.det_north[0];

@@ -256,7 +256,7 @@ static void test_sinks_world_view(void **state)
     static struct sent out;
     static struct sonar_detections d;
     static struct sonar_tracker tk;
-    static struct sonar_view v;
+    static struct msg_view v;
     sonar_detections_t md;
     sonar_tracks_t mt;
     char text[4096];

@@ -165,4 +165,16 @@ SONAR_CHECK int sonar_detector_set_config(struct sonar_detector *d, const struct
  */
 SONAR_CHECK int sonar_detector_set_tracks(struct sonar_detector *d, const float *x_m, const float *y_m, uint8_t n);
 
+/*
+ * The sweep's beams in arrival order, for callers that place them (pipeline_tracks.c): how many the
+ * open sweep holds; their angles (gradians, read-only; after sonar_detector_end, the ended sweep's,
+ * out->beams of them, until the next sonar_detector_push); beam i's time and the first beam's (us
+ * since the epoch; i below the count); the latest beam's time.
+ */
+uint16_t sonar_detector_beams(const struct sonar_detector *d);
+const uint16_t *sonar_detector_angles(const struct sonar_detector *d);
+int64_t sonar_detector_beam_utime(const struct sonar_detector *d, uint16_t i);
+int64_t sonar_detector_t0(const struct sonar_detector *d);
+int64_t sonar_detector_utime(const struct sonar_detector *d);
+
 #endif

@@ -154,27 +154,6 @@ void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_
  */
 SONAR_CHECK int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections *d);
 
-/*
- * A sweep's detections and tracks in both frames, for outputs (filled by sonar_pipeline_view;
- * a host-side struct: the pipeline itself keeps only the tracks' own frame). RAM: ~0.8 KB.
- */
-struct sonar_view {
-    uint8_t world;                          /* the tracks are in the world frame (north_m .. ve_mps = px .. vy) */
-    uint8_t have_pose;                      /* pose holds the vehicle at the sweep's last beam */
-    struct sonar_pose pose;
-    uint8_t det_world[SONAR_MAX_CLUSTERS];  /* detection i had a pose at its time ... */
-    float det_north[SONAR_MAX_CLUSTERS], det_east[SONAR_MAX_CLUSTERS]; /* ... and was there, metres */
-    /* Track i in the body frame at its own time: metres, and its velocity over ground in body axes, m/s. */
-    float trk_x[SONAR_MAX_TRACKS], trk_y[SONAR_MAX_TRACKS], trk_vx[SONAR_MAX_TRACKS], trk_vy[SONAR_MAX_TRACKS];
-};
-
-/*
- * Fills v for the sweep in p->out and the tracks in p->trk (call from on_sweep, or after
- * sonar_pipeline_track). A world track last seen before the oldest pose kept is put in the body
- * frame at the last sweep's pose.
- */
-void sonar_pipeline_view(const struct sonar_pipeline *p, struct sonar_view *v);
-
 /* Ends the open sweep (end of a recording, or shutdown): flushes the 2-D median, calls on_sweep. */
 SONAR_CHECK int sonar_pipeline_finish(struct sonar_pipeline *p);
 

@@ -150,3 +150,13 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
     d->sum = d->sumsq = d->cells = 0;
     return out->count;
 }
+
+uint16_t sonar_detector_beams(const struct sonar_detector *d) { return d->beams; }
+const uint16_t *sonar_detector_angles(const struct sonar_detector *d) { return d->angles; }
+int64_t sonar_detector_t0(const struct sonar_detector *d) { return d->t0; }
+int64_t sonar_detector_utime(const struct sonar_detector *d) { return d->utime; }
+
+int64_t sonar_detector_beam_utime(const struct sonar_detector *d, uint16_t i)
+{
+    return d->t0 + (int64_t)d->dt_ms[i] * 1000;
+}

@@ -318,7 +318,7 @@ static int end_sweep(struct sonar_pipeline *p)
         return r;
     p->have_before = 0;
     if (p->cfg->track && p->trk.world && p->cfg->detector.track_m > 0.0f && p->poses != NULL &&
-        sonar_pose_at(p->poses, p->det.utime, &q) && (r = sonar_pipe_world_gates(p)) != SONAR_OK)
+        sonar_pose_at(p->poses, sonar_detector_utime(&p->det), &q) && (r = sonar_pipe_world_gates(p)) != SONAR_OK)
         return r;
     if ((r = sonar_detector_end(&p->det, &p->out)) < 0)
         return r;

@@ -1,4 +1,4 @@
-/* pipeline_tracks.c -- a sweep's detections after the detector: located in the world when the poses say, repeated sightings dropped, tracked (body or world frame, with the sweep's coverage), and the view the outputs take; O(detections x tracks) a sweep, no heap. */
+/* pipeline_tracks.c -- a sweep's detections after the detector: located in the world when the poses say, repeated sightings dropped, tracked (body or world frame, with the sweep's coverage); O(detections x tracks) a sweep, no heap. */
 #include "sonar/pipeline.h"
 
 #include <math.h>
@@ -14,16 +14,10 @@ static int offset_grad(const struct sonar_pipeline *p)
     return (int)(off >= 0.0f ? off + 0.5f : off - 0.5f);
 }
 
-/* Time of the sweep's i-th beam. */
-static int64_t beam_utime(const struct sonar_pipeline *p, uint16_t i)
-{
-    return p->det.t0 + (int64_t)p->det.dt_ms[i] * 1000;
-}
-
 /* The gradian a beam pointed at in the world (from north), offset included: yaw is 400/360 gradians a degree. */
 static int world_grad(const struct sonar_pipeline *p, uint16_t i, const struct sonar_pose *q)
 {
-    return sonar_frame_wrap((int)p->det.angles[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / SONAR_DEG_PER_GRAD + 0.5));
+    return sonar_frame_wrap((int)sonar_detector_angles(&p->det)[i] + offset_grad(p) + (int)floor((double)q->yaw_deg / SONAR_DEG_PER_GRAD + 0.5));
 }
 
 /*
@@ -38,7 +32,7 @@ static void world_cover(const struct sonar_pipeline *p, uint8_t *cover)
     for (i = 0; i < p->out.beams; i++) {
         struct sonar_pose q;
         int g, d;
-        if (!sonar_pose_at(p->poses, beam_utime(p, i), &q)) {
+        if (!sonar_pose_at(p->poses, sonar_detector_beam_utime(&p->det, i), &q)) {
             prev = -1;
             continue;
         }
@@ -72,10 +66,10 @@ int sonar_pipe_world_gates(struct sonar_pipeline *p)
             best[n] = 1e9f;
             idx[n++] = j;
         }
-    for (i = 0; i < p->det.beams; i++) {
+    for (i = 0; i < sonar_detector_beams(&p->det); i++) {
         struct sonar_pose q;
-        int64_t t = beam_utime(p, i);
-        double th = ((double)p->det.angles[i] + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD;
+        int64_t t = sonar_detector_beam_utime(&p->det, i);
+        double th = ((double)sonar_detector_angles(&p->det)[i] + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD;
         if (!sonar_pose_at(p->poses, t, &q))
             continue;
         for (j = 0; j < n; j++) {
@@ -206,7 +200,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     if (have_cover && world)
         world_cover(p, cover);
     else if (have_cover)
-        sonar_tracker_cover(cover, p->det.angles, p->out.beams, p->cfg->max_step, offset_grad(p));
+        sonar_tracker_cover(cover, sonar_detector_angles(&p->det), p->out.beams, p->cfg->max_step, offset_grad(p));
     sw.utime = p->out.utime;
     sw.beams = p->out.beams;
     sw.cover = have_cover ? cover : NULL;
@@ -218,7 +212,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
         return r;
     if (!(p->cfg->detector.track_m > 0.0f) || world || !have_cover)
         return SONAR_OK;
-    ahead = p->out.utime + (p->out.utime - p->det.t0);
+    ahead = p->out.utime + (p->out.utime - sonar_detector_t0(&p->det));
     for (i = 0; i < p->trk.n; i++) {
         const struct sonar_track *t = &p->trk.t[i];
         if (!gated(t) || n >= SONAR_MAX_CLUSTERS)
@@ -244,36 +238,4 @@ int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections
         return SONAR_ERR_ARG;
     p->out = *d;
     return sonar_pipe_finish_sweep(p, 0);
-}
-
-void sonar_pipeline_view(const struct sonar_pipeline *p, struct sonar_view *v)
-{
-    const struct sonar_detections *d = &p->out;
-    uint8_t i;
-    memset(v, 0, sizeof(*v));
-    v->world = p->out.world && p->trk.world;
-    if (p->poses != NULL)
-        v->have_pose = (uint8_t)sonar_pose_at(p->poses, d->utime, &v->pose);
-    for (i = 0; i < d->count; i++) {
-        struct sonar_pose q;
-        if (p->poses != NULL && sonar_pose_at(p->poses, d->det[i].utime, &q)) {
-            sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &v->det_north[i], &v->det_east[i]);
-            v->det_world[i] = 1;
-        }
-    }
-    for (i = 0; i < p->trk.n && p->cfg->track; i++) {
-        const struct sonar_track *t = &p->trk.t[i];
-        struct sonar_pose q;
-        if (!p->trk.world) {
-            v->trk_x[i] = t->px;
-            v->trk_y[i] = t->py;
-            v->trk_vx[i] = t->vx;
-            v->trk_vy[i] = t->vy;
-            continue;
-        }
-        if (!sonar_pose_at(p->poses, t->utime, &q))
-            q = p->last_pose; /* a track last seen before the poses kept: the latest pose */
-        sonar_pose_to_body(&q, t->px, t->py, &v->trk_x[i], &v->trk_y[i]);
-        sonar_pose_rotate(-q.yaw_deg, t->vx, t->vy, &v->trk_vx[i], &v->trk_vy[i]);
-    }
 }

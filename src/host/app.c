@@ -59,7 +59,7 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     int64_t now = a->clock.mono_ns(a->clock.user);
     unsigned i;
     a->sweeps++;
-    sonar_pipeline_view(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
+    msg_view_of(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
     if (a->sweep_t0 != 0)
         a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
     a->sweep_t0 = now;

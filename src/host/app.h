@@ -12,6 +12,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/pose.h"
 #include "sonar/status.h"
+#include "view.h"
 
 #define APP_MAX_SINKS 8
 #define APP_PROC_RING 1024 /* per-beam processing times kept for the percentiles */
@@ -25,7 +26,7 @@ struct app_sink {
     int (*beam)(void *self, const struct sonar_record *b);
     /* d: one sweep; tk: the tracks after it, or NULL when tracking is off; v: both in both frames */
     int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
-                      const struct sonar_view *v);
+                      const struct msg_view *v);
     int (*status)(void *self, const struct sonar_status *s);
     unsigned long errors; /* failed calls, kept by the app */
     unsigned long n_beams, n_detections, n_statuses; /* calls that succeeded, kept by the app */

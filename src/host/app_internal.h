@@ -22,7 +22,7 @@ struct app {
     float last_sweep_s;
     const char *link;
     struct sonar_pose_ring poses;  /* every pose source's samples (app_pose) */
-    struct sonar_view view;        /* the sweep going to the sinks, in both frames */
+    struct msg_view view;        /* the sweep going to the sinks, in both frames */
     int pose_state;                /* enum sonar_pose_state at the latest beam */
     uint32_t pose_stale;
     float proc_us[APP_PROC_RING];

@@ -212,7 +212,7 @@ static int sink_beam(void *self, const struct sonar_record *b)
  * vehicle's pose at that time).
  */
 static int sink_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
-                           const struct sonar_view *v)
+                           const struct msg_view *v)
 {
     struct mav *m = self;
     int64_t now = app_mono_us(m->app);

@@ -4,7 +4,7 @@
 #include <inttypes.h>
 
 /* Track i's body-frame x, y, vx, vy (k = 0..3): the view's, or its own state without one. */
-static float body(const struct sonar_view *v, const struct sonar_track *t, unsigned i, int k)
+static float body(const struct msg_view *v, const struct sonar_track *t, unsigned i, int k)
 {
     if (v == NULL) {
         const float own[4] = {t->px, t->py, t->vx, t->vy};
@@ -13,7 +13,7 @@ static float body(const struct sonar_view *v, const struct sonar_track *t, unsig
     return k == 0 ? v->trk_x[i] : k == 1 ? v->trk_y[i] : k == 2 ? v->trk_vx[i] : v->trk_vy[i];
 }
 
-int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v)
+int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
 {
     unsigned i, h;
     fprintf(f, "{\"sweep\":%" PRIu32 ",\"utime\":%" PRId64 ",\"beams\":%u,\"threshold\":%u,\"runs\":%u,\"groups\":%u,\"detections\":[",
@@ -57,7 +57,7 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
     return ferror(f) ? -1 : 0;
 }
 
-int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct sonar_view *v)
+int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
 {
     unsigned i;
     fprintf(f, "sweep %" PRIu32 ": %u beams, threshold %u, %u detection%s\n", d->sweep, (unsigned)d->beams,

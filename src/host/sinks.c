@@ -29,7 +29,7 @@ static int lcm_beam(void *self, const struct sonar_record *b)
 }
 
 static int lcm_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
-                          const struct sonar_view *v)
+                          const struct msg_view *v)
 {
     struct sink_lcm *s = self;
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
@@ -128,7 +128,7 @@ void sink_csv_init(struct sink_csv *s, FILE *f, int stage)
 }
 
 static int report_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
-                             const struct sonar_view *v)
+                             const struct msg_view *v)
 {
     struct sink_report *s = self;
     int r = s->json ? report_json(s->f, d, tk, v) : report_text(s->f, d, tk, v);

@@ -3,7 +3,7 @@
 
 #include <string.h>
 
-void msg_detections(const struct sonar_detections *d, const struct sonar_view *v, sonar_detection_t *det,
+void msg_detections(const struct sonar_detections *d, const struct msg_view *v, sonar_detection_t *det,
                     sonar_detections_t *m)
 {
     unsigned i;
@@ -74,7 +74,7 @@ static int16_t to_i16(uint16_t v)
     return (int16_t)(v > 32767u ? 32767u : v);
 }
 
-void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct sonar_view *v,
+void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct msg_view *v,
                 sonar_track_t *t, sonar_tracks_t *m)
 {
     unsigned i;

@@ -9,6 +9,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/status.h"
 #include "sonar/tracker.h"
+#include "view.h"
 #include "sonar_beam_t.h"
 #include "sonar_config_t.h"
 #include "sonar_detections_t.h"
@@ -18,9 +19,9 @@
 
 /*
  * Fills *m from d; det (SONAR_MAX_CLUSTERS entries) holds the detections, whose hulls point into d.
- * v: the world positions and the vehicle's pose (sonar_pipeline_view), or NULL (none: all 0).
+ * v: the world positions and the vehicle's pose (msg_view_of), or NULL (none: all 0).
  */
-void msg_detections(const struct sonar_detections *d, const struct sonar_view *v, sonar_detection_t *det,
+void msg_detections(const struct sonar_detections *d, const struct msg_view *v, sonar_detection_t *det,
                     sonar_detections_t *m);
 
 /* The reverse, for a host republishing a co-processor's detections; counts beyond the limits are cut. */
@@ -28,10 +29,10 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d);
 
 /*
  * Fills *m from the tracker after sweep d; t (SONAR_MAX_TRACKS entries) holds the tracks. v: their
- * body-frame states when they are tracked in the world (sonar_pipeline_view), or NULL (a body-frame
+ * body-frame states when they are tracked in the world (msg_view_of), or NULL (a body-frame
  * tracker: its own state).
  */
-void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct sonar_view *v,
+void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct msg_view *v,
                 sonar_track_t *t, sonar_tracks_t *m);
 
 /* A beam record <-> sonar.beam_t; the samples are borrowed both ways (m->samples points at b's, b->samples at m's). */
