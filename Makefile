@@ -47,7 +47,7 @@ all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $
 
 ## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
 deps:
-	@sh tools/deps.sh
+	@sh tools/build/deps.sh
 
 $(BUILD)/core/%.o: src/core/%.c
 	@mkdir -p $(dir $@)
@@ -109,24 +109,29 @@ $(BUILD)/msg/%.o: src/msg/%.c $(BUILD)/lcm/.stamp
 $(BUILD)/libsonarcore.a: $(CORE_OBJ)
 	$(AR) rcs $@ $^
 
+# The host library the tools link: each takes only the objects it uses (sonar-sim: the CSV writer and options).
+$(BUILD)/libsonarhost.a: $(HOST_OBJ)
+	$(AR) rcs $@ $^
+
 $(BUILD)/sonard: $(BUILD)/host/sonard.o $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a
 	$(CC) $(SAN) $(INPUTS) -o $@ -llcm $(LDLIBS)
 
-$(BUILD)/sonar-sim: tools/sonar_sim.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/csv_file.o $(BUILD)/host/optschema.o $(BUILD)/libsonarcore.a
+FEED_SRC  = $(wildcard tools/sim/feed/*.c)
+
+$(BUILD)/sonar-sim: tools/sim/sonar_sim.c tools/sim/scene.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-feed: tools/sonar_feed.c tools/scene.c $(BUILD)/host/csv.o $(BUILD)/host/csv_file.o $(BUILD)/host/optschema.o $(BUILD)/host/discover.o \
-                     $(BUILD)/libsonarcore.a \
+$(BUILD)/sonar-feed: $(FEED_SRC) tools/sim/scene.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a \
                      $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Itools/sim -isystem $(BUILD)/mavlink -Wno-conversion -Wno-sign-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/sonar-wallfit: tools/wallfit.c tools/scene.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-wallfit: tools/eval/wallfit.c tools/sim/scene.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
-	$(CC) $(HOST_CFLAGS) -Itools -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
+	$(CC) $(HOST_CFLAGS) -Itools/sim -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/pvbin2csv: tools/pvbin2csv.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+$(BUILD)/pvbin2csv: tools/data/pvbin2csv.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $(INPUTS) -o $@ $(LDLIBS)
 
@@ -170,7 +175,7 @@ fuzz: fuzz-random
 
 ## fuzz-coverage: line, branch and function coverage the corpora reach (FUZZ_CORPUS=DIR, default the seeds), via llvm-cov
 fuzz-coverage:
-	@sh tools/fuzz_coverage.sh $(or $(FUZZ_CORPUS),tests/fuzz/corpus)
+	@sh tools/build/fuzz_coverage.sh $(or $(FUZZ_CORPUS),tests/fuzz/corpus)
 
 ## fuzz-random: the parser-contract harness alone (it also runs under make asan)
 fuzz-random: $(BUILD)/tests/fuzz_parser
@@ -183,18 +188,18 @@ $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 opencv-ref: $(BUILD)/tests/test_opencv_ref
 	@echo "== $<"; $<
 
-$(BUILD)/config_doc: tools/config_doc.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
+$(BUILD)/config_doc: tools/build/config_doc.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
 	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
 ## docs: regenerate docs/configuration.md from the option table (src/host/options.c) and docs/sizes.md from sizeof
 docs: $(BUILD)/config_doc
 	$(BUILD)/config_doc docs/configuration.md.in > docs/configuration.md
-	sh tools/sizes.sh $(BUILD) > docs/sizes.md
+	sh tools/build/sizes.sh $(BUILD) > docs/sizes.md
 
 ## docs-check: fail when docs/configuration.md differs from what the option table generates
 docs-check: $(BUILD)/config_doc
 	@$(BUILD)/config_doc docs/configuration.md.in | diff -u docs/configuration.md - && echo "docs-check: docs/configuration.md matches the option table"
-	@sh tools/sizes.sh $(BUILD) | diff -u docs/sizes.md - && echo "docs-check: docs/sizes.md matches sizeof on the M7 and this host"
+	@sh tools/build/sizes.sh $(BUILD) | diff -u docs/sizes.md - && echo "docs-check: docs/sizes.md matches sizeof on the M7 and this host"
 
 ## e2e: simulate the pool and open-water scenes, replay them, score against the truth
 e2e: all
@@ -218,12 +223,12 @@ mavlink: all .venv-mavlink/.done
 
 ## deb: build $(BUILD)/sonard_VERSION_ARCH.deb: binaries, systemd units, example config, LCM types (Python, jar), docs
 deb: all $(BUILD)/lcm/sonar_types.jar
-	@sh tools/deps.sh dpkg-dev
-	@sh tools/deb.sh $(BUILD)
+	@sh tools/build/deps.sh dpkg-dev
+	@sh tools/pkg/deb.sh $(BUILD)
 
 ## deb-test: install the package with dpkg -i (needs root), run it from the installed paths, two sonard@ instances, purge it
 deb-test: deb
-	@sh tools/deps.sh systemd iproute2 passwd
+	@sh tools/build/deps.sh systemd iproute2 passwd
 	@sh tests/deb.sh $(BUILD)
 
 ## view: the live polar view on http://127.0.0.1:8360/ (VIEW=ADDR:PORT, LCM=URL, PREFIX=P): run it beside sonard
@@ -236,10 +241,10 @@ view: all .venv-view/.done
 
 ## view-test: the view in Debian's headless chromium (selenium) against a live simulated sonar
 view-test: all .venv-view/.done
-	@sh tools/deps.sh chromium chromium-driver python3-selenium iproute2
+	@sh tools/build/deps.sh chromium chromium-driver python3-selenium iproute2
 	@sh tests/view.sh $(BUILD)
 
-## mcap: tools/lcm2mcap round trips (LCM log -> MCAP -> the mcap reader), bad logs, live recording
+## mcap: tools/data/lcm2mcap round trips (LCM log -> MCAP -> the mcap reader), bad logs, live recording
 .venv-mcap/.done: tools/requirements-mcap.txt
 	python3 -m venv .venv-mcap && .venv-mcap/bin/pip install -q -r tools/requirements-mcap.txt && touch $@
 mcap: all .venv-mcap/.done
@@ -274,7 +279,7 @@ asan:
 ## soak: sonard live against a faulty sonar-feed flat out for SOAK_BEAMS beams (default 20000; a day of a Ping360 is 3000000): counters, replay equality, RSS and descriptors flat
 SOAK_BEAMS ?= 20000
 soak: all
-	@python3 tools/soak.py $(BUILD) --beams $(SOAK_BEAMS) $(if $(filter-out 20000,$(SOAK_BEAMS)),--interval 5,--interval 0.5)
+	@python3 tools/bench/soak.py $(BUILD) --beams $(SOAK_BEAMS) $(if $(filter-out 20000,$(SOAK_BEAMS)),--interval 5,--interval 0.5)
 
 ## demo: a simulated Ping360 (sonar-feed) driven live by sonard, LCM to a log, detections against the truth
 demo: deps all
@@ -282,22 +287,22 @@ demo: deps all
 
 ## bench: per-stage speed against OpenCV, memcpy and the study's Python pipeline; live sweep time, recovery, CPU, RSS (creates .venv)
 bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv
-	@sh tools/bench.sh $(BUILD)
+	@sh tools/bench/bench.sh $(BUILD)
 
-$(BUILD)/bench: tools/bench.c $(BUILD)/libsonarcore.a
+$(BUILD)/bench: tools/bench/bench.c $(BUILD)/libsonarcore.a
 	$(CC) $(HOST_CFLAGS) -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/bench_opencv: tools/bench_opencv.cpp
+$(BUILD)/bench_opencv: tools/bench/bench_opencv.cpp
 	$(CXX) -std=c++17 -O2 $< -o $@ $(OPENCV_FLAGS)
 
 ## eval: docs/results.md and docs/figures: the study's table, SNR/PSNR/CNR, detection scores (simulated, AquaScan)
 eval: deps all venv $(BUILD)/bench $(BUILD)/mcu/bench-400x1200.elf
-	.venv/bin/python tools/eval.py --build $(BUILD)
+	.venv/bin/python tools/eval/eval.py --build $(BUILD)
 
 ## figures: the figure set for any recording: make figures CSV=FILE.csv OUT=DIR [ARGS="--range 20"]
 figures: all venv
 	@test -n "$(CSV)" -a -n "$(OUT)" || { echo "usage: make figures CSV=FILE.csv OUT=DIR [ARGS='sonard options']"; exit 2; }
-	.venv/bin/python tools/figures.py $(CSV) --out $(OUT) -- $(ARGS)
+	.venv/bin/python tools/eval/figures.py $(CSV) --out $(OUT) -- $(ARGS)
 
 venv: .venv/.done
 .venv/.done: tools/requirements.txt
@@ -378,7 +383,7 @@ cross:
 
 ## size: link a minimal firmware image holding one pipeline; print flash and static RAM (400x1200, 400x600, M4F 200x600)
 size: cross
-	@sh tools/size.sh $(BUILD)
+	@sh tools/build/size.sh $(BUILD)
 
 ## spy: build the Java LCM types and open lcm-spy on them (installs liblcm-java, jchart2d, a JDK if missing)
 spy: $(BUILD)/lcm/sonar_types.jar
@@ -388,7 +393,7 @@ spy: $(BUILD)/lcm/sonar_types.jar
 # Debian's lcm-spy wrapper passes -Xincgc (rejected since Java 9: IgnoreUnrecognizedVMOptions) and
 # needs jchart2d, which liblcm-java does not pull in.
 $(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
-	@sh tools/deps.sh liblcm-java libjchart2d-java default-jdk-headless liblcm-bin
+	@sh tools/build/deps.sh liblcm-java libjchart2d-java default-jdk-headless liblcm-bin
 	@rm -rf $(BUILD)/lcm/java $(BUILD)/lcm/jclasses && mkdir -p $(BUILD)/lcm/java $(BUILD)/lcm/jclasses
 	$(LCM_GEN) -j --jpath $(BUILD)/lcm/java $(LCM_TYPES)
 	javac -nowarn -cp /usr/share/java/lcm.jar -d $(BUILD)/lcm/jclasses $(BUILD)/lcm/java/sonar/*.java

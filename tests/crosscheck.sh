@@ -9,7 +9,7 @@ T=$(mktemp -d /tmp/sonard-xcheck.XXXXXX)
 FEED=$!
 trap 'kill $FEED 2>/dev/null; rm -rf "$T"' EXIT
 sleep 0.2
-if timeout 60 "$PY" tools/brping_check.py --port "$PORT" > "$T/out" 2>&1; then
+if timeout 60 "$PY" tools/data/brping_check.py --port "$PORT" > "$T/out" 2>&1; then
     echo "[  PASS  ] $(tail -1 "$T/out")"
     echo "crosscheck: 1 passed, 0 failed"
 else

@@ -36,7 +36,7 @@ dpkg-query -W -f='\${Conffiles}' sonard | grep -q /etc/sonard/sonard.conf &&
 /usr/bin/sonar-sim --scene pool --out "$T/pool.csv" --truth "$T/pool.json" > /dev/null 2>&1
 /usr/bin/sonard --replay "$T/pool.csv" --json --no-lcm > "$T/pool.jsonl" 2> "$T/pool.err"
 check "--replay from the installed paths: the pool's objects found (F1 >= 0.95)" \
-    python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" --min-f1 0.95
+    python3 tools/eval/score.py "$T/pool.json" "$T/pool.jsonl" --min-f1 0.95
 check "the installed Python LCM types import with the system Python and decode what sonard encodes" sh -c "
 cd / && /usr/bin/python3 -c 'from sonar import beam_t, detections_t, status_t, tracks_t; m = beam_t(); m.samples = b\"\"; beam_t.decode(m.encode())'"
 check "the jar for lcm-spy holds the sonar types" python3 -c "
@@ -105,7 +105,7 @@ if unshare -rn true 2> /dev/null; then
     check "one LCM bus, two streams kept apart: t1_* only the UDP full-turn sonar at 12 m, t2_* only the TCP sector at 8 m" \
         /usr/bin/python3 - "$T/bus.lcm" <<'PY'
 import sys
-sys.path.insert(0, "tools")
+sys.path.insert(0, "tools/data")
 from lcm_log import events
 from sonar import beam_t, detections_t, status_t
 seen = {}

@@ -17,20 +17,20 @@ trap 'rm -rf "$T"' EXIT
 check "sonar-sim: each wall's return starts at the nearest wall inside the 2-degree beam (causal, as an echo is)" \
     python3 tests/scene_check.py "$T/pool.csv" "$T/pool.json"
 check "pool scene, default config: precision/recall >= 0.95, error <= 0.3 m" \
-    python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+    python3 tools/eval/score.py "$T/pool.json" "$T/pool.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
 "$B/sonard" --replay "$T/open.csv" --json > "$T/opendef.jsonl" 2>/dev/null
 check "open water, default config: precision/recall >= 0.95, error <= 0.3 m" \
-    python3 tools/score.py "$T/open.json" "$T/opendef.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+    python3 tools/eval/score.py "$T/open.json" "$T/opendef.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
 "$B/sonard" --replay "$T/open.csv" --json --background range > "$T/open.jsonl" 2>/dev/null
 check "open water, --background range: precision/recall >= 0.95, error <= 0.3 m" \
-    python3 tools/score.py "$T/open.json" "$T/open.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+    python3 tools/eval/score.py "$T/open.json" "$T/open.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
 "$B/sonard" --replay "$T/pool.csv" --json --median 5x5 > "$T/pool55.jsonl" 2>/dev/null
 check "pool scene, --median 5x5 (the study's 2-D filter): recall >= 0.95" \
-    python3 tools/score.py "$T/pool.json" "$T/pool55.jsonl" --min-recall 0.95 --max-error 0.3
+    python3 tools/eval/score.py "$T/pool.json" "$T/pool55.jsonl" --min-recall 0.95 --max-error 0.3
 # The study's method (range background, plain subtraction) on the pool: it finds the walls.
 "$B/sonard" --replay "$T/pool.csv" --json --background range --bg-margin 0 > "$T/study.jsonl" 2>/dev/null
-python3 tools/score.py "$T/pool.json" "$T/study.jsonl" --label "  study's method on the pool: " | head -1
-fa=$(python3 tools/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p' | tail -1)
+python3 tools/eval/score.py "$T/pool.json" "$T/study.jsonl" --label "  study's method on the pool: " | head -1
+fa=$(python3 tools/eval/score.py "$T/pool.json" "$T/study.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p' | tail -1)
 check "the study's range background keeps the walls: >= 1 false alarm a sweep (got $fa)" \
     awk -v f="$fa" 'BEGIN { exit !(f >= 1.0) }' 
 
@@ -44,11 +44,11 @@ for sc in occupied far still; do
     "$B/sonard" --replay "$T/$sc.csv" --json --quiet > "$T/$sc.jsonl" 2>/dev/null
 done
 check "occupied pool (people from the first ping), default config: F1 >= 0.88" \
-    python3 tools/score.py "$T/occupied.json" "$T/occupied.jsonl" --min-f1 0.88 --label "  occupied: "
+    python3 tools/eval/score.py "$T/occupied.json" "$T/occupied.jsonl" --min-f1 0.88 --label "  occupied: "
 check "far swimmers scene (four at 8.5-12.5 m, echoes 95-105), default config: F1 >= 0.82, each found in >= 70 % of sweeps" \
-    python3 tools/score.py "$T/far.json" "$T/far.jsonl" --min-f1 0.82 --object far_a,far_b,far_c,far_d --min-found 0.7 --label "  far: "
+    python3 tools/eval/score.py "$T/far.json" "$T/far.jsonl" --min-f1 0.82 --object far_a,far_b,far_c,far_d --min-found 0.7 --label "  far: "
 check "still scene, default config: F1 >= 0.82; the person floating still found in >= 95 % of the still sweeps" \
-    python3 tools/score.py "$T/still.json" "$T/still.jsonl" --min-f1 0.82 --object floater --still --min-found 0.95 --label "  still: "
+    python3 tools/eval/score.py "$T/still.json" "$T/still.jsonl" --min-f1 0.82 --object floater --still --min-found 0.95 --label "  still: "
 check "still scene: the floater's track says how long it has stood still (still_s within 15 % of the truth)" python3 - "$T/still.json" "$T/still.jsonl" <<'PY'
 import json, math, sys
 truth = json.load(open(sys.argv[1]))["sweeps"]
@@ -62,7 +62,7 @@ got = near[0]["still_s"]
 print(f"  still for {want:.0f} s by the truth, still_s {got:.1f}")
 assert abs(got - want) <= 0.15 * want, (got, want)
 PY
-fa=$(python3 tools/score.py "$T/pool.json" "$T/pool.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p')
+fa=$(python3 tools/eval/score.py "$T/pool.json" "$T/pool.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p')
 check "pool scene, default config: <= 0.1 false alarms a sweep (got $fa)" awk -v f="$fa" 'BEGIN { exit !(f <= 0.1) }'
 
 # Tracking (issue 10): the moving scenes, scored against the truth IDs. The floors below are what
@@ -71,20 +71,20 @@ check "pool scene, default config: <= 0.1 false alarms a sweep (got $fa)" awk -v
 for sc in sector moving; do
     "$B/sonar-sim" --scene $sc --out "$T/$sc.csv" --truth "$T/$sc.json"
     "$B/sonard" --replay "$T/$sc.csv" --json --quiet --min-points 8 > "$T/$sc.jsonl" 2>/dev/null
-    python3 tools/score.py "$T/$sc.json" "$T/$sc.jsonl" --tracks --label "  $sc: " | tail -1
+    python3 tools/eval/score.py "$T/$sc.json" "$T/$sc.jsonl" --tracks --label "  $sc: " | tail -1
 done
 check "tracking, sector scene (back and forth, 26 passes): IDF1 >= 0.90, MOTA >= 0.80, no ID switch" \
-    python3 tools/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.90 --min-mota 0.80 --max-idsw-per-100 0
+    python3 tools/eval/score.py "$T/sector.json" "$T/sector.jsonl" --tracks --min-idf1 0.90 --min-mota 0.80 --max-idsw-per-100 0
 check "tracking, moving scene (24 turns: crossing, turning, fading, 1.5 m/s): IDF1 >= 0.65, MOTA >= 0.60, velocity error <= 0.4 m/s" \
-    python3 tools/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.65 --min-mota 0.60 --max-vel-error 0.4
+    python3 tools/eval/score.py "$T/moving.json" "$T/moving.jsonl" --tracks --min-idf1 0.65 --min-mota 0.60 --max-vel-error 0.4
 # Published on the first hit, a track has no velocity yet: it is assigned after those that have one
 # (IDF1 0.956 and MOTA 0.909 today; assigned with them, 0.737 / 0.855 and two ID switches).
 "$B/sonard" --replay "$T/sector.csv" --json --quiet --min-points 8 --track-confirm 1 > "$T/sector1.jsonl" 2>/dev/null
 check "tracking, sector scene, --track-confirm 1: IDF1 >= 0.93, MOTA >= 0.88, no ID switch" \
-    python3 tools/score.py "$T/sector.json" "$T/sector1.jsonl" --tracks --min-idf1 0.93 --min-mota 0.88 --max-idsw-per-100 0
+    python3 tools/eval/score.py "$T/sector.json" "$T/sector1.jsonl" --tracks --min-idf1 0.93 --min-mota 0.88 --max-idsw-per-100 0
 # The tracks the autopilot is sent (OBSTACLE_DISTANCE_3D: those hit in the sweep): 0.982 / 0.991 today.
 check "tracking, sector scene, --track-confirm 1, the tracks sent to the autopilot: IDF1 >= 0.95, MOTA >= 0.95" \
-    python3 tools/score.py "$T/sector.json" "$T/sector1.jsonl" --tracks --states confirmed --min-idf1 0.95 --min-mota 0.95
+    python3 tools/eval/score.py "$T/sector.json" "$T/sector1.jsonl" --tracks --states confirmed --min-idf1 0.95 --min-mota 0.95
 check "tracks: IDs never reused, each line's tracks carry id/state/x_m/y_m/vx_mps/vy_mps/age/hits" python3 -c "
 import json, sys
 seen_ids, last = set(), {}
@@ -141,12 +141,12 @@ PY
 "$B/sonard" --replay "$T/veh.csv" --pose "$T/veh.pose.csv" --json --min-points 8 --csv-out "$T/veh.rec.csv" \
     --stage raw > "$T/veh.jsonl" 2> "$T/veh.err"
 "$B/sonard" --replay "$T/veh.csv" --json --quiet --min-points 8 > "$T/vehb.jsonl" 2>/dev/null
-python3 tools/score.py "$T/veh.json" "$T/vehb.jsonl" --label "  vehicle, body frame (no pose): " | tail -1
-python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --label "  vehicle, world frame: " | tail -2
+python3 tools/eval/score.py "$T/veh.json" "$T/vehb.jsonl" --label "  vehicle, body frame (no pose): " | tail -1
+python3 tools/eval/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --label "  vehicle, world frame: " | tail -2
 check "vehicle scene with --pose: world-frame detection F1 >= 0.90" \
-    python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --min-f1 0.90
+    python3 tools/eval/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --min-f1 0.90
 check "vehicle scene: the posts and the buoy are tracked standing still (<= 0.05 m/s) while the vehicle moves" \
-    python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --max-static-speed 0.05
+    python3 tools/eval/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --tracks --max-static-speed 0.05
 check "vehicle scene: the pose is said to be known, and every sweep is tracked in the world frame" sh -c "
     grep -q 'pose: known at 1728153122.000 s: detections and tracks in the world frame' '$T/veh.err' &&
     test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 18"
@@ -164,7 +164,7 @@ for x, y in zip(a, b):
     for p, q in zip(x['detections'], y['detections']):
         assert abs(p['north_m'] - q['north_m']) < 0.05 and abs(p['east_m'] - q['east_m']) < 0.05, (x['sweep'], p, q)
 "
-# The obstacle map on the same run against the scene's walls and objects (tools/wallfit.c; the
+# The obstacle map on the same run against the scene's walls and objects (tools/eval/wallfit.c; the
 # figures are in docs/results.md section 6): regression guards below today's 0.021 m and 92.5 %.
 "$B/sonar-wallfit" --replay "$T/veh.csv" --pose "$T/veh.pose.csv" --scene vehicle > "$T/wallfit.out" 2>/dev/null
 check "vehicle scene: the obstacle map's world echo points lie within one range cell (0.025 m) RMS of the walls" \

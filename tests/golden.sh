@@ -28,7 +28,7 @@ done
 "$B/sonard" --replay "$O/vehicle.csv" --json --quiet --pose "$O/vehicle.pose.csv" > "$O/vehicle.pose.jsonl"
 "$B/sonard" --replay "$O/vehicle.csv" --json --quiet > "$O/vehicle.body.jsonl"
 if [ -d "$R/aquascan" ]; then
-    python3 tools/aquascan2csv.py "$R/aquascan" --out "$O/aq" --range 15 >/dev/null
+    python3 tools/data/aquascan2csv.py "$R/aquascan" --out "$O/aq" --range 15 >/dev/null
     for s in sonar4 sonar11; do
         "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet > "$O/$s.default.jsonl"
         "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet --config docs/presets/occupied-pool.conf > "$O/$s.preset.jsonl"

@@ -35,19 +35,19 @@ run_transport() {
     check "$name: sonard exits 0 after --sweeps 7" test "$rc" -eq 0
     check "$name: exactly 7 sweeps, though a fast device answers before the next read" test "$(wc -l < "$T/$name.jsonl")" -eq 7
     check "$name: detections meet precision/recall >= 0.95, error <= 0.3 m" \
-        python3 tools/score.py "$T/pool.json" "$T/$name.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
-    python3 tools/lcm_log.py "$T/$name.lcm" detections --types "$types" > "$T/$name.lcm.jsonl" 2>&1
+        python3 tools/eval/score.py "$T/pool.json" "$T/$name.jsonl" --min-precision 0.95 --min-recall 0.95 --max-error 0.3
+    python3 tools/data/lcm_log.py "$T/$name.lcm" detections --types "$types" > "$T/$name.lcm.jsonl" 2>&1
     check "$name: the same detections come back out of the LCM log" \
-        python3 tools/score.py "$T/pool.json" "$T/$name.lcm.jsonl" --min-precision 0.95 --min-recall 0.95
+        python3 tools/eval/score.py "$T/pool.json" "$T/$name.lcm.jsonl" --min-precision 0.95 --min-recall 0.95
     check "$name: every beam published on SONAR_BEAM" \
-        sh -c "python3 tools/lcm_log.py '$T/$name.lcm' summary --types '$types' | grep -qE '^SONAR_BEAM (28[0-9][0-9])$'"
+        sh -c "python3 tools/data/lcm_log.py '$T/$name.lcm' summary --types '$types' | grep -qE '^SONAR_BEAM (28[0-9][0-9])$'"
     check "$name: motor_off reached the sonar" grep -q "^motor_off" "$T/feed.log"
     if [ "$name" = tcp ]; then
         # LCM log -> CSV -> replay gives the live run's detections again
-        python3 tools/lcm_log.py "$T/tcp.lcm" beams-csv --types "$types" > "$T/tcp.beams.csv"
+        python3 tools/data/lcm_log.py "$T/tcp.lcm" beams-csv --types "$types" > "$T/tcp.beams.csv"
         "$B/sonard" --replay "$T/tcp.beams.csv" --json 2>/dev/null | head -7 > "$T/tcp.replayed.jsonl"
         check "tcp: LCM log -> CSV replays to the live detections" cmp "$T/tcp.replayed.jsonl" "$T/tcp.jsonl"
-        python3 tools/lcm_log.py "$T/tcp.lcm" detections-csv --types "$types" > "$T/tcp.det.csv"
+        python3 tools/data/lcm_log.py "$T/tcp.lcm" detections-csv --types "$types" > "$T/tcp.det.csv"
         check "tcp: LCM log -> detections CSV has one row per detection" \
             test "$(($(wc -l < "$T/tcp.det.csv") - 1))" -eq "$(python3 -c "import json,sys;print(sum(len(json.loads(l)['detections']) for l in open('$T/tcp.jsonl')))")"
     fi
@@ -65,8 +65,8 @@ timeout 120 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 12 --sweep
 wait $FEEDPID 2>/dev/null; FEEDPID=""
 check "faulty link: sonard keeps running, reconnects and exits 0" test "$rc" -eq 0
 check "faulty link: precision/recall >= 0.9" \
-    python3 tools/score.py "$T/pool.json" "$T/faulty.jsonl" --min-precision 0.9 --min-recall 0.9
-python3 tools/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/status.json"
+    python3 tools/eval/score.py "$T/pool.json" "$T/faulty.jsonl" --min-precision 0.9 --min-recall 0.9
+python3 tools/data/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/status.json"
 sed -n 's/^summary //p' "$T/feed.log" > "$T/injected"
 check "faulty link: status counters match the faults injected" python3 - "$T/status.json" "$T/injected" <<'PY'
 import json, sys
@@ -83,7 +83,7 @@ assert s["reconnects"] == f["disconnects"], "one reconnect per disconnect"
 assert f["garbage"] <= s["resyncs"] <= f["garbage"] + f["corrupted"], "a resync per garbage run or bad frame"
 PY
 check "faulty link: no beam from a corrupt frame (beams published = good device_data frames)" \
-    sh -c "python3 tools/lcm_log.py '$T/faulty.lcm' summary --types '$types' | grep -q \"^SONAR_BEAM \$(python3 -c \"import json;print(json.load(open('$T/status.json'))['beams'])\")\$\""
+    sh -c "python3 tools/data/lcm_log.py '$T/faulty.lcm' summary --types '$types' | grep -q \"^SONAR_BEAM \$(python3 -c \"import json;print(json.load(open('$T/status.json'))['beams'])\")\$\""
 
 # A stall: the device goes quiet for 1 s mid-sweep; sonard retries (the re-homing allowance covers it) and goes on.
 feed "tcp:127.0.0.1:$((PORT + 7))" --pace fast --exit-after-motor-off --stall-at 300 --stall 1.0
@@ -100,7 +100,7 @@ timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 3))" --range 12 --sweeps
 wait $FEEDPID 2>/dev/null; FEEDPID=""
 check "auto mode: streams auto_device_data and exits 0" sh -c "test $rc -eq 0 && grep -q 'scanning (auto_transmit)' '$T/auto.err'"
 check "auto mode: detections meet precision/recall >= 0.95" \
-    python3 tools/score.py "$T/pool5.json" "$T/auto.jsonl" --min-precision 0.95 --min-recall 0.95
+    python3 tools/eval/score.py "$T/pool5.json" "$T/auto.jsonl" --min-precision 0.95 --min-recall 0.95
 feed "tcp:127.0.0.1:$((PORT + 4))" --pace fast --exit-after-motor-off --firmware 3.3.0
 timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 4))" --range 12 --sweeps 1 --mode auto --no-lcm --json \
     > /dev/null 2> "$T/fallback.err"
@@ -159,7 +159,7 @@ check "SIGTERM: sonar-feed saw motor_off" grep -q "^motor_off" "$T/feed.log"
 # sonar 5 m north, 2 m west of the origin, heading east. Detections and tracks come out in the world.
 # The log plays at 20 Hz while the fast-paced sonar ends in a fraction of a second: how many poses
 # arrive first depends on the machine, so one or more is what is checked.
-python3 tools/pose_log.py "$types" "$T/poses.lcm" --still 5 -2 90 --seconds 40 --hz 20
+python3 tools/data/pose_log.py "$types" "$T/poses.lcm" --still 5 -2 90 --seconds 40 --hz 20
 feed "tcp:127.0.0.1:$((PORT + 7))" --pace fast
 timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 7))" --range 12 --sweeps 4 --json --no-lcm \
     --pose-lcm "file://$T/poses.lcm?mode=r" > "$T/plcm.jsonl" 2> "$T/plcm.err"; rc=$?

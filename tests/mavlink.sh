@@ -71,7 +71,7 @@ wait $SONARD; rc=$?
 kill $FEEDPID 2>/dev/null; wait $FEEDPID 2>/dev/null; FEEDPID=""
 cat "$T/vchk.out"
 grep '^sonard: mavlink' "$T/veh.err"
-python3 tools/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --label "  live vehicle, world frame: " | tail -1
+python3 tools/eval/score.py "$T/veh.json" "$T/veh.jsonl" --frame world --label "  live vehicle, world frame: " | tail -1
 check "vehicle: exit 0, 10 sweeps, all in the world frame from the autopilot's pose" sh -c "test $rc -eq 0 &&
     test \$(grep -c '\"frame\":\"world\"' '$T/veh.jsonl') -eq 10 && grep -qE 'in [0-9]+ messages \([0-9]{3,} attitudes, [0-9]{3,} positions, 0 poses refused' '$T/veh.err'"
 # Live, the beams' times follow a loaded machine's clock, not the simulator's schedule: the diver is
@@ -80,7 +80,7 @@ check "vehicle: exit 0, 10 sweeps, all in the world frame from the autopilot's p
 # Ten sweeps (63 s), not seven: precision over ~25 detections, not ~12, so one speckled wall residue
 # more or less does not decide the check.
 check "vehicle, live: world-frame detection precision >= 0.8; a still object found where it stands (0.5 m)" sh -c "
-    python3 tools/score.py '$T/veh.json' '$T/veh.jsonl' --frame world --min-precision 0.8 && python3 -c \"
+    python3 tools/eval/score.py '$T/veh.json' '$T/veh.jsonl' --frame world --min-precision 0.8 && python3 -c \"
 import json, math
 still = {'post_a': (4.0, 5.0), 'post_b': (-5.0, -6.0), 'buoy': (0.5, 5.5)}
 seen = {k: 0 for k in still}

@@ -1,5 +1,5 @@
 #!/bin/sh
-# mcap.sh -- tools/lcm2mcap: an LCM log of a replay turned into MCAP and read back with the mcap library (counts,
+# mcap.sh -- tools/data/lcm2mcap: an LCM log of a replay turned into MCAP and read back with the mcap library (counts,
 # fields and times against the log), the fan image and scene, a truncated and a corrupt log, an undecodable message,
 # and live recording off a udpm bus inside a network namespace of its own. Usage: sh tests/mcap.sh BUILD_DIR.
 set -u
@@ -8,7 +8,7 @@ T=$(mktemp -d /tmp/sonard-mcap.XXXXXX)
 PY=.venv-mcap/bin/python
 trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
-L2M="$PY tools/lcm2mcap --types $B/lcm/python --lcm-types lcm_types"
+L2M="$PY tools/data/lcm2mcap --types $B/lcm/python --lcm-types lcm_types"
 
 "$B/sonar-sim" --scene moving --out "$T/mv.csv" --truth "$T/mv.json" > /dev/null 2>&1
 "$B/sonard" --replay "$T/mv.csv" --min-points 8 --json --publish-filtered --lcm "file://$T/mv.lcm?mode=w" \
@@ -20,7 +20,7 @@ check "lcm2mcap converts the replay's LCM log (exit 0)" test $rc -eq 0
 check "read back with the mcap reader: every LCM channel's message count, fields and times match the log" \
     $PY - "$T/mv.lcm" "$T/mv.mcap" "$B/lcm/python" <<'PY'
 import base64, json, sys
-sys.path.insert(0, "tools"); sys.path.insert(0, sys.argv[3])
+sys.path.insert(0, "tools/data"); sys.path.insert(0, sys.argv[3])
 from lcm_log import events
 from mcap.reader import make_reader
 from sonar import beam_t, detections_t, tracks_t, status_t
@@ -91,7 +91,7 @@ PY
 # MCAP size per hour, from this scene's length
 $PY - "$T/mv.lcm" "$T/mv.mcap" "$B/lcm/python" <<'PY'
 import os, struct, sys
-sys.path.insert(0, "tools"); sys.path.insert(0, sys.argv[3])
+sys.path.insert(0, "tools/data"); sys.path.insert(0, sys.argv[3])
 from lcm_log import events
 from sonar import beam_t
 t = [beam_t.decode(d).utime for u, ch, d in events(sys.argv[1]) if ch == "SONAR_BEAM"]

@@ -77,7 +77,7 @@ check "clean: detections equal --replay of the beams the firmware forwarded" cmp
 sed 's/^/    /' "$T/out"
 check "clean: the scene's objects are found (some sweep has a detection)" grep -q x_m "$T/clean.jsonl"
 check "clean: no corrupt or undecodable frame on the host link" grep -q "crc_errors 0 .*decode_errors 0" "$T/clean.err"
-python3 tools/lcm_log.py "$T/clean.lcm" summary --types "$types" > "$T/clean.summary" 2>&1
+python3 tools/data/lcm_log.py "$T/clean.lcm" summary --types "$types" > "$T/clean.summary" 2>&1
 check "clean: SONAR_DETECTIONS, SONAR_STATUS and SONAR_BEAM republished on LCM" \
     sh -c "grep -q '^SONAR_DETECTIONS 4' '$T/clean.summary' && grep -q '^SONAR_STATUS' '$T/clean.summary' && grep -q '^SONAR_BEAM' '$T/clean.summary'"
 
@@ -86,7 +86,7 @@ check "clean: SONAR_DETECTIONS, SONAR_STATUS and SONAR_BEAM republished on LCM" 
 run faulty 4 --drop 0.03 --corrupt 0.02 --garbage 0.03 --disconnect-after 150
 check "faulty: the firmware keeps detecting: 4 sweeps, exit 0" sh -c "test $rc -eq 0 && test \$(wc -l < '$T/faulty.jsonl') -eq 4"
 check "faulty: detections still equal --replay of the forwarded beams" cmp_replay faulty
-python3 tools/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/faulty.status" 2>&1
+python3 tools/data/lcm_log.py "$T/faulty.lcm" status --types "$types" > "$T/faulty.status" 2>&1
 sed -n 's/^summary //p' "$T/faulty.feed" > "$T/faulty.injected"
 check "faulty: the firmware's counters reach SONAR_STATUS (checksum errors, resyncs, timeouts, retries)" \
     python3 - "$T/faulty.status" "$T/faulty.injected" <<'PY'

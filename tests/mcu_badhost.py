@@ -11,7 +11,7 @@ import socket
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)) + "/../tools")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)) + "/../tools/data")
 import cpframe  # noqa: E402
 
 

@@ -21,13 +21,13 @@ start=$(date +%s%N)
 end=$(date +%s%N)
 wait $FEED 2>/dev/null || true
 echo "== 3. what went over LCM (decoded from the log with the generated Python types)"
-python3 tools/lcm_log.py "$D/pool.lcm" summary --types "$B/lcm/python" | sed 's/^/   /'
-python3 tools/lcm_log.py "$D/pool.lcm" status --types "$B/lcm/python" | sed 's/^/   last SONAR_STATUS: /'
+python3 tools/data/lcm_log.py "$D/pool.lcm" summary --types "$B/lcm/python" | sed 's/^/   /'
+python3 tools/data/lcm_log.py "$D/pool.lcm" status --types "$B/lcm/python" | sed 's/^/   last SONAR_STATUS: /'
 echo "== 4. SONAR_DETECTIONS against the truth (a detection matches an object within 1 m)"
-python3 tools/lcm_log.py "$D/pool.lcm" detections --types "$B/lcm/python" > "$D/pool.detections.jsonl"
-python3 tools/score.py "$D/pool.truth.json" "$D/pool.detections.jsonl" --verbose
+python3 tools/data/lcm_log.py "$D/pool.lcm" detections --types "$B/lcm/python" > "$D/pool.detections.jsonl"
+python3 tools/eval/score.py "$D/pool.truth.json" "$D/pool.detections.jsonl" --verbose
 echo "== 5. the study's method on the same scene, replayed from CSV (median across beams, plain subtraction)"
 "$B/sonard" --replay "$D/pool.csv" --json --quiet --background range --bg-margin 0 > "$D/pool.study.jsonl"
-python3 tools/score.py "$D/pool.truth.json" "$D/pool.study.jsonl" --label "   study's method: " || true
+python3 tools/eval/score.py "$D/pool.truth.json" "$D/pool.study.jsonl" --label "   study's method: " || true
 echo "== live run: $(( (end - start) / 1000000 )) ms for 2800 beams; sonar-feed: $(tail -1 "$D/feed.err" | sed 's/sonar_feed: //')"
 echo "   To watch it: make spy (lcm-spy with these types); on a vehicle: sonard --sonar udp:192.168.2.2:9092 (see README)"

@@ -26,8 +26,8 @@ echo "      cells a sweep, so --min-points 4 stands for its 20"
 "$B/sonard" --coprocessor "tcp:127.0.0.1:$((PORT + 1))" --range 12 --samples 300 --step 2 --sweeps 7 \
     --min-points 4 --lcm "file://$PWD/$D/pool.lcm?mode=w"
 echo "== 4. what went over LCM"
-python3 tools/lcm_log.py "$D/pool.lcm" summary --types "$B/lcm/python" | sed 's/^/   /'
-python3 tools/lcm_log.py "$D/pool.lcm" status --types "$B/lcm/python" | sed 's/^/   last SONAR_STATUS (the firmware'"'"'s): /'
+python3 tools/data/lcm_log.py "$D/pool.lcm" summary --types "$B/lcm/python" | sed 's/^/   /'
+python3 tools/data/lcm_log.py "$D/pool.lcm" status --types "$B/lcm/python" | sed 's/^/   last SONAR_STATUS (the firmware'"'"'s): /'
 echo "== 5. the co-processor's SONAR_DETECTIONS against the truth (within 1 m)"
-python3 tools/lcm_log.py "$D/pool.lcm" detections --types "$B/lcm/python" > "$D/pool.detections.jsonl"
-python3 tools/score.py "$D/pool.truth.json" "$D/pool.detections.jsonl" --verbose || true
+python3 tools/data/lcm_log.py "$D/pool.lcm" detections --types "$B/lcm/python" > "$D/pool.detections.jsonl"
+python3 tools/eval/score.py "$D/pool.truth.json" "$D/pool.detections.jsonl" --verbose || true

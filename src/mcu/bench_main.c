@@ -33,7 +33,7 @@ static uint32_t next(struct bench *b)
     return b->rng >> 8;
 }
 
-/* Speckle ((a^2 + b^2) >> 7), a static wall and 20 moving 9 x 21 blobs, as tools/bench.c makes them. */
+/* Speckle ((a^2 + b^2) >> 7), a static wall and 20 moving 9 x 21 blobs, as tools/bench/bench.c makes them. */
 static void make_sweep(struct bench *b, int s)
 {
     int i, j, k;
@@ -79,7 +79,7 @@ static void put_num(const char *key, uint64_t v)
     put(buf);
 }
 
-/* The tracker's sweep: 32 live tracks, 16 detections near half of them, as tools/bench.c times it on the host. */
+/* The tracker's sweep: 32 live tracks, 16 detections near half of them, as tools/bench/bench.c times it on the host. */
 static int64_t tracker_us(void)
 {
     static struct sonar_tracker tk;

@@ -10,7 +10,7 @@ likelihood to each family of amplitude distributions, with the recorder's clippi
 folded in (a zero sample is P(A <= c), a sample y > 0 is the density at c + y, so the zero bins do
 not decide the fit), and the families compared by BIC (lower is better). The K family's shape nu
 says how heavy the tail is: nu -> infinity is Rayleigh, nu ~ 1 or below is spiky clutter. The
-fitted parameters are what tools/scene.c's speckle-pool model was given.
+fitted parameters are what tools/sim/scene.c's speckle-pool model was given.
 """
 import argparse
 import json

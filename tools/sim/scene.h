@@ -43,7 +43,7 @@ struct scene_vehicle {
 /*
  * The echo model. SCENE_SPECKLE_SIMPLE: Rayleigh speckle whose level falls with range, ring-down,
  * objects adding a uniform level (the first scenes). SCENE_SPECKLE_POOL: the statistics of the
- * AquaScan pool recordings (tools/speckle_fit.py, docs/results.md section 8): water is a
+ * AquaScan pool recordings (tools/eval/speckle_fit.py, docs/results.md section 8): water is a
  * K-distributed amplitude whose shape and mean power follow range (Rayleigh-like near the sonar,
  * spiky far from it), its texture held over 12-sample segments along the beam; objects add a
  * Rayleigh amplitude in power; the device's noise floor is then subtracted and the result clipped

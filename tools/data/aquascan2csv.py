@@ -7,7 +7,7 @@ the 500 samples, y along the 400 gradians). Output per sonar: <out>/<sonar>.csv 
 acquisition order: even sweeps ascending, odd sweeps descending, as the recorder's
 back-and-forth scheme pinged them; only pinged angles; per-beam time estimated by spreading the
 sweep period, which is all the files allow) with range_m=<assumed> metadata, and
-<out>/<sonar>.truth.json in tools/score.py's format (sweep k = k-th file; objects at the box
+<out>/<sonar>.truth.json in tools/eval/score.py's format (sweep k = k-th file; objects at the box
 centre in metres, plus the box in gradians and metres of range).
 
 The range is NOT recorded. The recorder's default is 15 m ('--dis 15'), the evaluation script

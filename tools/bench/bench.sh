@@ -15,7 +15,7 @@ for i in 1 2 3; do
     ms=$(( (e - s) / 1000000 )); [ "$ms" -lt "$best" ] && best=$ms
 done
 echo "replay_ms $best" >> "$T/c.txt"
-.venv/bin/python tools/study_pipeline.py "$T/pool.csv" --range 12 > "$T/py.txt"
+.venv/bin/python tools/eval/study_pipeline.py "$T/pool.csv" --range 12 > "$T/py.txt"
 v() { awk -v k="$1" '$1 == k { print $2 }' "$T/c.txt" "$T/cv.txt"; }
 py_total=$(awk '{for (i = 1; i < NF; i++) if ($i == "total_s") print $(i + 1)}' "$T/py.txt")
 py_filt=$(awk '{for (i = 1; i < NF; i++) if ($i == "load_to_filtered_s") print $(i + 1)}' "$T/py.txt")
@@ -52,4 +52,4 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
         (detw <= 1.0 ? "met" : "MISSED"), (pyt * 1000 / rep >= 100 ? "met" : "MISSED")
 }'
 echo
-python3 tools/bench_live.py "$B"
+python3 tools/bench/bench_live.py "$B"

@@ -44,7 +44,7 @@ def main():
     with tempfile.TemporaryDirectory() as d:
         # 1. two full sweeps at device pace: the second is timed beam to beam (400 beams)
         fp = feed(a.build, port, f"{d}/f1.log")
-        # sonard's own figures from /proc (RUSAGE_CHILDREN's maxrss would be Python's: see tools/rss.py),
+        # sonard's own figures from /proc (RUSAGE_CHILDREN's maxrss would be Python's: see tools/bench/rss.py),
         # with LCM publishing to a file log as a vehicle would
         t0 = time.time()
         sp = subprocess.Popen([f"{a.build}/sonard", "--sonar", f"tcp:127.0.0.1:{port}", "--range", str(r), "--sweeps", "2",

@@ -373,7 +373,7 @@ static double rayleigh_unit(struct scene_rng *g)
 
 /*
  * The water's K-distribution at range r (metres): shape nu, mean power mu, and the noise floor c
- * subtracted after; fitted by tools/speckle_fit.py on AquaScan sonar4's unlabelled cells in five
+ * subtracted after; fitted by tools/eval/speckle_fit.py on AquaScan sonar4's unlabelled cells in five
  * range bands (docs/results.md section 8), interpolated between the bands' centres (log nu, mu, c).
  */
 static void pool_water(double r, double *nu, double *mu, double *c)

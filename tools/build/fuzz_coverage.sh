@@ -1,7 +1,7 @@
 #!/bin/sh
 # fuzz_coverage.sh -- source coverage that a fuzz corpus reaches: each harness rebuilt with clang's
 # -fprofile-instr-generate -fcoverage-mapping, run over its corpus directory, reported per file by llvm-cov.
-# Usage: sh tools/fuzz_coverage.sh CORPUS_ROOT (with CORPUS_ROOT/ping360, csv, config, pvbin); default tests/fuzz/corpus.
+# Usage: sh tools/build/fuzz_coverage.sh CORPUS_ROOT (with CORPUS_ROOT/ping360, csv, config, pvbin); default tests/fuzz/corpus.
 set -eu
 C=${1:-tests/fuzz/corpus}
 B=build-fuzzcov

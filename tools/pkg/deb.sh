@@ -1,7 +1,7 @@
 #!/bin/sh
 # deb.sh -- builds sonard_VERSION_ARCH.deb from a build directory: binaries, systemd units, the example config,
 # the LCM types (sources, Python, the jar for lcm-spy), the docs; the sonard user is made by its postinst.
-# Usage: sh tools/deb.sh BUILD_DIR (make deb). Needs dpkg-deb; dpkg-shlibdeps when present finds the library dependencies.
+# Usage: sh tools/pkg/deb.sh BUILD_DIR (make deb). Needs dpkg-deb; dpkg-shlibdeps when present finds the library dependencies.
 set -eu
 B=${1:-build}
 V=$("$B/sonard" --version | awk '{print $2}')
@@ -17,7 +17,7 @@ install -m 0755 "$B/sonar-sim" "$R/usr/bin/sonar-sim"
 install -m 0755 "$B/pvbin2csv" "$R/usr/bin/sonar-pvbin2csv"
 install -m 0755 "$B/sonar-wallfit" "$R/usr/bin/sonar-wallfit"
 strip --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/*
-install -m 0644 tools/systemd/sonard.service tools/systemd/sonard@.service "$R/lib/systemd/system/"
+install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.service "$R/lib/systemd/system/"
 install -m 0644 docs/sonard.conf.example "$R/etc/sonard/sonard.conf"
 install -m 0644 docs/sonard.conf.example "$R/usr/share/doc/sonard/examples/sonard.conf"
 install -m 0644 lcm_types/*.lcm "$R/usr/share/sonard/lcm_types/"
@@ -27,7 +27,7 @@ find "$R/usr/lib/python3" -name '__pycache__' -prune -exec rm -rf {} +
 find "$R/usr/lib/python3" -type f -exec chmod 0644 {} +
 install -m 0644 README.md "$R/usr/share/doc/sonard/README.md"
 for f in docs/*.md; do install -m 0644 "$f" "$R/usr/share/doc/sonard/"; done
-install -m 0644 tools/deb/copyright "$R/usr/share/doc/sonard/copyright"
+install -m 0644 tools/pkg/deb/copyright "$R/usr/share/doc/sonard/copyright"
 printf 'sonard (%s) unstable; urgency=medium\n\n  * Built from %s.\n\n -- sonard developers <sonard@localhost>  %s\n' \
     "$V" "$(git describe --always --dirty 2> /dev/null || echo 'a source tree')" \
     "$(date -R -d @"${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2> /dev/null || date +%s)}")" |
@@ -47,7 +47,7 @@ for p in sonard:"Ping360 sonar to live object detections over LCM and MAVLink" \
       printf '.fi\n.SH SEE ALSO\n/usr/share/doc/sonard/README.md, /usr/share/doc/sonard/configuration.md\n'
     } | gzip -9n > "$R/usr/share/man/man1/$name.1.gz"
 done
-install -m 0755 tools/deb/postinst tools/deb/prerm tools/deb/postrm "$R/DEBIAN/"
+install -m 0755 tools/pkg/deb/postinst tools/pkg/deb/prerm tools/pkg/deb/postrm "$R/DEBIAN/"
 echo /etc/sonard/sonard.conf > "$R/DEBIAN/conffiles"
 # Library dependencies: dpkg-shlibdeps wants a debian/control beside it.
 dep="libc6, liblcm1"
@@ -59,7 +59,7 @@ if command -v dpkg-shlibdeps > /dev/null; then
     [ -n "$got" ] && dep=$got
 fi
 size=$(du -sk --exclude=DEBIAN "$R" | cut -f1)
-sed -e "s/@VERSION@/$V/" -e "s/@ARCH@/$A/" -e "s/@SIZE@/$size/" -e "s/@DEPENDS@/$dep/" tools/deb/control.in > "$R/DEBIAN/control"
+sed -e "s/@VERSION@/$V/" -e "s/@ARCH@/$A/" -e "s/@SIZE@/$size/" -e "s/@DEPENDS@/$dep/" tools/pkg/deb/control.in > "$R/DEBIAN/control"
 (cd "$R" && find . -type f ! -path './DEBIAN/*' -printf '%P\0' | sort -z | xargs -0 md5sum) > "$R/DEBIAN/md5sums"
 dpkg-deb --root-owner-group -Zxz --build "$R" "$OUT" > /dev/null
 echo "deb: $OUT ($(du -k "$OUT" | cut -f1) KB; Depends: $dep)"

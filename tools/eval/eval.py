@@ -3,13 +3,13 @@
 and written to docs/results.md (regenerated every time; nothing in it is hand-edited).
 
 Data: simulated scenes (tools/sonar_sim) and, when ../shared/data/real is present, the AquaScan
-pool recordings (237 labelled people; converted by tools/aquascan2csv.py at an assumed range).
+pool recordings (237 labelled people; converted by tools/data/aquascan2csv.py at an assumed range).
 Methods compared:
   CSV approach    sonard's C pipeline on the CSV rows (`sonard --replay`).
   image approach  each sweep rendered as a Cartesian fan image, written and read back as PNG with
                   OpenCV, medianBlur 5, mapped back to beams x samples, then the same background
                   subtraction as the study (median across the sweep's beams per range bin).
-  study pipeline  tools/study_pipeline.py: pandas, scipy median_filter 5x5, median background,
+  study pipeline  tools/eval/study_pipeline.py: pandas, scipy median_filter 5x5, median background,
                   sklearn KMeans, scipy ConvexHull (the paper's method in Python).
 """
 import argparse
@@ -181,14 +181,14 @@ def main():
     datasets = [("simulated pool", f"{W}/pool.csv", f"{W}/pool.json", 12.0)]
     have_real = os.path.isdir(os.path.join(a.real, "aquascan"))
     if have_real:
-        sh([sys.executable, os.path.join(os.path.dirname(__file__), "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
+        sh([sys.executable, os.path.join(os.path.dirname(__file__), "..", "data", "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
             "--out", f"{W}/aq", "--range", str(a.aquascan_range)])
         datasets += [("AquaScan sonar4", f"{W}/aq/sonar4.csv", f"{W}/aq/sonar4.truth.json", a.aquascan_range),
                      ("AquaScan sonar11", f"{W}/aq/sonar11.csv", f"{W}/aq/sonar11.truth.json", a.aquascan_range)]
     presets = {  # the quality loop uses the occupied-pool one
         "default": [],
         "range": ["--background", "range"],
-        "occupied-pool": conf_args(os.path.join(os.path.dirname(__file__), "..", "docs", "presets", "occupied-pool.conf")),
+        "occupied-pool": conf_args(os.path.join(os.path.dirname(__file__), "..", "..", "docs", "presets", "occupied-pool.conf")),
         "study filters (sonard detector)": ["--background", "range", "--median", "5x5", "--bg-margin", "0"],
     }
 
@@ -262,7 +262,7 @@ def main():
         for rng in (13.0, a.aquascan_range, 20.0):
             d = f"{W}/aq{rng:g}"
             if rng != a.aquascan_range:
-                sh([sys.executable, os.path.join(os.path.dirname(__file__), "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
+                sh([sys.executable, os.path.join(os.path.dirname(__file__), "..", "data", "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
                     "--out", d, "--range", str(rng)])
             else:
                 d = f"{W}/aq"
@@ -324,7 +324,7 @@ def main():
                 "--frame", frame])
         det_line, trk_line = r.strip().splitlines()[-2:]
         veh[frame] = (label, " ".join(["--min-points", "8"] + (["--pose FILE"] if extra else [])), det_line, trk_line, secs)
-    # The walls as the world grid learnt them: each fitted across, every 0.2 m (tools/wallfit.c).
+    # The walls as the world grid learnt them: each fitted across, every 0.2 m (tools/eval/wallfit.c).
     # Its walls and objects are the scene's (sonar-sim --scene vehicle wrote vehicle.csv).
     wallfit = sh([f"{B}/sonar-wallfit", "--replay", f"{W}/vehicle.csv", "--pose", f"{W}/vehicle.pose.csv",
                   "--scene", "vehicle"]).strip().splitlines()
@@ -369,7 +369,7 @@ def main():
                ("simulated still person", f"{W}/still.csv", f"{W}/still.json", [], ["--object", "floater", "--still"])]
     if have_real:
         if not os.path.isdir(f"{W}/aq13"):
-            sh([sys.executable, os.path.join(os.path.dirname(__file__), "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
+            sh([sys.executable, os.path.join(os.path.dirname(__file__), "..", "data", "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
                 "--out", f"{W}/aq13", "--range", "13"])
         for rng, d in ((a.aquascan_range, f"{W}/aq"), (13.0, f"{W}/aq13")):
             for rec, who in (("sonar4", "5"), ("sonar11", "10")):
@@ -433,13 +433,13 @@ def main():
         if where == figdir:
             roc_figs.append(fname)
 
-    # The speckle: which family fits the pool's water and its people (tools/speckle_fit.py, sonar4 at the assumed range).
+    # The speckle: which family fits the pool's water and its people (tools/eval/speckle_fit.py, sonar4 at the assumed range).
     speckle = ""
     if have_real:
         speckle = sh([sys.executable, os.path.join(os.path.dirname(__file__), "speckle_fit.py"), f"{W}/aq/sonar4.csv",
                       f"{W}/aq/sonar4.truth.json", "--markdown"]).strip()
 
-    # The per-beam cost of the stage: tools/bench.c (one run, host), and the M7 bench image under QEMU when it is built.
+    # The per-beam cost of the stage: tools/bench/bench.c (one run, host), and the M7 bench image under QEMU when it is built.
     cost = {}
     for line in sh([f"{B}/bench", W]).splitlines():
         k, _, v = line.partition(" ")
@@ -457,7 +457,7 @@ def main():
     # ---------------- write docs/results.md
     L = []
     L.append("# Results\n")
-    L.append(f"Generated by `make eval` (tools/eval.py) on {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {platform.machine()}, "
+    L.append(f"Generated by `make eval` (tools/eval/eval.py) on {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {platform.machine()}, "
              f"{os.cpu_count()} cores, in {time.time() - started:.0f} s. Every number below was measured in that one run; "
              "nothing here is edited by hand.\n")
     L.append("## 1. The study's table: processing time, load to filtered output\n")
@@ -490,7 +490,7 @@ def main():
         L.append("")
     L.append("## 3. Detection against the truth\n")
     L.append("A detection is a true positive when its centroid lies within 1 m of a not yet matched labelled object of the "
-             "same sweep (closest pairs first); `tools/score.py`. AquaScan: the range is not recorded; "
+             "same sweep (closest pairs first); `tools/eval/score.py`. AquaScan: the range is not recorded; "
              f"**{a.aquascan_range:g} m is assumed** (the recorder's default; its evaluation script used 13 m), and the labelled "
              "YOLO boxes (gradians x range fraction) are scored at their centres. The `occupied-pool` preset "
              "(`docs/presets/occupied-pool.conf`) was tuned on sonar4 only; sonar11 is held out, with one caveat: "
@@ -551,7 +551,7 @@ def main():
              f"`{W}/figures/` only: that data's licence is unclear, so nothing derived from it is committed.\n")
     L.append("## 5. Tracking\n")
     L.append("`sonard --replay FILE --json` with tracking on (the default; `docs/architecture.md`), scored by "
-             "`tools/score.py --tracks`: confirmed and coasting tracks, each predicted to the moment its truth object was "
+             "`tools/eval/score.py --tracks`: confirmed and coasting tracks, each predicted to the moment its truth object was "
              "seen, matched within 1 m. MOTA = 1 − (FN + FP + ID switches) / objects; IDF1 from one global truth-ID to "
              "track-ID assignment; OSPA with cut-off 2 m, p = 2, mean over sweeps; velocity error = mean |v_track − v_true| "
              "of matched tracks with 3 or more hits on objects moving at 0.5–1.5 m/s. Simulated: `moving` (24 full turns at "
@@ -634,7 +634,7 @@ def main():
              "recordings at the recorder's 15 m and the batch script's 13 m (the range is not in the files), beside the "
              "occupied-pool preset and the study's method run by sonard (`--median 5x5 --background range --bg-margin 0`: "
              "the study's filters and its mean + 3 std threshold; it replays bit-identically to sonard before the CFAR). "
-             "Scored by `tools/score.py` as in section 3 (1 m gate); the vehicle with its pose in the world frame. "
+             "Scored by `tools/eval/score.py` as in section 3 (1 m gate); the vehicle with its pose in the world frame. "
              "`occupied`, `far` and `still` are sonar-sim's scenes with the AquaScan pool's statistics (below): people in "
              "the water from the first ping; four faint swimmers at 8.5–12.5 m; one who swims, then floats still for "
              "3 minutes. Found: the sweeps in which the far swimmers (AquaScan persons 5 and 10; the scene's four) or the "
@@ -675,7 +675,7 @@ def main():
         if have_real:
             L.append(f"(The AquaScan curve is drawn in `{W}/figures/` only.)\n")
     if speckle:
-        L.append("**The speckle** (`tools/speckle_fit.py` on sonar4 at the assumed range): water cells (the pool's beams, "
+        L.append("**The speckle** (`tools/eval/speckle_fit.py` on sonar4 at the assumed range): water cells (the pool's beams, "
                  "outside every labelled box widened by 6 gradians and 0.5 m) by range band, and the cells inside the "
                  "people's boxes, fitted by maximum likelihood with the recorder's clipping to zero folded in; BIC relative "
                  "to the best family of the row (lower is better; 10 or more is strong evidence).\n")
@@ -691,7 +691,7 @@ def main():
                  "sonar-sim's speckle-pool scenes draw the water from the K fits per band.\n")
     if cost:
         gstep, dstep = float(cost["beam_step_global_us"]), float(cost["beam_step_us"])
-        L.append(f"**Per-beam cost** (`tools/bench.c`, one run on this machine; 400 × 1200 synthetic sweeps): the default step "
+        L.append(f"**Per-beam cost** (`tools/bench/bench.c`, one run on this machine; 400 × 1200 synthetic sweeps): the default step "
                  f"(median 5, auto background, CFAR over three beams, runs) {dstep:.3f} µs a beam against the global-threshold "
                  f"step's {gstep:.3f} µs in the same run ({dstep / gstep:.2f}×; the issue's budget is 0.6 µs against 0.39 µs, "
                  f"1.54×); the world-frame background on a moving vehicle {float(cost['world_background_beam_us']):.1f} µs a "

@@ -1,5 +1,5 @@
 #!/bin/sh
-# size.sh -- links tools/mcu/image.c with the core for Cortex-M and prints flash and static RAM per configuration.
+# size.sh -- links tools/build/mcu/image.c with the core for Cortex-M and prints flash and static RAM per configuration.
 set -eu
 B=${1:-build}
 CC=${ARM_CC:-arm-none-eabi-gcc}
@@ -14,7 +14,7 @@ for v in "m7 400x1200|$M7|" "m7 400x600|$M7|-DSONAR_MAX_SAMPLES=600" "m4f 200x60
     out="$B/mcu/$(echo "$name" | tr ' ' '-').elf"
     # shellcheck disable=SC2086
     $CC $cpu $defs -std=c99 -Os -Wall -Werror -ffunction-sections -fdata-sections -Iinclude \
-        tools/mcu/image.c src/core/*.c --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections -lm -o "$out" \
+        tools/build/mcu/image.c src/core/*.c --specs=nano.specs --specs=nosys.specs -Wl,--gc-sections -lm -o "$out" \
         -Wl,-Map="$out.map"
     set -- $($SIZE "$out" | tail -1)
     flash=$(( $1 + $2 )); ram=$(( $2 + $3 ))

@@ -1,4 +1,4 @@
-/* sizes.c -- not run: compiled for each target, its arrays' sizes (read back with nm -S by tools/sizes.sh) are the core's state structs' sizeof, for docs/sizes.md; no code. */
+/* sizes.c -- not run: compiled for each target, its arrays' sizes (read back with nm -S by tools/build/sizes.sh) are the core's state structs' sizeof, for docs/sizes.md; no code. */
 #include "sonar/background.h"
 #include "sonar/cpframe.h"
 #include "sonar/detector.h"

@@ -1,4 +1,4 @@
-// bench_opencv.cpp -- the OpenCV side of `make bench`, on the files tools/bench.c wrote: medianBlur per beam and per sweep, kmeans + convexHull.
+// bench_opencv.cpp -- the OpenCV side of `make bench`, on the files tools/bench/bench.c wrote: medianBlur per beam and per sweep, kmeans + convexHull.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
