@@ -494,8 +494,8 @@ def main():
              f"**{a.aquascan_range:g} m is assumed** (the recorder's default; its evaluation script used 13 m), and the labelled "
              "YOLO boxes (gradians x range fraction) are scored at their centres. The `occupied-pool` preset "
              "(`docs/presets/occupied-pool.conf`) was tuned on sonar4 only; sonar11 is held out, with one caveat: "
-             "`split-points` was re-chosen (120 → 80) by a last grid on sonar4 (split-points × track-points × track-m, "
-             "sonar4 F1 0.867–0.874) after the table of rules below had already shown sonar11 its effect. These are streaming "
+             "`split-points` was re-chosen by a last grid on sonar4 after the table of rules below had already shown sonar11 "
+             "its effect (docs/decisions.md). These are streaming "
              "results: `--replay` runs the live pipeline beam by beam, and `tests/realdata.sh` drives `sonard --sonar` "
              "against sonar-feed serving sonar4 as a Ping360 over TCP and gets the same detections, sweep for sweep.\n")
     L.append("| data | method | configuration | precision | recall | F1 | centroid error (m) | false alarms / sweep |")
@@ -534,10 +534,10 @@ def main():
         for label, extra, (s4, s11) in ablation:
             tp, fp, fn = s4["tp"] + s11["tp"], s4["fp"] + s11["fp"], s4["fn"] + s11["fn"]
             L.append(f"| {label} | `{extra or '—'}` | {s4['F1']:.3f} | {s11['F1']:.3f} | {2 * tp / max(1, 2 * tp + fp + fn):.3f} |")
-        L.append("\nk-means kept inside groups is not an option: it is how the detector works. With free k-means "
-                 "(sonard before 2026-11-22), the \"none of the four\" flags scored 0.831 / 0.762.")
-    L.append("\nTargets: F1 ≥ 0.95 on the simulated scenes; F1 ≥ 0.85 on AquaScan. AquaScan's own pipeline for this batch "
-             "scores 0.741 / 0.785 on these recordings (section 7).\n")
+        L.append("\nk-means kept inside groups is not an option: it is how the detector works (docs/decisions.md has "
+                 "what free k-means scored).")
+    L.append("\nTargets: F1 ≥ 0.95 on the simulated scenes; F1 ≥ 0.85 on AquaScan. What AquaScan's own pipeline scored "
+             "on these recordings is in docs/decisions.md (it is not rerun here).\n")
     L.append("## 4. Figures (simulated pool, sweep 4)\n")
     captions = {"waterfall.png": "Waterfall plots: raw, median-filtered and foreground (after background subtraction).",
                 "detections.png": "Cartesian view: raw data (left); foreground with each detection's hull and centroid (red) and "
@@ -649,12 +649,8 @@ def main():
     if still_s:
         L.append(f"\nThe still person's track (ID {still_s[2]}) reports `still_s` {still_s[1]:.1f} s at the end, against "
                  f"{still_s[0]:.1f} s of stillness in the truth.")
-    L.append("\nAquaScan's own pipeline for this batch (its `scripts/label_0229.sh`, `pre_sonar_opt_yoho.py`: the skipped "
-             "gradians interpolated, the first 75 samples blanked, a threshold stepping down with range, median blur and "
-             "DBSCAN), run on the same recordings and scored the same way, as reported in issue 23 (not run here: its "
-             "scripts are not among the shared data): F1 0.741 (sonar4) and 0.785 (sonar11), recall 0.94, precision "
-             "0.61 / 0.67, the far swimmers in 21 of 26 and 14 of 16 sweeps. The 0.862 of AquaScan's README pools four "
-             "recording dates, three with a recorded empty-pool background, under its own looser scorer.\n")
+    L.append("\nAquaScan's own pipeline for this batch is not among the shared data and is not rerun here; what it "
+             "scored during issue 23 is in docs/decisions.md.\n")
     L.append("Targets (issue 23): the default configuration F1 ≥ 0.90 on each AquaScan recording at 15 m and at 13 m with the "
              "far swimmers in ≥ 80 % of their sweeps; F1 ≥ 0.95 on every simulated scene and ≤ 0.1 false alarms a sweep on "
              "an empty pool; the still person detected in ≥ 95 % of its still sweeps. The rows above say which are met.\n")
