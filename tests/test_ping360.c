@@ -29,7 +29,7 @@ static int fake_send(void *user, const uint8_t *buf, size_t len)
     assert_int_equal(sonar_ping_parser_init(&p, 0), SONAR_OK);
     assert_int_equal(sonar_ping_parser_next(&p, &buf, &len, &f), 1);
     x->id[x->n % 64] = f.id;
-    x->angle[x->n % 64] = f.id == SONAR_PING360_TRANSDUCER ? (uint16_t)(f.payload[2] | f.payload[3] << 8) : 0;
+    x->angle[x->n % 64] = (uint16_t)(f.id == SONAR_PING360_TRANSDUCER ? f.payload[2] | f.payload[3] << 8 : 0);
     x->n++;
     return 0;
 }
