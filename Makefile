@@ -30,7 +30,8 @@ HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o) $(BUILD)/msg/view.o
 MSG_SRC   = $(filter-out src/msg/view.c,$(wildcard src/msg/*.c))
 MSG_OBJ   = $(MSG_SRC:src/msg/%.c=$(BUILD)/msg/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(MSG_OBJ) \
-            $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/source_pose_lcm.o
+            $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/mav_rx.o \
+            $(BUILD)/host/mav_tx.o $(BUILD)/host/source_pose_lcm.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
@@ -70,7 +71,7 @@ $(MAVLINK_GEN): .venv-mavlink/.done
 	  o = mavgen.Opts("$(BUILD)/mavlink", wire_protocol="2.0", language="C", validate=True); \
 	  sys.exit(0 if mavgen.mavgen(o, [xml]) else 1)' > $(BUILD)/mavgen.log 2>&1 || { cat $(BUILD)/mavgen.log; exit 1; }
 	@test -f $@ && echo "mavgen: $(BUILD)/mavlink from pymavlink $$(.venv-mavlink/bin/python -c 'import importlib.metadata as m; print(m.version("pymavlink"))') (ardupilotmega, MAVLink 2)"
-$(BUILD)/host/mav.o: src/host/mav.c $(MAVLINK_GEN)
+$(BUILD)/host/mav.o $(BUILD)/host/mav_rx.o $(BUILD)/host/mav_tx.o: $(BUILD)/host/%.o: src/host/%.c $(MAVLINK_GEN)
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -isystem $(BUILD)/mavlink -c $< -o $@
 
@@ -160,9 +161,9 @@ $(BUILD)/tests/fuzz_parser: tests/fuzz_parser.c $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
-## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40), then each libFuzzer harness (Ping parser + Ping360 driver, CSV, config, .bin) for FUZZ_SECONDS (default 5) under ASan+UBSan
+## fuzz: the parser-contract harness on random streams (FUZZ_ROUNDS of 1 MiB, default 40), then each libFuzzer harness (Ping parser + Ping360 driver, co-processor frames, CSV, config, .bin, MAVLink in, discovery replies, pose CSV) for FUZZ_SECONDS (default 5) under ASan+UBSan
 FUZZ_SECONDS ?= 5
-FUZZ_HARNESS = ping360 cpframe csv config pvbin
+FUZZ_HARNESS = ping360 cpframe csv config pvbin mavlink discover posefile
 FUZZ_SAN = -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 fuzz: fuzz-random
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang OPT=-O1 SAN="$(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
@@ -180,6 +181,12 @@ fuzz-coverage:
 ## fuzz-random: the parser-contract harness alone (it also runs under make asan)
 fuzz-random: $(BUILD)/tests/fuzz_parser
 	@$< $(or $(FUZZ_ROUNDS),40)
+
+# The MAVLink harness takes the endpoint's objects and the generated headers.
+$(BUILD)/fuzz/fuzz_mavlink: tests/fuzz/fuzz_mavlink.c $(BUILD)/host/mav.o $(BUILD)/host/mav_rx.o $(BUILD)/host/mav_tx.o \
+                            $(BUILD)/host/link.o $(HOST_OBJ) $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) -isystem $(BUILD)/mavlink -fsanitize=fuzzer $(INPUTS) -o $@ $(LDLIBS)
 
 $(BUILD)/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)

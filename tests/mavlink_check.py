@@ -22,27 +22,30 @@ import time
 
 from pymavlink.dialects.v20 import ardupilotmega as apm
 
+from ardupilot_model import Proximity
 from sim_geom import ray_segment
 
 
-def nearest_in_sector(k, walls, objects, rmax):
-    """The nearest wall or object surface within sector k (centred on 5k degrees, +-2.5), metres."""
+def nearest_in_arc(centre, width, walls, objects, rmax, by_centre=False):
+    """The nearest wall or object surface within centre +- width / 2 degrees, metres. by_centre: an
+    object counts in the arc holding its centre only (a face's obstacle), not in every arc it reaches."""
     best = None
-    for i in range(51):
-        th = math.radians(5 * k - 2.5 + 0.1 * i)
+    steps = int(width * 10)
+    for i in range(steps + 1):
+        th = math.radians(centre - width / 2 + 0.1 * i)
         ux, uy = math.cos(th), math.sin(th)
         for w in walls:
             t = ray_segment(ux, uy, *w)
             if t is not None and (best is None or t < best):
                 best = t
-    lo, hi = math.radians(5 * k - 2.5), math.radians(5 * k + 2.5)
+    lo, hi = math.radians(centre - width / 2), math.radians(centre + width / 2)
     for o in objects:
         d = math.hypot(o["x"], o["y"])
         phi = math.atan2(o["y"], o["x"])
         half = math.asin(min(1.0, o["radius"] / d))
         mid = (lo + hi) / 2
         gap = abs((phi - mid + math.pi) % (2 * math.pi) - math.pi)
-        if gap <= (hi - lo) / 2 + half:
+        if gap <= (hi - lo) / 2 + (0.0 if by_centre else half):
             best = d - o["radius"] if best is None else min(best, d - o["radius"])
     return best if best is not None and best <= rmax else None
 
@@ -53,13 +56,17 @@ def main():
     ap.add_argument("--seconds", type=float, required=True)
     ap.add_argument("--truth", help="sonar-sim truth JSON of the scene served (walls, objects)")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--sysid", type=int, default=1, help="the autopilot's system id")
     ap.add_argument("--listen-only", action="store_true",
                     help="no autopilot: only a ground station's HEARTBEAT (sysid 255), to be answered")
     a = ap.parse_args()
     dest = ("127.0.0.1", a.port)
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     s.setblocking(False)
-    ours = apm.MAVLink(None, srcSystem=255 if a.listen_only else 1, srcComponent=190 if a.listen_only else 1)
+    ours = apm.MAVLink(None, srcSystem=255 if a.listen_only else a.sysid, srcComponent=190 if a.listen_only else 1)
+    gcs = apm.MAVLink(None, srcSystem=255, srcComponent=190)
+    ardupilot = Proximity()
+    zeros, od_abs = 0, []
     other = apm.MAVLink(None, srcSystem=7, srcComponent=1)
     rx = apm.MAVLink(None)
     rx.robust_parsing = True
@@ -72,8 +79,12 @@ def main():
         now = time.time()
         ms = int((now - t0) * 1000)
         if now >= next_hb:
-            s.sendto(ours.heartbeat_encode(apm.MAV_TYPE_SUBMARINE, apm.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0,
-                                           apm.MAV_STATE_ACTIVE).pack(ours), dest)
+            if a.listen_only:
+                s.sendto(ours.heartbeat_encode(apm.MAV_TYPE_GCS, apm.MAV_AUTOPILOT_INVALID, 0, 0,
+                                               apm.MAV_STATE_ACTIVE).pack(ours), dest)
+            else:
+                s.sendto(ours.heartbeat_encode(apm.MAV_TYPE_SUBMARINE, apm.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0,
+                                               apm.MAV_STATE_ACTIVE).pack(ours), dest)
             next_hb += 1.0
         if now >= next_pose and a.listen_only:
             next_pose = next_junk = now + 3600
@@ -91,6 +102,12 @@ def main():
                      payload + b"\x12\x34", dest)
             s.sendto(bytes(rng.randrange(256) for _ in range(40)), dest)
             s.sendto(other.attitude_encode(ms, 0, 0, 1.57, 0, 0, 0).pack(other), dest)
+            # a second autopilot on the link, a ground station, an answer to a command sonard never sent
+            s.sendto(other.heartbeat_encode(apm.MAV_TYPE_QUADROTOR, apm.MAV_AUTOPILOT_ARDUPILOTMEGA, 0, 0,
+                                            apm.MAV_STATE_ACTIVE).pack(other), dest)
+            s.sendto(gcs.heartbeat_encode(apm.MAV_TYPE_GCS, apm.MAV_AUTOPILOT_INVALID, 0, 0,
+                                          apm.MAV_STATE_ACTIVE).pack(gcs), dest)
+            s.sendto(ours.command_ack_encode(apm.MAV_CMD_COMPONENT_ARM_DISARM, 0).pack(ours), dest)
             next_junk += 1.0
         try:
             while True:
@@ -103,6 +120,9 @@ def main():
                         continue
                     counts[name] = counts.get(name, 0) + 1
                     if name == "OBSTACLE_DISTANCE":
+                        ardupilot.obstacle_distance(m, got)
+                        zeros += sum(1 for x in m.distances if x == 0)
+                        od_abs.append(time.time())
                         od.append({"t": got, "distances": list(m.distances), "min": m.min_distance, "max": m.max_distance,
                                    "increment": m.increment, "increment_f": m.increment_f, "angle_offset": m.angle_offset,
                                    "frame": m.frame, "sensor_type": m.sensor_type, "sysid": m.get_srcSystem(),
@@ -116,7 +136,8 @@ def main():
         except BlockingIOError:
             pass
         time.sleep(0.005)
-    rep = {"counts": counts, "bad_data": bad, "od_n": len(od), "hb": hb, "od3d": od3d}
+    rep = {"counts": counts, "bad_data": bad, "od_n": len(od), "hb": hb, "od3d": od3d, "zero_distances": zeros,
+           "od_last_abs": od_abs[-1] if od_abs else None}
     if len(od) > 2:
         rep["od_rate_hz"] = (len(od) - 1) / (od[-1]["t"] - od[0]["t"])
         gaps = [b["t"] - a_["t"] for a_, b in zip(od, od[1:])]
@@ -137,13 +158,21 @@ def main():
         objs = [o for o in tr["sweeps"][-1]["objects"] if len(where[o["id"]]) == 1]
         last = od[-1]
         rmax = last["max"] / 100.0
+        off = last["angle_offset"]
+        # What ArduPilot holds, face by face, after the last message, against the nearest surface in each face.
+        faces = []
+        for f, got in enumerate(ardupilot.distances(last["t"])):
+            want = nearest_in_arc(45.0 * f, 45.0, walls, objs, rmax, by_centre=True)
+            faces.append({"face": f, "got": got, "want": want,
+                          "err": None if got is None or want is None else got - want})
+        rep["faces"] = faces
         errs = []
         for k, d in enumerate(last["distances"]):
-            want = nearest_in_sector(k, walls, objs, rmax)
+            want = nearest_in_arc(5 * k + off, 5.0, walls, objs, rmax)
             if d == 65535:
                 continue
             got = None if d == last["max"] + 1 else d / 100.0
-            errs.append({"sector": k, "got": got, "want": want,
+            errs.append({"sector": k, "centre": 5 * k + off, "got": got, "want": want,
                          "err": None if got is None or want is None else got - want})
         rep["sectors"] = errs
     json.dump(rep, open(a.out, "w"), indent=1)

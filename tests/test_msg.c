@@ -113,6 +113,15 @@ static void status_round_trip(void **state)
     s.coproc.tx_dropped = 128;
     s.coproc.config_refused = 129;
     s.coproc.frames_bad = 130;
+    s.autopilot.sysid = 42;
+    s.autopilot.pose_hz = 9.5f;
+    s.autopilot.interval_requests = 131;
+    s.autopilot.interval_refused = 132;
+    s.autopilot.acks_other = 133;
+    s.autopilot.pose_held = 1;
+    s.autopilot.od_sent = 134;
+    s.autopilot.od_withheld = 135;
+    s.autopilot.rx_other = 136;
     msg_status(&s, &m);
     n = sonar_status_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_true(n > 0);

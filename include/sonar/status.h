@@ -38,6 +38,17 @@ struct sonar_status {
         uint32_t config_refused;           /* configurations the firmware refused */
         uint32_t frames_bad;               /* firmware frames the host dropped (CRC or undecodable) */
     } coproc;                              /* all 0 without a co-processor */
+    struct {
+        uint32_t sysid;                    /* the autopilot's system id, 0 until its HEARTBEAT is heard */
+        float pose_hz;                     /* ATTITUDE messages a second from it, over the last 2 s */
+        uint32_t interval_requests;        /* MAV_CMD_SET_MESSAGE_INTERVAL sent (ATTITUDE, LOCAL_POSITION_NED) */
+        uint32_t interval_refused;         /* ... answered with a COMMAND_ACK other than accepted */
+        uint32_t acks_other;               /* COMMAND_ACKs for commands we did not send */
+        uint32_t pose_held;                /* 1: the obstacle map uses the last pose, the pose being stale */
+        uint32_t od_sent;                  /* OBSTACLE_DISTANCE sent */
+        uint32_t od_withheld;              /* ... not sent: no beam for a second (fail closed) */
+        uint32_t rx_other;                 /* messages from other systems and components, ignored */
+    } autopilot;                           /* all 0 without --mavlink */
 };
 
 /*

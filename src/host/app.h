@@ -28,6 +28,8 @@ struct app_sink {
     int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
                       const struct msg_view *v);
     int (*status)(void *self, const struct sonar_status *s);
+    /* Adds the sink's own counters to a status the app is about to send (the autopilot's); may be NULL. */
+    void (*fill)(const void *self, struct sonar_status *s);
     unsigned long errors; /* failed calls, kept by the app */
     unsigned long n_beams, n_detections, n_statuses; /* calls that succeeded, kept by the app */
 };

@@ -34,7 +34,7 @@ void app_pose_status(const struct app *a, struct sonar_status *s)
 
 void app_report_status(struct app *a, int link_state, struct sonar_status *s)
 {
-    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
+    unsigned i, n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
     memcpy(a->sorted, a->proc_us, n * sizeof(float));
     qsort(a->sorted, n, sizeof(float), cmpf);
     memset(s, 0, sizeof(*s));
@@ -50,6 +50,9 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s)
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
     app_pose_status(a, s);
+    for (i = 0; i < a->nsinks; i++)
+        if (a->sinks[i]->fill != NULL)
+            a->sinks[i]->fill(a->sinks[i]->self, s);
     app_send_status(a, s);
 }
 

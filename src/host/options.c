@@ -74,6 +74,26 @@ static int parse_sector(void *base, const char *v, char *err, size_t n)
     return HOST_OK;
 }
 
+/* --ignore-sector FROM:TO, degrees clockwise from forward (0..360); repeatable, an arc may cross forward. */
+static int parse_ignore(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    double a, b;
+    char tail;
+    if (sscanf(v, "%lf:%lf%c", &a, &b, &tail) != 2 || !(a >= 0.0 && a <= 360.0 && b >= 0.0 && b <= 360.0)) {
+        snprintf(err, n, "--ignore-sector: '%s' is not FROM:TO in degrees 0..360 clockwise from forward", v);
+        return HOST_ERR_CONFIG;
+    }
+    if (o->n_ignore >= SONARD_MAX_IGNORE) {
+        snprintf(err, n, "--ignore-sector %s: at most %d arcs", v, SONARD_MAX_IGNORE);
+        return HOST_ERR_CONFIG;
+    }
+    o->ignore[o->n_ignore][0] = (float)a;
+    o->ignore[o->n_ignore][1] = (float)b;
+    o->n_ignore++;
+    return HOST_OK;
+}
+
 static int parse_median(void *base, const char *v, char *err, size_t n)
 {
     struct sonard_options *o = base;
@@ -142,14 +162,23 @@ static const struct opt_spec spec[] = {
     SECTION("autopilot (MAVLink, docs/mavlink.md)"),
     {"mavlink", "URL", OPT_STR, 1, 0, F(mavlink), 0, 200, "udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD]", NULL,
      "live: the autopilot's endpoint: ATTITUDE and LOCAL_POSITION_NED in as the\nvehicle's pose; OBSTACLE_DISTANCE, OBSTACLE_DISTANCE_3D, HEARTBEAT out", NULL, NULL},
-    {"mavlink-sysid", "N", OPT_LONG, 1, 0, F(mav_sysid), 1, 255, "system id", "1", "our MAVLink system id (the vehicle's)", NULL, NULL},
+    {"mavlink-sysid", "N", OPT_LONG, 1, 0, F(mav_sysid), 0, 255, "system id (0 = the autopilot's)", "0",
+     "our MAVLink system id: the vehicle's, taken from its autopilot's HEARTBEAT\n(1 until heard)", NULL, NULL},
     {"mavlink-compid", "N", OPT_LONG, 1, 0, F(mav_compid), 1, 255, "component id", "158 (MAV_COMP_ID_PERIPHERAL)",
      "our MAVLink component id", NULL, NULL},
-    {"mavlink-autopilot", "N", OPT_LONG, 1, 0, F(mav_autopilot), 0, 255, "system id (0 = any)", "0",
-     "take the pose only from this system's autopilot (component 1)", NULL, NULL},
+    {"mavlink-autopilot", "N", OPT_LONG, 1, 0, F(mav_autopilot), 0, 255, "system id (0 = the first heard)", "0",
+     "the autopilot (component 1) whose pose sonard takes; 0: the first system\nwhose HEARTBEAT says it is an autopilot", NULL, NULL},
+    {"mavlink-pose-rate", "HZ", OPT_F32, 1, 0, F(mav_pose_rate), 0, 50, "messages a second (0 = never ask)", "10",
+     "ask the autopilot (SET_MESSAGE_INTERVAL) for ATTITUDE and LOCAL_POSITION_NED\nat this rate, every 5 s until they come", NULL, NULL},
+    {"mavlink-fail-closed", "on|off", OPT_CHOICE, 1, 0, F(mav_fail_closed), 0, 0, "on or off", "on",
+     "no OBSTACLE_DISTANCE while no beam has come for a second, so the autopilot\nmarks the sonar NoData", "off=0|on=1", NULL},
+    {"mavlink-3d", "on|off", OPT_CHOICE, 1, 0, F(mav_3d), 0, 0, "on or off", "off",
+     "OBSTACLE_DISTANCE_3D for each confirmed track (see docs/mavlink.md first)", "off=0|on=1", NULL},
+    {"ignore-sector", "FROM:TO", OPT_CUSTOM, 1, 0, 0, 0, 0, "degrees clockwise from forward", "none",
+     "the vehicle's own echoes (hull, thrusters, tether): kept out of the obstacle\nmap and sent unknown; repeatable, up to 8", NULL, parse_ignore},
     {"pose-lcm", "URL", OPT_STR, 1, 0, F(pose_lcm), 0, 200, "LCM URL", "sonard's --lcm",
      "live: read the vehicle's pose (sonar.pose_t on SONAR_POSE) from this LCM", NULL, NULL},
-    {"mavlink-rate", "HZ", OPT_F32, 1, 0, F(mav_rate), 1, 50, "messages a second", "20",
+    {"mavlink-rate", "HZ", OPT_F32, 1, 0, F(mav_rate), 1, 50, "messages a second", "10",
      "OBSTACLE_DISTANCE rate (ArduPilot drops the sensor after 500 ms without one)", NULL, NULL},
     SECTION("replay"),
     {"replay", "FILE", OPT_STR, 0, 0, F(replay), 0, 0, "file, - for stdin", NULL,
@@ -269,9 +298,11 @@ static void defaults(struct sonard_options *o)
     o->speed_of_sound = 1500.0;
     o->discover_s = 2.0;
     o->discover_data_port = 12345;
-    o->mav_sysid = 1;
+    o->mav_sysid = 0;
     o->mav_compid = 158;
-    o->mav_rate = 20.0f;
+    o->mav_rate = 10.0f;
+    o->mav_pose_rate = 10.0f;
+    o->mav_fail_closed = 1;
     o->stage = SONAR_STAGE_FOREGROUND;
     o->device.gain = 0;
     o->device.frequency = 750;

@@ -12,6 +12,8 @@
 
 #define OPTIONS_MAX_CONFIGS 8
 
+#define SONARD_MAX_IGNORE 8 /* --ignore-sector arcs (mav.h MAV_MAX_IGNORE) */
+
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
     const char *pose_file;      /* replay: the vehicle's poses, utime_us,north_m,east_m,yaw_deg */
@@ -20,8 +22,13 @@ struct sonard_options {
     const char *coprocessor;    /* the firmware's host link, same URL forms */
     long coproc_beams;          /* ask the firmware for every Nth raw beam; 0 = none */
     const char *mavlink;        /* the autopilot: udpin:ADDR:PORT | udpout:HOST:PORT | serial:PATH[:BAUD] */
-    long mav_sysid, mav_compid, mav_autopilot;
+    long mav_sysid, mav_compid, mav_autopilot; /* sysid 0: the autopilot's; autopilot 0: the first heard */
     float mav_rate;             /* OBSTACLE_DISTANCE messages a second */
+    float mav_pose_rate;        /* ATTITUDE and LOCAL_POSITION_NED asked of the autopilot; 0: never ask */
+    uint8_t mav_fail_closed;    /* no OBSTACLE_DISTANCE without a beam for a second */
+    uint8_t mav_3d;             /* OBSTACLE_DISTANCE_3D per confirmed track */
+    uint8_t n_ignore;           /* --ignore-sector arcs, degrees clockwise from forward: from, to */
+    float ignore[SONARD_MAX_IGNORE][2];
     int discover;               /* list the network's Ping360s and exit */
     const char *discover_to;    /* NULL: broadcast 255.255.255.255:30303 */
     double discover_s;

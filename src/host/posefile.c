@@ -50,14 +50,22 @@ static int split(char *buf, char **f, int max)
 
 int posefile_open(struct posefile *p, const char *path, char *err, size_t errlen)
 {
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        memset(p, 0, sizeof(*p));
+        snprintf(err, errlen, "%s: %s", path, strerror(errno));
+        return HOST_ERR_IO;
+    }
+    return posefile_open_stream(p, f, path, err, errlen);
+}
+
+int posefile_open_stream(struct posefile *p, FILE *stream, const char *path, char *err, size_t errlen)
+{
     char *f[32];
     int n, i, k, r;
     memset(p, 0, sizeof(*p));
     p->path = path;
-    if ((p->f = fopen(path, "r")) == NULL) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
-        return HOST_ERR_IO;
-    }
+    p->f = stream;
     if ((r = read_line(p)) <= 0) {
         snprintf(err, errlen, "%s:1: %s", path, r == 0 ? "empty: expected the header utime_us,north_m,east_m,yaw_deg"
                                                        : "header line too long");

@@ -29,6 +29,9 @@ struct posefile {
  */
 HOST_CHECK int posefile_open(struct posefile *p, const char *path, char *err, size_t errlen);
 
+/* The same over an open stream (kept, and closed by posefile_close or a failed open); path names it in messages. */
+HOST_CHECK int posefile_open_stream(struct posefile *p, FILE *stream, const char *path, char *err, size_t errlen);
+
 /*
  * Gives the app every sample up to and including until_us (us since the epoch). A malformed row
  * or one the poses refuse (out of order, a jump) is reported on errf as "PATH:LINE: reason; row

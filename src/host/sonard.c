@@ -19,6 +19,9 @@
 #include "source_replay.h"
 
 /* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
+/* --ignore-sector's arcs are copied whole from the options into the endpoint's config. */
+SONAR_STATIC_ASSERT(SONARD_MAX_IGNORE == MAV_MAX_IGNORE, ignore_arcs_match);
+
 struct sonard {
     struct sonard_options opt, reload; /* running options, and the scratch a SIGHUP parses into */
     int argc;
@@ -273,6 +276,11 @@ int main(int argc, char **argv)
         mc.compid = (uint8_t)s.opt.mav_compid;
         mc.autopilot = (uint8_t)s.opt.mav_autopilot;
         mc.rate_hz = s.opt.mav_rate;
+        mc.pose_rate_hz = s.opt.mav_pose_rate;
+        mc.fail_closed = s.opt.mav_fail_closed;
+        mc.send_3d = s.opt.mav_3d;
+        mc.n_ignore = s.opt.n_ignore;
+        memcpy(mc.ignore, s.opt.ignore, sizeof(mc.ignore));
         mc.angle_offset = s.opt.pipeline.detector.angle_offset;
         mc.min_range_m = s.opt.pipeline.detector.min_range_m;
         if (mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, s.app) != HOST_OK) {

@@ -91,6 +91,15 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->coproc_tx_dropped = s->coproc.tx_dropped;
     m->coproc_config_refused = s->coproc.config_refused;
     m->coproc_frames_bad = s->coproc.frames_bad;
+    m->autopilot_sysid = (int16_t)(s->autopilot.sysid > 255u ? 255u : s->autopilot.sysid);
+    m->autopilot_pose_hz = s->autopilot.pose_hz;
+    m->autopilot_interval_requests = s->autopilot.interval_requests;
+    m->autopilot_interval_refused = s->autopilot.interval_refused;
+    m->autopilot_acks_other = s->autopilot.acks_other;
+    m->autopilot_pose_held = (int8_t)(s->autopilot.pose_held != 0);
+    m->obstacle_distance_sent = s->autopilot.od_sent;
+    m->obstacle_distance_withheld = s->autopilot.od_withheld;
+    m->autopilot_rx_other = s->autopilot.rx_other;
 }
 
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
@@ -138,6 +147,15 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->coproc.tx_dropped = to_u32(m->coproc_tx_dropped);
     s->coproc.config_refused = to_u32(m->coproc_config_refused);
     s->coproc.frames_bad = to_u32(m->coproc_frames_bad);
+    s->autopilot.sysid = to_u32(m->autopilot_sysid);
+    s->autopilot.pose_hz = m->autopilot_pose_hz;
+    s->autopilot.interval_requests = to_u32(m->autopilot_interval_requests);
+    s->autopilot.interval_refused = to_u32(m->autopilot_interval_refused);
+    s->autopilot.acks_other = to_u32(m->autopilot_acks_other);
+    s->autopilot.pose_held = m->autopilot_pose_held != 0;
+    s->autopilot.od_sent = to_u32(m->obstacle_distance_sent);
+    s->autopilot.od_withheld = to_u32(m->obstacle_distance_withheld);
+    s->autopilot.rx_other = to_u32(m->autopilot_rx_other);
 }
 
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)

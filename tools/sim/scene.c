@@ -105,6 +105,16 @@ int scene_make(struct scene *s, const char *name)
         s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0, 0, {0}, {0}, {0}, 0};
         s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0, 0, {0}, {0}, {0}, 0};
         s->nobj = 3;
+    } else if (strcmp(name, "faces") == 0) {
+        /*
+         * Open water, two posts ahead: a near one 10 degrees to starboard (3 m) and a far one 10 degrees
+         * to port (6 m). Both lie in ArduPilot's forward face; the autopilot must be told the near one.
+         */
+        s->range_m = 8.0;
+        s->sweeps = 4;
+        s->obj[0] = (struct scene_object){"near_post", 2.954, 0.521, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0};
+        s->obj[1] = (struct scene_object){"far_post", 5.909, -1.042, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0};
+        s->nobj = 2;
     } else if (strcmp(name, "moving") == 0) {
         /*
          * Open water, full turns at 4 gradians a step (6.3 s a turn at 15 m), 24 turns: two swimmers

@@ -32,7 +32,7 @@ static int parse_seed(void *base, const char *v, char *err, size_t n)
 
 #define SO(field) offsetof(struct sim_opts, field)
 static const struct opt_spec sim_spec[] = {
-    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far or still", "pool",
+    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still or faces", "pool",
      "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
      "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps);\n"
      "moving: 6 targets at 0.05..1.5 m/s crossing, turning, fading, arriving, leaving (14 turns);\n"
@@ -69,7 +69,7 @@ int main(int argc, char **argv)
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still --out FILE.csv --truth FILE.json "
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces --out FILE.csv --truth FILE.json "
                         "[--pose-out FILE.csv] [--sweeps N] [--seed S]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
@@ -80,7 +80,7 @@ int main(int argc, char **argv)
     sweeps = (int)o.sweeps;
     g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
-        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far or still\n", scene_name);
+        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far, still or faces\n", scene_name);
         return 2;
     }
     if (csv_path == NULL || truth_path == NULL) {

@@ -90,8 +90,15 @@ struct feed {
     int mfd;
     mavlink_status_t mstatus;
     double scene_t0;    /* when the first beam was served: the scene's clock starts then (a vehicle's path is timed) */
-    double next_pose;
+    double next_pose;   /* the earliest of the three below */
     long poses_sent;
+    double next_hb, next_att, next_pos; /* HEARTBEAT each second; ATTITUDE, LOCAL_POSITION_NED at their intervals */
+    double att_s, pos_s;                /* the intervals, seconds (--mavlink-rate, then SET_MESSAGE_INTERVAL); 0: off */
+    double mav_rate0;                   /* --mavlink-rate: the streams' rate at the start, Hz */
+    int mav_refuse;                     /* --mavlink-refuse: answer SET_MESSAGE_INTERVAL with MAV_RESULT_DENIED */
+    long intervals_set, intervals_refused, acks_sent;
+    mavlink_message_t mrx_buf, mrx_msg;
+    mavlink_status_t mrx_status, mrx_rstatus;
     /* discovery (--discovery udp:127.x.x.x:PORT): answers "Discovery" as the device does */
     char disc_host[64];
     int disc_port, dfd;
@@ -120,9 +127,9 @@ void feed_handle_frame(struct feed *f, const struct sonar_ping_frame *fr);
 /* feed_faults.c: the pending reply sent through the fault injector (stalls, disconnects, drops, garbage, corruption). */
 void feed_flush_reply(struct feed *f);
 
-/* feed_autopilot.c: the scene's vehicle as its autopilot reports it over MAVLink. */
+/* feed_autopilot.c: the scene's vehicle as its autopilot reports it over MAVLink; it honours SET_MESSAGE_INTERVAL. */
 int feed_open_mavlink(struct feed *f);
-void feed_send_pose(struct feed *f);
+void feed_autopilot(struct feed *f, double now);
 
 /* feed_discovery.c: Ping Viewer's UDP discovery answered as the device does. */
 void feed_answer_discovery(struct feed *f);

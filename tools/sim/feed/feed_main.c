@@ -96,7 +96,7 @@ static int parse_pace(void *base, const char *v, char *err, size_t n)
 static const struct opt_spec feed_spec[] = {
     {"device", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
     {"listen", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "tcp:HOST:PORT | udp:HOST:PORT | pty:PATH", NULL, "where to act as a Ping360 (loopback only)", NULL, parse_listen},
-    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool, open, moving, sector or vehicle", NULL, "a simulated scene", NULL, NULL},
+    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still or faces", NULL, "a simulated scene", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
     {"pace", "device|fast", OPT_CUSTOM, 0, 0, 0, 0, 0, "device or fast", "device", "device: 19.4 ms + 6 ms a gradian + 2R/c a beam", NULL, parse_pace},
@@ -107,7 +107,11 @@ static const struct opt_spec feed_spec[] = {
     {"exit-after-motor-off", NULL, OPT_FLAG, 0, 0, FO(exit_after_motor_off), 0, 0, NULL, "off", "exit 0.3 s after motor_off", NULL, NULL},
     {"max-beams", "N", OPT_LONG, 0, 0, FO(max_beams), 1, 1e12, "beams", "no limit", "exit after N beams sent intact (soak)", NULL, NULL},
     {"mavlink", "URL", OPT_STR, 0, 0, FO(mavlink), 0, 0, "udpout:127.x.x.x:PORT", NULL,
-     "a moving scene's autopilot: ATTITUDE and LOCAL_POSITION_NED at 20 Hz", NULL, NULL},
+     "the scene's autopilot (an ArduPilot stand-in): HEARTBEAT, ATTITUDE and\nLOCAL_POSITION_NED, honouring SET_MESSAGE_INTERVAL", NULL, NULL},
+    {"mavlink-rate", "HZ", OPT_F64, 0, 0, FO(mav_rate0), 0.1, 50, "messages a second", "1",
+     "the pose streams' rate until SET_MESSAGE_INTERVAL changes it (ArduPilot's\nwithout a ground station)", NULL, NULL},
+    {"mavlink-refuse", NULL, OPT_FLAG, 0, 0, FO(mav_refuse), 0, 0, NULL, "off",
+     "answer SET_MESSAGE_INTERVAL with MAV_RESULT_DENIED", NULL, NULL},
     {"discovery", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "udp:127.x.x.x:PORT", NULL,
      "answer Ping360 discovery (\"Discovery\" -> the device's text reply) here", NULL, parse_discovery},
     {"mac", "XX-XX-XX-XX-XX-XX", OPT_CUSTOM, 0, 0, 0, 0, 0, "six hex pairs", "54-10-EC-00-00-01", "MAC address in the discovery reply", NULL, parse_mac},
@@ -147,6 +151,7 @@ int main(int argc, char **argv)
     f.fw[2] = 8;
     f.c = 1500.0;
     f.max_s = 600;
+    f.mav_rate0 = 1.0;
     f.csv_range = -1;
     f.mac[0] = 0x54;
     f.mac[1] = 0x10;
@@ -182,6 +187,7 @@ int main(int argc, char **argv)
     f.mfd = -1;
     if (f.mavlink != NULL && feed_open_mavlink(&f) != 0)
         return 2;
+    f.att_s = f.pos_s = 1.0 / f.mav_rate0;
     if (f.log_path != NULL && (f.log = fopen(f.log_path, "w")) == NULL) {
         perror(f.log_path);
         return 2;
@@ -214,10 +220,8 @@ int main(int argc, char **argv)
         double now = feed_now();
         if (now - t0 > f.max_s || (f.stop_after && now > f.stop_at) || (f.max_beams > 0 && f.beams_intact >= f.max_beams))
             break;
-        if (f.mfd >= 0 && now >= f.next_pose) {
-            feed_send_pose(&f);
-            f.next_pose = now + 0.05;
-        }
+        if (f.mfd >= 0 && now >= f.next_pose)
+            feed_autopilot(&f, now);
         if (f.mfd >= 0 && f.next_pose - now < 0.2) {
             double w = f.next_pose - now < 0 ? 0 : f.next_pose - now;
             ts.tv_sec = 0;
@@ -295,7 +299,8 @@ int main(int argc, char **argv)
             f.requests, f.beams, f.beams_intact, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
             f.motor_offs);
     if (f.mfd >= 0)
-        fprintf(stderr, "sonar_feed: mavlink %s: %ld poses sent\n", f.mavlink, f.poses_sent);
+        fprintf(stderr, "sonar_feed: mavlink %s: %ld poses sent, %ld intervals set, %ld refused, %ld acks\n", f.mavlink,
+                f.poses_sent, f.intervals_set, f.intervals_refused, f.acks_sent);
     if (f.dfd >= 0)
         fprintf(stderr, "sonar_feed: discovery %s:%d: %ld replies\n", f.disc_host, f.disc_port, f.discoveries);
     if (f.log != NULL) {
