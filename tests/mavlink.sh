@@ -69,15 +69,17 @@ check "the pose over MAVLink: every sweep tracked in the world frame, heading no
 check "echo to message: at most 150 ms (one 100 ms period of the 10 Hz OBSTACLE_DISTANCE, and the loop's wake)" sh -c "
     sed -n 's/.*echo to message mean [0-9.]* ms, max \([0-9.]*\) ms.*/\1/p' '$T/pool.err' | awk '{ exit !(\$1 <= 150) }'"
 
-# 2. A moving, turning vehicle: sonar-feed is its autopilot (ATTITUDE, LOCAL_POSITION_NED at 20 Hz) and its
-#    sonar; the checker listens as a ground station for the tracks' OBSTACLE_DISTANCE_3D.
+# 2. A moving, turning vehicle: sonar-feed is its autopilot (ATTITUDE, LOCAL_POSITION_NED at 1 Hz until asked) and
+#    its sonar; the checker is the router between them (it keeps the vehicle's poses) and a ground station that
+#    listens for the tracks' OBSTACLE_DISTANCE_3D.
 "$B/sonar-sim" --scene vehicle --out "$T/veh.csv" --truth "$T/veh.json" --sweeps 10
-"$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 2))" --scene vehicle --mavlink "udpout:127.0.0.1:$((PORT + 3))" \
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 2))" --scene vehicle --mavlink "udpout:127.0.0.1:$((PORT + 11))" \
     --max-seconds 90 2> "$T/vfeed.err" & FEEDPID=$!
 sleep 0.3
 timeout 90 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 15 --samples 600 --step 4 --sweeps 10 --json --no-lcm \
     --min-points 8 --mavlink "udpin:127.0.0.1:$((PORT + 3))" --mavlink-3d on > "$T/veh.jsonl" 2> "$T/veh.err" & SONARD=$!
-$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 66 --listen-only --out "$T/veh.rep" > "$T/vchk.out" 2>&1
+$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 66 --listen-only --router $((PORT + 11)) --truth "$T/veh.json" \
+    --out "$T/veh.rep" > "$T/vchk.out" 2>&1
 wait $SONARD; rc=$?
 kill $FEEDPID 2>/dev/null; wait $FEEDPID 2>/dev/null; FEEDPID=""
 cat "$T/vchk.out"
@@ -109,6 +111,14 @@ for l in open('$T/veh1.jsonl'):
             if math.hypot(d['north_m'] - n, d['east_m'] - e) < 0.5:
                 seen[k] += 1
 assert sum(seen.values()) >= 2, seen  # one look each may be missed live\""
+$PY -c "
+import json, statistics; r = json.load(open('$T/veh.rep'))['moving_faces']; e = r['errors']
+print('  moving vehicle through the ArduPilot model, once a second from 15 s: %d faces in %d snapshots, %d within 0.1 m, %d within 0.3 m, median %+.3f m, nearer than the obstacle %d, farther %d' % (
+    len(e), r['snapshots'], sum(abs(x) <= 0.1 for x in e), sum(abs(x) <= 0.3 for x in e), statistics.median(e),
+    sum(x < -0.1 for x in e), sum(x > 0.1 for x in e)))"
+check "moving vehicle through the ArduPilot model: at least 30 faces scored, the median face within 0.1 m of the nearest obstacle" $PY -c "
+import json, statistics; e = json.load(open('$T/veh.rep'))['moving_faces']['errors']
+assert len(e) >= 30 and abs(statistics.median(e)) <= 0.1, (len(e), statistics.median(e))"
 check "OBSTACLE_DISTANCE_3D: one burst a sweep with one time_boot_ms, IDs = the confirmed tracks', body FRD" $PY -c "
 import json
 r = json.load(open('$T/veh.rep'))

@@ -57,6 +57,9 @@ def main():
     ap.add_argument("--truth", help="sonar-sim truth JSON of the scene served (walls, objects)")
     ap.add_argument("--out", required=True)
     ap.add_argument("--sysid", type=int, default=1, help="the autopilot's system id")
+    ap.add_argument("--router", type=int, metavar="PORT",
+                    help="also a router: the autopilot (sonar-feed) sends to this port, everything is passed both ways, "
+                         "and its poses are kept, so each face is scored from where the vehicle is (a moving vehicle)")
     ap.add_argument("--listen-only", action="store_true",
                     help="no autopilot: only a ground station's HEARTBEAT (sysid 255), to be answered")
     a = ap.parse_args()
@@ -71,6 +74,16 @@ def main():
     rx = apm.MAVLink(None)
     rx.robust_parsing = True
     rng = random.Random(1)
+    router, feed_addr, rrx = None, None, apm.MAVLink(None)
+    rrx.robust_parsing = True
+    pose = None        # (north, east, yaw degrees) of the vehicle, from the autopilot's messages through the router
+    pos = (0.0, 0.0)
+    snaps = []         # (t, pose, ArduPilot's faces) once a second
+    next_snap = None
+    if a.router:
+        router = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        router.bind(("127.0.0.1", a.router))
+        router.setblocking(False)
     t0 = time.time()
     next_hb = next_pose = next_junk = t0
     counts, bad = {}, 0
@@ -109,9 +122,26 @@ def main():
                                           apm.MAV_STATE_ACTIVE).pack(gcs), dest)
             s.sendto(ours.command_ack_encode(apm.MAV_CMD_COMPONENT_ARM_DISARM, 0).pack(ours), dest)
             next_junk += 1.0
+        if router is not None:
+            try:
+                while True:
+                    data, feed_addr = router.recvfrom(4096)
+                    s.sendto(data, dest)
+                    for m in rrx.parse_buffer(data) or []:
+                        if m.get_type() == "LOCAL_POSITION_NED":
+                            pos = (m.x, m.y)
+                        elif m.get_type() == "ATTITUDE":
+                            pose = (pos[0], pos[1], math.degrees(m.yaw) % 360.0)
+            except BlockingIOError:
+                pass
+            if pose is not None and ardupilot.last_msg is not None and now - t0 > 15.0 and (next_snap is None or now >= next_snap):
+                snaps.append((now - t0, pose, ardupilot.distances(now - t0)))
+                next_snap = now + 1.0
         try:
             while True:
                 data, _ = s.recvfrom(4096)
+                if router is not None and feed_addr is not None:
+                    router.sendto(data, feed_addr)
                 got = time.time() - t0
                 for m in rx.parse_buffer(data) or []:
                     name = m.get_type()
@@ -175,6 +205,26 @@ def main():
             errs.append({"sector": k, "centre": 5 * k + off, "got": got, "want": want,
                          "err": None if got is None or want is None else got - want})
         rep["sectors"] = errs
+    if a.truth and snaps:
+        # A moving vehicle: the walls and the posts (world) brought into the body frame at each snapshot's pose.
+        tr = json.load(open(a.truth))
+        where = {}
+        for sw in tr["sweeps"]:
+            for o in sw["objects"]:
+                where.setdefault(o["id"], set()).add((round(o["x"], 2), round(o["y"], 2)))
+        still = [o for o in tr["sweeps"][-1]["objects"] if len(where[o["id"]]) == 1]
+        rmax = od[-1]["max"] / 100.0 if od else 15.0
+        errs = []
+        for t, (n0, e0, yaw), got in snaps:
+            c, s_ = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+            body = lambda n, e: (c * (n - n0) + s_ * (e - e0), -s_ * (n - n0) + c * (e - e0))  # noqa: E731
+            walls = [body(w[0], w[1]) + body(w[2], w[3]) for w in tr.get("walls", [])]
+            objs = [dict(o, x=body(o["x"], o["y"])[0], y=body(o["x"], o["y"])[1]) for o in still]
+            for f in range(8):
+                want = nearest_in_arc(45.0 * f, 45.0, walls, objs, rmax, by_centre=True)
+                if got[f] is not None and want is not None:
+                    errs.append(got[f] - want)
+        rep["moving_faces"] = {"snapshots": len(snaps), "errors": errs}
     json.dump(rep, open(a.out, "w"), indent=1)
     print(f"mavlink_check: {sum(counts.values())} messages ({', '.join(f'{k} {v}' for k, v in sorted(counts.items()))}), "
           f"{bad} bad")
