@@ -344,6 +344,75 @@ static void test_fail_closed(void **state)
     assert_int_equal(m.n.obstacle_distance, 2);
 }
 
+/*
+ * A stale pose: for MAV_POSE_HOLD_US after the last one, the map's world echoes are placed with it
+ * (said, counted, in the status), not dropped; after that they are.
+ */
+static void test_pose_held(void **state)
+{
+    mavlink_status_t st;
+    mavlink_message_t msg;
+    struct sonar_status status;
+    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
+    mavlink_message_t rbuf;
+    mavlink_status_t rst, rst2;
+    mavlink_obstacle_distance_t od;
+    size_t n, i;
+    int a, known;
+    (void)state;
+    setup_mav();
+    memset(&st, 0, sizeof(st));
+    heartbeat_from(1, 1, MAV_TYPE_SUBMARINE, MAV_AUTOPILOT_ARDUPILOTMEGA);
+    for (a = 0; a < 800; a++) { /* two turns with the pose: the floor learns the noise, then world echoes 3.9 m out */
+        static uint8_t smp[200];
+        struct sonar_record b;
+        memset(smp, 10, sizeof(smp));
+        if (a >= 400)
+            memset(smp + 78, 200, 3);
+        memset(&b, 0, sizeof(b));
+        b.utime = wall + a * 1000;
+        b.angle = (uint16_t)(a % 400);
+        b.n = 200;
+        b.range_m = 10.0f;
+        b.stage = SONAR_STAGE_MEDIAN;
+        b.has_pose = 1;
+        b.samples = smp;
+        assert_int_equal(m.sink.beam(m.sink.self, &b), HOST_OK);
+    }
+    wall += 800000;
+    for (a = 0; a < 3; a++) { /* the autopilot's last poses: a position, then a pose every 50 ms */
+        mavlink_msg_local_position_ned_pack_status(1, 1, &st, &msg, 10, 0.0f, 0.0f, 0, 0, 0, 0);
+        feed_msg(&msg, 0);
+        mavlink_msg_attitude_pack_status(1, 1, &st, &msg, 10, 0, 0, 0.0f, 0, 0, 0);
+        feed_msg(&msg, 0);
+        wall += 50000;
+    }
+    assert_int_equal(m.have_last_pose, 1);
+    for (known = 0; known < 2; known++) {
+        int64_t at = m.last_pose.utime + (known == 0 ? 3000000 : 6000000); /* stale (3 s), then past the hold (6 s) */
+        int echoes = 0;
+        n = mav_obstacle_distance(&m, buf, at, 9000000);
+        memset(&rst, 0, sizeof(rst));
+        memset(&rst2, 0, sizeof(rst2));
+        for (i = 0; i < n; i++)
+            (void)mavlink_frame_char_buffer(&rbuf, &rst, buf[i], &msg, &rst2);
+        mavlink_msg_obstacle_distance_decode(&msg, &od);
+        for (i = 0; i < 72; i++)
+            echoes += od.distances[i] < 1000;
+        if (known == 0) {
+            assert_true(echoes > 0); /* held: the remembered echoes are still placed */
+            assert_int_equal(m.holding, 1);
+            assert_int_equal(m.n.pose_holds, 1);
+            memset(&status, 0, sizeof(status));
+            mav_status(&m, &status);
+            assert_int_equal(status.autopilot.pose_held, 1);
+        } else {
+            assert_int_equal(echoes, 0); /* past the hold: no pose, no world echoes */
+            assert_int_equal(m.holding, 0);
+        }
+    }
+}
+
 /* --ignore-sector: the vehicle's own echoes never enter the map, and the arc goes out unknown. */
 static void test_ignored_arcs(void **state)
 {
@@ -423,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_identity),
         cmocka_unit_test(test_pose_rate_asked),
         cmocka_unit_test(test_fail_closed),
+        cmocka_unit_test(test_pose_held),
         cmocka_unit_test(test_ignored_arcs),
         cmocka_unit_test(test_3d_ids),
     };
