@@ -15,7 +15,7 @@
 #define MAV_PEER_US 10000000
 #define MAV_POSITION_STALE_US 1000000 /* without LOCAL_POSITION_NED for this long: heading only, at the last position */
 #define MAV_MAX_IGNORE 8              /* --ignore-sector arcs */
-#define MAV_BEAM_STALE_US 1000000     /* fail closed: no OBSTACLE_DISTANCE once the newest beam is this old */
+#define MAV_BEAM_STALE_US 950000      /* fail closed: no OBSTACLE_DISTANCE once the newest beam is this old (1 s, less the last message's way) */
 #define MAV_POSE_HOLD_US 5000000      /* a stale pose still places the map's remembered echoes for this long */
 #define MAV_INTERVAL_RETRY_US 5000000 /* SET_MESSAGE_INTERVAL again this often until the pose comes at the rate */
 #define MAV_RATE_WINDOW_US 2000000    /* the pose rate is measured over this window */

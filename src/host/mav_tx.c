@@ -175,7 +175,7 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
         return; /* nothing scanned yet: every sector would be unknown */
     if (m->cfg.fail_closed && stale) {
         if (!m->withholding)
-            app_say(m->app, "mavlink: no beam for %.1f s: OBSTACLE_DISTANCE withheld, the autopilot will mark the sonar "
+            app_say(m->app, "mavlink: no beam for %.2f s: OBSTACLE_DISTANCE withheld, the autopilot will mark the sonar "
                     "NoData", MAV_BEAM_STALE_US * 1e-6);
         m->withholding = 1;
         m->n.od_withheld++;
