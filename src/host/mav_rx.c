@@ -30,12 +30,9 @@ static void heartbeat_in(struct mav *m, const mavlink_message_t *msg, int64_t no
     }
 }
 
-/* The pose rate: ATTITUDEs per MAV_RATE_WINDOW_US; a rate that falls below 80 % of the one asked re-arms the request. */
-static void count_attitude(struct mav *m, int64_t now_mono)
+/* Closes the pose-rate window at now; a rate under 80 % of the one asked re-arms the request. */
+static void close_window(struct mav *m, int64_t now_mono)
 {
-    m->rate_n++;
-    if (now_mono - m->rate_t0 < MAV_RATE_WINDOW_US)
-        return;
     m->pose_hz = (float)((double)m->rate_n * 1e6 / (double)(now_mono - m->rate_t0));
     m->rate_t0 = now_mono;
     m->rate_n = 0;
@@ -43,16 +40,12 @@ static void count_attitude(struct mav *m, int64_t now_mono)
         m->next_interval = now_mono;
 }
 
-/* The rate seen when ATTITUDE stops altogether (no message to close the window with). */
-static void rate_timeout(struct mav *m, int64_t now_mono)
+/* The pose rate: ATTITUDEs per MAV_RATE_WINDOW_US. */
+static void count_attitude(struct mav *m, int64_t now_mono)
 {
-    if (m->ap_sysid != 0 && now_mono - m->rate_t0 >= 2 * MAV_RATE_WINDOW_US) {
-        m->pose_hz = (float)((double)m->rate_n * 1e6 / (double)(now_mono - m->rate_t0));
-        m->rate_t0 = now_mono;
-        m->rate_n = 0;
-        if (m->cfg.pose_rate_hz > 0.0f && m->next_interval == INT64_MAX)
-            m->next_interval = now_mono;
-    }
+    m->rate_n++;
+    if (now_mono - m->rate_t0 >= MAV_RATE_WINDOW_US)
+        close_window(m, now_mono);
 }
 
 static void ack_in(struct mav *m, const mavlink_message_t *msg)
@@ -159,7 +152,9 @@ void mav_bytes(struct mav *m, const uint8_t *buf, size_t len, int64_t now_wall_u
 
 void mav_rx_timers(struct mav *m, int64_t now_mono)
 {
-    rate_timeout(m, now_mono);
+    /* ATTITUDE stopped altogether: no message closes the window, so the timer does. */
+    if (m->ap_sysid != 0 && now_mono - m->rate_t0 >= 2 * MAV_RATE_WINDOW_US)
+        close_window(m, now_mono);
 }
 
 void mav_status(const struct mav *m, struct sonar_status *s)
