@@ -49,4 +49,11 @@ void sonar_frame_to_xy(double angle_grad, double offset_grad, double r, double *
 /* Bearing in degrees [0, 360) of sonar-frame x, y (atan2(y, x)); 0 when both are 0. */
 double sonar_frame_bearing_deg(double x, double y);
 
+/*
+ * One step of a stepping sweep, pos gradians from its start: full turns (full != 0; pos mod 400),
+ * or back and forth between 0 and span, *dir (+1 / -1) turning at either end. step: 1..50. Returns
+ * the new position. The Ping360 driver and the scan planner step a sector with it.
+ */
+uint16_t sonar_frame_sweep_advance(uint16_t pos, int8_t *dir, uint16_t span, uint8_t step, uint8_t full);
+
 #endif

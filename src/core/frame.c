@@ -53,3 +53,21 @@ double sonar_frame_bearing_deg(double x, double y)
     b = sonar_frame_deg(atan2(y, x));
     return b < 0.0 ? b + 360.0 : b;
 }
+
+uint16_t sonar_frame_sweep_advance(uint16_t pos, int8_t *dir, uint16_t span, uint8_t step, uint8_t full)
+{
+    if (full)
+        return (uint16_t)((pos + step) % SONAR_GRAD_TURN);
+    if (*dir > 0) {
+        if (pos >= span) {
+            *dir = -1;
+            return (uint16_t)(span > step ? span - step : 0);
+        }
+        return (uint16_t)(pos + step > span ? span : pos + step);
+    }
+    if (pos == 0) {
+        *dir = 1;
+        return (uint16_t)(step < span ? step : span);
+    }
+    return (uint16_t)(pos > step ? pos - step : 0);
+}

@@ -193,24 +193,7 @@ void sonar_ping360_link_lost(struct sonar_ping360 *d, int64_t now)
 /* Next angle of a stepping sweep: full turns, or bouncing between the sector's ends. */
 static void advance(struct sonar_ping360 *d)
 {
-    uint16_t step = d->cfg.step;
-    if (d->cfg.full_circle) {
-        d->pos = (uint16_t)((d->pos + step) % SONAR_GRAD_TURN);
-    } else if (d->dir > 0) {
-        if (d->pos >= d->span) {
-            d->dir = -1;
-            d->pos = (uint16_t)(d->span > step ? d->span - step : 0);
-        } else {
-            d->pos = (uint16_t)(d->pos + step > d->span ? d->span : d->pos + step);
-        }
-    } else {
-        if (d->pos == 0) {
-            d->dir = 1;
-            d->pos = (uint16_t)(step < d->span ? step : d->span);
-        } else {
-            d->pos = (uint16_t)(d->pos > step ? d->pos - step : 0);
-        }
-    }
+    d->pos = sonar_frame_sweep_advance(d->pos, &d->dir, d->span, d->cfg.step, d->cfg.full_circle);
     d->angle = (uint16_t)((d->cfg.start_angle + d->pos) % SONAR_GRAD_TURN);
 }
 

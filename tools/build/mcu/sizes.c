@@ -10,6 +10,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/pose.h"
 #include "sonar/status.h"
+#include "sonar/scan.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
 
@@ -24,6 +25,7 @@ SIZE(tracker, sonar_track)
 SIZE(median, sonar_median2d)
 SIZE(obstacle, sonar_obstacle)
 SIZE(pose, sonar_pose_ring)
+SIZE(scan, sonar_scan)
 SIZE(sweep, sonar_sweep)
 SIZE(ping, sonar_ping_parser)
 SIZE(ping360, sonar_ping360)

@@ -1,0 +1,285 @@
+/* scan.c -- the scan planner: sweep order, or passes that ping the targets' windows each time and the grid in turns; O(targets x window + 400) a call, 400 B of stack, no heap. */
+#include "sonar/scan.h"
+
+#include <string.h>
+
+#define STR2(x) #x
+#define STR(x) STR2(x)
+#define NEVER_US ((int64_t)86400000000) /* a day: the age of an angle never looked at */
+
+const char *sonar_scan_config_check(const struct sonar_scan_config *c)
+{
+    if (c->mode > SONAR_SCAN_FOLLOW)
+        return "mode: sweep or follow";
+    if (c->start_angle >= SONAR_GRAD_TURN || c->stop_angle >= SONAR_GRAD_TURN)
+        return "start_angle, stop_angle: 0..399 gradians";
+    if (!c->full_circle && c->start_angle == c->stop_angle)
+        return "stop_angle: a sector needs start != stop";
+    if (c->step < 1 || c->step > 50)
+        return "step: 1..50 gradians";
+    if (c->ping_us < 1 || c->ping_us > 10000000)
+        return "ping_us: 1..10^7 us";
+    if (c->mode == SONAR_SCAN_FOLLOW) {
+        if (!(c->revisit_s >= 0.2f && c->revisit_s <= (float)SONAR_SCAN_REVISIT_MAX_S))
+            return "revisit_s: 0.2.." STR(SONAR_SCAN_REVISIT_MAX_S) " s";
+        if (!(c->surveil_s == 0.0f || (c->surveil_s > 0.0f && c->surveil_s <= (float)SONAR_SCAN_REVISIT_MAX_S)))
+            return "surveil_s: 0 (twice a plain sweep) or up to " STR(SONAR_SCAN_REVISIT_MAX_S) " s";
+    }
+    return NULL;
+}
+
+/* Gradians from start_angle (0..399). */
+static int offset(const struct sonar_scan *s, int a)
+{
+    return (sonar_frame_wrap(a) + (int)SONAR_GRAD_TURN - (int)s->cfg.start_angle) % (int)SONAR_GRAD_TURN;
+}
+
+static int in_sector(const struct sonar_scan *s, int a)
+{
+    return s->cfg.full_circle || offset(s, a) <= (int)s->span;
+}
+
+/* Gradians the head travels from a to b: the shorter way round a full circle, inside a sector otherwise. */
+static int travel(const struct sonar_scan *s, int a, int b)
+{
+    if (s->cfg.full_circle)
+        return sonar_frame_gap((uint16_t)sonar_frame_wrap(a), (uint16_t)sonar_frame_wrap(b));
+    return offset(s, a) > offset(s, b) ? offset(s, a) - offset(s, b) : offset(s, b) - offset(s, a);
+}
+
+uint32_t sonar_scan_cost_us(const struct sonar_scan *s, uint16_t from, uint16_t to)
+{
+    return s->cfg.ping_us + SONAR_SCAN_GRAD_US * (uint32_t)travel(s, from, to);
+}
+
+static int interleave(const struct sonar_scan *s, int64_t w);
+
+int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
+{
+    uint32_t beams;
+    if (s == NULL || cfg == NULL || sonar_scan_config_check(cfg) != NULL)
+        return SONAR_ERR_ARG;
+    memset(s, 0, sizeof(*s));
+    s->cfg = *cfg;
+    s->span = cfg->full_circle ? SONAR_GRAD_TURN
+                               : (uint16_t)((cfg->stop_angle + SONAR_GRAD_TURN - cfg->start_angle) % SONAR_GRAD_TURN);
+    s->dir = 1;
+    s->head = cfg->start_angle;
+    /* A plain sweep: one beam a step over the sector, each a ping and the step's travel. */
+    beams = cfg->full_circle ? (SONAR_GRAD_TURN + cfg->step - 1u) / cfg->step : s->span / cfg->step + 1u;
+    s->sweep_us = beams * (cfg->ping_us + SONAR_SCAN_GRAD_US * cfg->step);
+    s->surveil_us = cfg->surveil_s > 0.0f ? (uint32_t)(cfg->surveil_s * 1e6f) : 2u * s->sweep_us;
+    if (s->surveil_us < s->sweep_us)
+        s->surveil_us = s->sweep_us; /* a bound tighter than a plain sweep cannot be kept */
+    s->k = (uint16_t)interleave(s, 0);
+    return SONAR_OK;
+}
+
+/* us since gradian g was last pinged (NEVER_US when never). */
+static int64_t age_us(const struct sonar_scan *s, int g, int64_t now)
+{
+    uint32_t t = s->seen_ms[sonar_frame_wrap(g)];
+    return t == 0 ? NEVER_US : (now - s->t0) - (int64_t)t * 1000;
+}
+
+/* Whether offset p (from start_angle) lies on the sector's grid: the angles a plain sweep pings. */
+static int on_grid(const struct sonar_scan *s, int p)
+{
+    return p % s->cfg.step == 0 || (!s->cfg.full_circle && p == (int)s->span);
+}
+
+/* Gradians from a to b going way d (+1/-1); -1 when a sector's end lies between. */
+static int travel_way(const struct sonar_scan *s, int a, int b, int d)
+{
+    if (s->cfg.full_circle)
+        return sonar_frame_wrap(d > 0 ? b - a : a - b);
+    return d * (offset(s, b) - offset(s, a)) >= 0 ? d * (offset(s, b) - offset(s, a)) : -1;
+}
+
+/* us from the head to a ping at a going way d (travel and the ping); INT64_MAX past a sector's end. */
+static int64_t arrive_us(const struct sonar_scan *s, int a, int d)
+{
+    int g = travel_way(s, s->head, a, d);
+    return g < 0 ? INT64_MAX : (int64_t)s->cfg.ping_us + (int64_t)SONAR_SCAN_GRAD_US * g;
+}
+
+/* Grid angles of the sector: a plain sweep's beams. */
+static int grid_beams(const struct sonar_scan *s)
+{
+    return s->cfg.full_circle ? ((int)SONAR_GRAD_TURN + s->cfg.step - 1) / s->cfg.step : (int)s->span / s->cfg.step + 1;
+}
+
+/* Modelled time of one pass (a turn, or a sector one way) pinging 1/k of the grid and w us of windows. */
+static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
+{
+    int travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
+    return (int64_t)SONAR_SCAN_GRAD_US * travel_g + w + ((int64_t)grid_beams(s) * s->cfg.ping_us + k - 1) / k;
+}
+
+/*
+ * The interleave for the next pass: the most passes k between pings of a grid angle that keep it
+ * within the bound, less a sixteenth so that a longer pass is caught up without a cascade (k passes round a circle; k + 1 in a sector, whose ends see uneven returns),
+ * with w us of target windows a pass; 1 (every angle every pass, a plain sweep) at the least.
+ */
+static int interleave(const struct sonar_scan *s, int64_t w)
+{
+    int k, extra = s->cfg.full_circle ? 0 : 1;
+    for (k = grid_beams(s); k > 1; k--)
+        if ((k + extra) * pass_us(s, k, w) <= (int64_t)s->surveil_us - (int64_t)s->surveil_us / 16)
+            break;
+    return k;
+}
+
+/*
+ * Marks in need[] the grid angles this pass pings: grid beam j on the passes q with q = j mod k,
+ * and any that, skipped now, would pass the bound before its next such pass (when the interleave
+ * changes, or the passes grow with the targets).
+ */
+static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
+{
+    int p, n = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : (int)s->span, k = s->k;
+    int64_t pass = pass_us(s, k, s->window_us);
+    for (p = 0; p <= n; p++) {
+        int g = sonar_frame_wrap((int)s->cfg.start_angle + p), j = (p + s->cfg.step - 1) / s->cfg.step;
+        int d = (int)(((uint32_t)j + (uint32_t)k - s->pass % (uint32_t)k) % (uint32_t)k);
+        int64_t at, back;
+        if (!on_grid(s, p))
+            continue;
+        if (d == 0) {
+            need[g] = 1;
+            continue;
+        }
+        at = arrive_us(s, g, s->dir);
+        if (at == INT64_MAX || s->seen_ms[g] == 0)
+            continue; /* behind the head in a sector (the return pass decides), or not yet in its first turn */
+        back = (int64_t)d * pass;
+        if (!s->cfg.full_circle) {
+            /* In a sector the next pass is back after the far end: twice the rest of the way, and its pings. */
+            int e = s->dir > 0 ? (int)s->span - p : p;
+            back = (int64_t)SONAR_SCAN_GRAD_US * 2 * e + (int64_t)(2 * e / s->cfg.step) * s->cfg.ping_us / k +
+                   s->window_us + (int64_t)(d - 1) * pass;
+        }
+        if (age_us(s, g, now) + at + back > (int64_t)s->surveil_us)
+            need[g] = 1;
+    }
+}
+
+/*
+ * Marks the windows of the targets (step-spaced angles within +-half_width of the predicted
+ * bearing, clipped to the sector): each angle not pinged within the last half revolution.
+ */
+static void mark_targets(struct sonar_scan *s, uint8_t *need, const struct sonar_scan_target *t, unsigned n, int64_t now)
+{
+    int64_t half = pass_us(s, s->k, s->window_us) / 2;
+    unsigned i, beams = 0;
+    if (n > SONAR_SCAN_MAX_TARGETS) {
+        s->counters.targets_dropped += n - SONAR_SCAN_MAX_TARGETS;
+        n = SONAR_SCAN_MAX_TARGETS;
+    }
+    for (i = 0; i < n; i++) {
+        float hw = t[i].half_width > (float)SONAR_SCAN_MAX_HALF ? (float)SONAR_SCAN_MAX_HALF
+                   : t[i].half_width > 0.0f                   ? t[i].half_width
+                                                              : 0.0f;
+        int c, k, h = (int)hw / s->cfg.step;
+        if (!(t[i].angle >= 0.0f && t[i].angle < 400.0f) || !in_sector(s, c = sonar_frame_wrap((int)(t[i].angle + 0.5f)))) {
+            s->counters.targets_dropped++;
+            continue;
+        }
+        for (k = -h; k <= h; k++) {
+            int a = c + k * s->cfg.step;
+            if (!in_sector(s, a))
+                continue;
+            beams++;
+            if (age_us(s, a, now) > half)
+                need[sonar_frame_wrap(a)] = (uint8_t)(need[sonar_frame_wrap(a)] | 2u);
+        }
+    }
+    s->window_us = (int64_t)beams * s->cfg.ping_us;
+}
+
+/* The first needed angle from the head going way d (+1/-1), inside the sector; -1 when none. */
+static int first_needed(const struct sonar_scan *s, const uint8_t *need, int d)
+{
+    int k, h = s->head;
+    for (k = 1; k < (int)SONAR_GRAD_TURN; k++) {
+        int a = sonar_frame_wrap(h + d * k);
+        if (!in_sector(s, a))
+            break;
+        if (need[a])
+            return a;
+    }
+    return -1;
+}
+
+/* Follow mode: the head keeps its way (round a circle, to a sector's end and back), pinging only what needs it. */
+static uint16_t follow(struct sonar_scan *s, const struct sonar_scan_target *t, unsigned n, int64_t now)
+{
+    uint8_t need[SONAR_GRAD_TURN];
+    int a;
+    memset(need, 0, sizeof(need));
+    mark_grid(s, need, now);
+    mark_targets(s, need, t, t == NULL ? 0u : n, now);
+    need[s->head] = 0; /* just pinged */
+    a = first_needed(s, need, s->dir);
+    if (a < 0 && !s->cfg.full_circle) {
+        s->dir = (int8_t)-s->dir;
+        a = first_needed(s, need, s->dir);
+    }
+    if (a < 0) {
+        /* Nothing needs a ping: the plain sweep's next angle from here. */
+        s->pos = sonar_frame_sweep_advance((uint16_t)offset(s, s->head), &s->dir, s->span, s->cfg.step, s->cfg.full_circle);
+        a = sonar_frame_wrap((int)s->cfg.start_angle + (int)s->pos);
+    }
+    if (need[a] & 2u) {
+        s->counters.target_pings++;
+        if (age_us(s, a, now) > (int64_t)(s->cfg.revisit_s * 1e6f))
+            s->counters.late_looks++;
+    } else {
+        s->counters.surveil_pings++;
+    }
+    return (uint16_t)a;
+}
+
+/* Counts passes (a turn of travel round a circle, a turn of the head's way in a sector) and sets each pass's interleave. */
+static void account(struct sonar_scan *s, uint16_t a, int8_t was)
+{
+    int done;
+    if (s->cfg.full_circle) {
+        s->travelled = (uint16_t)(s->travelled + (uint16_t)travel(s, s->head, a));
+        done = s->travelled >= SONAR_GRAD_TURN;
+        if (done)
+            s->travelled = (uint16_t)(s->travelled - SONAR_GRAD_TURN);
+    } else {
+        done = s->dir != was;
+    }
+    if (done) {
+        s->pass++;
+        s->k = (uint16_t)interleave(s, s->window_us);
+    }
+}
+
+uint16_t sonar_scan_next(struct sonar_scan *s, const struct sonar_scan_target *targets, unsigned n, int64_t now)
+{
+    uint16_t a;
+    int64_t ms;
+    if (!s->started) {
+        s->started = 1;
+        s->t0 = now - 1000; /* seen_ms 0 means never: the first ping is 1 ms in */
+        a = s->cfg.start_angle;
+    } else {
+        if (now < s->t0 + 1000)
+            now = s->t0 + 1000;
+        if (s->cfg.mode == SONAR_SCAN_FOLLOW) {
+            int8_t was = s->dir;
+            a = follow(s, targets, n, now);
+            account(s, a, was);
+        } else {
+            s->pos = sonar_frame_sweep_advance(s->pos, &s->dir, s->span, s->cfg.step, s->cfg.full_circle);
+            a = (uint16_t)sonar_frame_wrap((int)s->cfg.start_angle + (int)s->pos);
+        }
+    }
+    ms = (now - s->t0) / 1000;
+    s->seen_ms[a] = ms < 1 ? 1u : ms > 4000000000 ? 4000000000u : (uint32_t)ms;
+    s->head = a;
+    return a;
+}
