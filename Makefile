@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
@@ -151,7 +151,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden live mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden live scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -223,6 +223,11 @@ golden-update: all
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all
 	@sh tests/live.sh $(BUILD)
+
+## scan-test: the scan planner live: --scan sweep and --scan follow side by side on the moving scene (SCAN_SECONDS, default 80), follow under auto_transmit, bad options
+SCAN_SECONDS ?= 80
+scan-test: all
+	@sh tests/scan.sh $(BUILD) $(SCAN_SECONDS)
 
 ## mavlink: sonard --mavlink live over loopback UDP, decoded by pinned pymavlink (.venv-mavlink): HEARTBEAT, OBSTACLE_DISTANCE against the simulated walls, OBSTACLE_DISTANCE_3D, poses from sonar-feed's autopilot, junk traffic
 mavlink: all .venv-mavlink/.done

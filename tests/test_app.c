@@ -98,7 +98,7 @@ static void setup_app(long max_sweeps, uint8_t stages)
     struct sonar_pipeline_config p = pipe_cfg();
     struct sonar_ping360_config d = dev_cfg();
     struct app_clock clk = {fake_mono, fake_wall, NULL};
-    struct sonar_ping360_io io = {source_link_send, source_link_break, &src};
+    struct sonar_ping360_io io = {source_link_send, source_link_break, &src, NULL, NULL};
     char err[256];
     memset(&cap, 0, sizeof(cap));
     memset(&sink, 0, sizeof(sink));

@@ -52,13 +52,13 @@ static struct sonar_ping360_config base_cfg(void)
     return c;
 }
 
-static void start(const struct sonar_ping360_config *c, uint8_t fw_minor, uint8_t fw_patch)
+/* Brings the driver up on io: connected, the probe answered by firmware 3.fw_minor.fw_patch. */
+static void start_io(const struct sonar_ping360_config *c, const struct sonar_ping360_io *io, uint8_t fw_minor, uint8_t fw_patch)
 {
-    struct sonar_ping360_io io = {fake_send, fake_break, &w};
     struct sonar_ping360_event ev;
     struct sonar_ping_frame f;
     memset(&w, 0, sizeof(w));
-    assert_int_equal(sonar_ping360_init(&drv, c, &io), SONAR_OK);
+    assert_int_equal(sonar_ping360_init(&drv, c, io), SONAR_OK);
     assert_int_equal(sonar_ping360_connected(&drv, 1000), SONAR_OK);
     assert_int_equal(w.id[0], SONAR_PING_GENERAL_REQUEST);
     payload[0] = 2;
@@ -74,6 +74,12 @@ static void start(const struct sonar_ping360_config *c, uint8_t fw_minor, uint8_
     f.dst = 0;
     assert_int_equal(sonar_ping360_handle(&drv, &f, 2000, &ev), SONAR_OK);
     assert_int_equal(ev.kind, SONAR_P360_EV_READY);
+}
+
+static void start(const struct sonar_ping360_config *c, uint8_t fw_minor, uint8_t fw_patch)
+{
+    struct sonar_ping360_io io = {fake_send, fake_break, &w, NULL, NULL};
+    start_io(c, &io, fw_minor, fw_patch);
 }
 
 /* A device_data (or auto_device_data) reply at angle a with n samples. */
@@ -104,7 +110,7 @@ static uint16_t last_angle(void)
 static void test_derived_settings_and_validation(void **state)
 {
     struct sonar_ping360_config c = base_cfg();
-    struct sonar_ping360_io io = {fake_send, NULL, &w};
+    struct sonar_ping360_io io = {fake_send, NULL, &w, NULL, NULL};
     (void)state;
     assert_int_equal(sonar_ping360_init(&drv, &c, &io), SONAR_OK);
     assert_int_equal(drv.samples, 1200);
@@ -164,6 +170,54 @@ static void test_full_circle_sequence(void **state)
     }
     assert_int_equal(drv.counters.beams, 200);
     assert_int_equal(drv.counters.timeouts, 0);
+}
+
+/* A planner behind next_angle: asked when scanning starts and after each beam, with the time; retries keep the angle. */
+static int64_t plan_at[64];
+static int plan_calls;
+static uint16_t plan(void *user, int64_t now)
+{
+    static const uint16_t order[] = {50, 310, 51, 399, 0};
+    (void)user;
+    plan_at[plan_calls % 64] = now;
+    return (uint16_t)(order[plan_calls++ % 5] + 400u); /* taken mod 400 */
+}
+
+static void test_planner_chooses_angles(void **state)
+{
+    struct sonar_ping360_config c = base_cfg();
+    struct sonar_ping360_io io = {fake_send, NULL, &w, plan, NULL};
+    struct sonar_ping360_event ev;
+    struct sonar_ping_frame f;
+    int i;
+    (void)state;
+    plan_calls = 0;
+    start_io(&c, &io, 3, 0);
+    assert_int_equal(plan_calls, 1);
+    assert_int_equal(last_angle(), 50);
+    for (i = 1; i < 5; i++) {
+        f = reply(last_angle(), 0);
+        assert_int_equal(sonar_ping360_handle(&drv, &f, 2000 + 40000 * (int64_t)i, &ev), SONAR_OK);
+        assert_int_equal(ev.kind, SONAR_P360_EV_BEAM);
+        assert_int_equal(plan_at[i], 2000 + 40000 * (int64_t)i);
+    }
+    assert_int_equal(last_angle(), 0);
+    /* a reply for another angle than requested: stale, the planner not asked */
+    f = reply(51, 0);
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 300000, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_NONE);
+    assert_int_equal(plan_calls, 5);
+    /* a timeout sends the same angle again without asking */
+    assert_int_equal(sonar_ping360_poll(&drv, sonar_ping360_deadline(&drv), &ev), SONAR_OK);
+    assert_int_equal(last_angle(), 0);
+    assert_int_equal(plan_calls, 5);
+    /* auto_transmit: the device steps itself and the planner is never asked */
+    c.use_auto = 1;
+    start_io(&c, &io, 3, 8);
+    assert_int_equal(drv.state, SONAR_P360_AUTO);
+    f = reply(10, 1);
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 40000, &ev), SONAR_OK);
+    assert_int_equal(plan_calls, 5);
 }
 
 static void test_sector_bounces(void **state)
@@ -368,6 +422,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_derived_settings_and_validation),
         cmocka_unit_test(test_full_circle_sequence),
+        cmocka_unit_test(test_planner_chooses_angles),
         cmocka_unit_test(test_sector_bounces),
         cmocka_unit_test(test_timeout_retries_same_angle_quickly),
         cmocka_unit_test(test_silence_gives_up_with_backoff),

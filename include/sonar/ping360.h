@@ -35,11 +35,18 @@ struct sonar_ping360_config {
     uint32_t baud;              /* serial bit rate, for the transfer time in the timeout; 0 = network */
 };
 
-/* The transport, provided by the caller. send returns 0 or < 0; line_break may be NULL. */
+/*
+ * The transport, provided by the caller. send returns 0 or < 0; line_break may be NULL.
+ * next_angle (may be NULL: the driver steps its sector itself) chooses each stepping request's
+ * angle, gradians (taken mod 400), when scanning starts and after each beam, at now (us); a scan
+ * planner (scan.h) behind it. It is not asked in auto_transmit mode: the device steps itself.
+ */
 struct sonar_ping360_io {
     int (*send)(void *user, const uint8_t *buf, size_t len);
     void (*line_break)(void *user);
     void *user;
+    uint16_t (*next_angle)(void *plan_user, int64_t now);
+    void *plan_user;
 };
 
 struct sonar_ping360_counters {
@@ -80,6 +87,7 @@ struct sonar_ping360 {
     uint16_t samples;
     uint16_t tx_us;
     uint16_t angle;        /* requested */
+    uint16_t from;         /* the angle of the beam before: the head travels from there */
     uint16_t pos;          /* position in the sector, gradians from start */
     uint16_t span;         /* sector length in gradians */
     int8_t dir;            /* +1 / -1 while bouncing in a sector */

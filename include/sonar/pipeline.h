@@ -9,6 +9,7 @@
 #include "sonar/detector.h"
 #include "sonar/err.h"
 #include "sonar/median.h"
+#include "sonar/scan.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
 
@@ -153,6 +154,16 @@ void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_
  * is p->out, and p->trk. Returns SONAR_OK or SONAR_ERR_ARG (NULL, count too large).
  */
 SONAR_CHECK int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections *d);
+
+/*
+ * The scan planner's targets at utime (us since the epoch): each confirmed or coasting track
+ * predicted to then, as a head angle (gradians [0, 400), the angle offset taken off) and a
+ * half-width in gradians (three standard deviations of its position, and its radius, across the
+ * bearing at its range; at least one). World-frame tracks are placed through the pose at utime,
+ * else the one they were last reframed at. Writes at most max; returns how many (0 when not
+ * tracking). O(tracks).
+ */
+unsigned sonar_pipeline_targets(const struct sonar_pipeline *p, int64_t utime, struct sonar_scan_target *out, unsigned max);
 
 /* Ends the open sweep (end of a recording, or shutdown): flushes the 2-D median, calls on_sweep. */
 SONAR_CHECK int sonar_pipeline_finish(struct sonar_pipeline *p);

@@ -32,7 +32,8 @@ struct sonar_scan_config {
 /* A target to revisit: its bearing predicted now and how far either side it may be. */
 struct sonar_scan_target {
     float angle;      /* head gradians [0, 400) */
-    float half_width; /* gradians >= 0: its uncertainty; the window is clipped to +-SONAR_SCAN_MAX_HALF */
+    float half_width; /* gradians >= 0: its uncertainty; the window is clipped to two steps or 8 gradians either side
+                         (at most SONAR_SCAN_MAX_HALF), and the windows together to a quarter of the grid's pings */
 };
 
 struct sonar_scan_counters {
@@ -53,8 +54,13 @@ struct sonar_scan {
     uint16_t pos, span;                /* sweep mode: gradians from start_angle; the sector's length */
     int64_t window_us;                 /* follow: the targets' windows' pings a pass, as last marked, us */
     uint32_t pass;                     /* follow: passes so far (turns, or one-way sector passes) */
+    int64_t last_call;                 /* follow: the time of the call before, us */
+    uint16_t prev;                     /* follow: the angle given before head */
     uint16_t k;                        /* follow: a grid beam is pinged every k-th pass (1: every pass) */
+    uint16_t slow_q8;                  /* follow: beams' times over the model's, averaged, 1/256 (256..1024) */
     uint16_t travelled;                /* follow: gradians moved in the current turn */
+    uint8_t ntargets;                  /* follow: targets read in the last call (at most SONAR_SCAN_MAX_TARGETS) */
+    uint16_t window_left;              /* follow: window pings this pass may still take (its reserve) */
     int8_t dir;                        /* +1 / -1: the way the head is going */
     uint8_t started;
 };

@@ -71,7 +71,7 @@ int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_confi
     d->tx_us = c->transmit_duration ? c->transmit_duration
                                     : sonar_geometry_transmit_duration(c->range_m, c->speed_of_sound, d->sample_period);
     d->span = c->full_circle ? SONAR_GRAD_TURN : (uint16_t)((c->stop_angle + SONAR_GRAD_TURN - c->start_angle) % SONAR_GRAD_TURN);
-    d->angle = c->start_angle;
+    d->angle = d->from = c->start_angle;
     d->dir = 1;
     d->state = SONAR_P360_DOWN;
     d->deadline = NO_DEADLINE;
@@ -93,11 +93,15 @@ uint32_t sonar_ping360_beam_time_us(const struct sonar_ping360 *d)
     return sonar_ping360_model_us(d->cfg.step, d->cfg.range_m, d->cfg.speed_of_sound, d->cfg.baud, d->samples);
 }
 
-/* Adaptive: the model or the measured latency, whichever is longer, plus half of it (>= 15 ms). */
+/*
+ * Adaptive: the model or the measured latency, whichever is longer, plus half of it (>= 15 ms),
+ * and the head's travel beyond a step when a planner moves it further (6 ms a gradian).
+ */
 static int64_t timeout_us(const struct sonar_ping360 *d, int64_t now)
 {
     uint32_t base = d->observed_us > d->expected_us ? d->observed_us : d->expected_us;
-    int64_t t = (int64_t)base + (base / 2 > 15000u ? base / 2 : 15000u);
+    int gap = (int)sonar_frame_gap(d->from, d->angle) - (int)d->cfg.step;
+    int64_t t = (int64_t)base + (base / 2 > 15000u ? base / 2 : 15000u) + (gap > 0 ? 6000 * (int64_t)gap : 0);
     /* First command, long idle, or repeated silence: the head may be re-homing. */
     if (d->last_rx == 0 || now - d->last_rx > IDLE_REHOME_US || d->attempts >= 2)
         t += REHOME_US;
@@ -190,9 +194,14 @@ void sonar_ping360_link_lost(struct sonar_ping360 *d, int64_t now)
         give_up(d, NULL);
 }
 
-/* Next angle of a stepping sweep: full turns, or bouncing between the sector's ends. */
-static void advance(struct sonar_ping360 *d)
+/* Next angle of a stepping sweep: the planner's, or full turns, or bouncing between the sector's ends. */
+static void advance(struct sonar_ping360 *d, int64_t now)
 {
+    d->from = d->angle;
+    if (d->io.next_angle != NULL) {
+        d->angle = (uint16_t)(d->io.next_angle(d->io.plan_user, now) % SONAR_GRAD_TURN);
+        return;
+    }
     d->pos = sonar_frame_sweep_advance(d->pos, &d->dir, d->span, d->cfg.step, d->cfg.full_circle);
     d->angle = (uint16_t)((d->cfg.start_angle + d->pos) % SONAR_GRAD_TURN);
 }
@@ -224,6 +233,8 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
         newer = info.fw_major > 3 || (info.fw_major == 3 && (info.fw_minor > 3 || (info.fw_minor == 3 && info.fw_patch > 0)));
         d->state = d->cfg.use_auto && newer ? SONAR_P360_AUTO : SONAR_P360_SCANNING;
         ev->kind = SONAR_P360_EV_READY;
+        if (d->state == SONAR_P360_SCANNING && d->io.next_angle != NULL)
+            d->angle = d->from = (uint16_t)(d->io.next_angle(d->io.plan_user, now) % SONAR_GRAD_TURN);
         return send_request(d, now);
     }
     case SONAR_PING360_DEVICE_DATA:
@@ -249,7 +260,7 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
             d->deadline = now + timeout_us(d, now);
             return SONAR_OK;
         }
-        advance(d);
+        advance(d, now);
         return send_request(d, now);
     }
     case SONAR_PING_NACK: {

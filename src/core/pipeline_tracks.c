@@ -239,3 +239,41 @@ int sonar_pipeline_track(struct sonar_pipeline *p, const struct sonar_detections
     p->out = *d;
     return sonar_pipe_finish_sweep(p, 0);
 }
+
+unsigned sonar_pipeline_targets(const struct sonar_pipeline *p, int64_t utime, struct sonar_scan_target *out, unsigned max)
+{
+    struct sonar_pose q;
+    unsigned n = 0;
+    uint8_t i;
+    if (p == NULL || p->cfg == NULL || !p->cfg->track)
+        return 0;
+    if (p->trk.world && (p->poses == NULL || !sonar_pose_at(p->poses, utime, &q)))
+        q = p->last_pose;
+    for (i = 0; i < p->trk.n && n < max; i++) {
+        const struct sonar_track *t = &p->trk.t[i];
+        float x, y, r, across, dt, var;
+        double g;
+        if (t->state == SONAR_TRACK_TENTATIVE)
+            continue;
+        sonar_tracker_predict(t, utime, &x, &y);
+        if (p->trk.world)
+            sonar_pose_to_body(&q, x, y, &x, &y);
+        r = sqrtf(x * x + y * y);
+        g = sonar_frame_bearing_deg((double)x, (double)y) / SONAR_DEG_PER_GRAD - (double)p->cfg->detector.angle_offset;
+        g = fmod(g, (double)SONAR_GRAD_TURN);
+        out[n].angle = (float)(g < 0.0 ? g + (double)SONAR_GRAD_TURN : g);
+        if (!(out[n].angle < (float)SONAR_GRAD_TURN))
+            out[n].angle = 0.0f;
+        /* Three sigma of the position carried to utime (position, cross and velocity terms) and the
+           object's radius, seen from the sonar at its range. */
+        dt = utime > t->utime ? (float)(utime - t->utime) * 1e-6f : 0.0f;
+        var = t->pa + 2.0f * t->pb * dt + t->pc * dt * dt;
+        across = 3.0f * sqrtf(var > 0.0f ? var : 0.0f) + (float)t->size_dm * 0.1f;
+        out[n].half_width = r > across ? (float)(sonar_frame_deg(atan((double)(across / r))) / SONAR_DEG_PER_GRAD)
+                                       : (float)SONAR_GRAD_HALF;
+        if (out[n].half_width < 1.0f)
+            out[n].half_width = 1.0f;
+        n++;
+    }
+    return n;
+}

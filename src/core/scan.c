@@ -53,6 +53,7 @@ uint32_t sonar_scan_cost_us(const struct sonar_scan *s, uint16_t from, uint16_t 
 }
 
 static int interleave(const struct sonar_scan *s, int64_t w);
+static int64_t window_reserve_us(const struct sonar_scan *s);
 
 int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
 {
@@ -71,7 +72,9 @@ int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
     s->surveil_us = cfg->surveil_s > 0.0f ? (uint32_t)(cfg->surveil_s * 1e6f) : 2u * s->sweep_us;
     if (s->surveil_us < s->sweep_us)
         s->surveil_us = s->sweep_us; /* a bound tighter than a plain sweep cannot be kept */
-    s->k = (uint16_t)interleave(s, 0);
+    s->slow_q8 = 256;
+    s->k = (uint16_t)interleave(s, window_reserve_us(s));
+    s->window_left = (uint16_t)(window_reserve_us(s) / s->cfg.ping_us);
     return SONAR_OK;
 }
 
@@ -109,11 +112,38 @@ static int grid_beams(const struct sonar_scan *s)
     return s->cfg.full_circle ? ((int)SONAR_GRAD_TURN + s->cfg.step - 1) / s->cfg.step : (int)s->span / s->cfg.step + 1;
 }
 
+/* The windows' pings a pass may take: a quarter of the grid's, and at least one a target (SONAR_SCAN_MAX_TARGETS). */
+static int window_budget(const struct sonar_scan *s)
+{
+    int b = grid_beams(s) / 4;
+    return b > SONAR_SCAN_MAX_TARGETS ? b : SONAR_SCAN_MAX_TARGETS;
+}
+
+/* Steps either side of a target's bearing its window may span: two, or 8 gradians, at most SONAR_SCAN_MAX_HALF. */
+static int window_steps(const struct sonar_scan *s)
+{
+    int g = 2 * s->cfg.step > 8 ? 2 * s->cfg.step : 8;
+    return (g > SONAR_SCAN_MAX_HALF ? SONAR_SCAN_MAX_HALF : g) / s->cfg.step;
+}
+
+/* The windows' pings the passes to come are planned with: the targets' now and two more, each at its widest, within the budget. */
+static int64_t window_reserve_us(const struct sonar_scan *s)
+{
+    int beams = ((int)s->ntargets + 2) * (2 * window_steps(s) + 1);
+    return (int64_t)(beams < window_budget(s) ? beams : window_budget(s)) * s->cfg.ping_us;
+}
+
 /* Modelled time of one pass (a turn, or a sector one way) pinging 1/k of the grid and w us of windows. */
-static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
+static int64_t model_pass_us(const struct sonar_scan *s, int k, int64_t w)
 {
     int travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
     return (int64_t)SONAR_SCAN_GRAD_US * travel_g + w + ((int64_t)grid_beams(s) * s->cfg.ping_us + k - 1) / k;
+}
+
+/* The same, scaled by how much slower than the model the last pass was (the link, the host: never faster). */
+static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
+{
+    return model_pass_us(s, k, w) * s->slow_q8 / 256;
 }
 
 /*
@@ -138,7 +168,8 @@ static int interleave(const struct sonar_scan *s, int64_t w)
 static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
 {
     int p, n = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : (int)s->span, k = s->k;
-    int64_t pass = pass_us(s, k, s->window_us);
+    /* The passes to come, with room for the windows to widen and for targets to appear meanwhile. */
+    int64_t budget = window_reserve_us(s), pass = pass_us(s, k, budget);
     for (p = 0; p <= n; p++) {
         int g = sonar_frame_wrap((int)s->cfg.start_angle + p), j = (p + s->cfg.step - 1) / s->cfg.step;
         int d = (int)(((uint32_t)j + (uint32_t)k - s->pass % (uint32_t)k) % (uint32_t)k);
@@ -152,12 +183,17 @@ static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
         at = arrive_us(s, g, s->dir);
         if (at == INT64_MAX || s->seen_ms[g] == 0)
             continue; /* behind the head in a sector (the return pass decides), or not yet in its first turn */
+        /* Getting there takes its share of a pass, pings on the way included. */
+        {
+            int64_t share = pass * travel_way(s, s->head, g, s->dir) / (s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span);
+            at = share > at ? share : at;
+        }
         back = (int64_t)d * pass;
         if (!s->cfg.full_circle) {
             /* In a sector the next pass is back after the far end: twice the rest of the way, and its pings. */
             int e = s->dir > 0 ? (int)s->span - p : p;
             back = (int64_t)SONAR_SCAN_GRAD_US * 2 * e + (int64_t)(2 * e / s->cfg.step) * s->cfg.ping_us / k +
-                   s->window_us + (int64_t)(d - 1) * pass;
+                   budget + (int64_t)(d - 1) * pass;
         }
         if (age_us(s, g, now) + at + back > (int64_t)s->surveil_us)
             need[g] = 1;
@@ -166,21 +202,31 @@ static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
 
 /*
  * Marks the windows of the targets (step-spaced angles within +-half_width of the predicted
- * bearing, clipped to the sector): each angle not pinged within the last half revolution.
+ * bearing, clipped to the sector, each at most an equal share of window_budget): each angle not
+ * pinged within the last half pass.
  */
 static void mark_targets(struct sonar_scan *s, uint8_t *need, const struct sonar_scan_target *t, unsigned n, int64_t now)
 {
     int64_t half = pass_us(s, s->k, s->window_us) / 2;
     unsigned i, beams = 0;
+    int share;
     if (n > SONAR_SCAN_MAX_TARGETS) {
         s->counters.targets_dropped += n - SONAR_SCAN_MAX_TARGETS;
         n = SONAR_SCAN_MAX_TARGETS;
     }
+    share = n > 0 ? (window_budget(s) / (int)n - 1) / 2 : 0; /* steps either side */
+    if (share > window_steps(s))
+        share = window_steps(s);
+    s->ntargets = (uint8_t)n;
+    if (s->window_left == 0)
+        n = 0; /* this pass's windows are spent: the plan's passes stay as long as it counted */
     for (i = 0; i < n; i++) {
         float hw = t[i].half_width > (float)SONAR_SCAN_MAX_HALF ? (float)SONAR_SCAN_MAX_HALF
                    : t[i].half_width > 0.0f                   ? t[i].half_width
                                                               : 0.0f;
         int c, k, h = (int)hw / s->cfg.step;
+        if (h > share)
+            h = share;
         if (!(t[i].angle >= 0.0f && t[i].angle < 400.0f) || !in_sector(s, c = sonar_frame_wrap((int)(t[i].angle + 0.5f)))) {
             s->counters.targets_dropped++;
             continue;
@@ -231,6 +277,8 @@ static uint16_t follow(struct sonar_scan *s, const struct sonar_scan_target *t, 
         a = sonar_frame_wrap((int)s->cfg.start_angle + (int)s->pos);
     }
     if (need[a] & 2u) {
+        if (!(need[a] & 1u) && s->window_left > 0)
+            s->window_left--;
         s->counters.target_pings++;
         if (age_us(s, a, now) > (int64_t)(s->cfg.revisit_s * 1e6f))
             s->counters.late_looks++;
@@ -238,6 +286,20 @@ static uint16_t follow(struct sonar_scan *s, const struct sonar_scan_target *t, 
         s->counters.surveil_pings++;
     }
     return (uint16_t)a;
+}
+
+/*
+ * Measures the beam just done (the call before to this one) against the model: a moving average
+ * of their ratio, at least 1, at most 4, which scales every pass the plan counts on.
+ */
+static void measure(struct sonar_scan *s, int64_t now)
+{
+    int64_t model = (int64_t)sonar_scan_cost_us(s, s->prev, s->head), took = now - s->last_call, q;
+    if (model <= 0 || took <= 0)
+        return;
+    q = took * 256 / model;
+    q = q < 256 ? 256 : q > 1024 ? 1024 : q;
+    s->slow_q8 = (uint16_t)(((int64_t)s->slow_q8 * 7 + q) / 8);
 }
 
 /* Counts passes (a turn of travel round a circle, a turn of the head's way in a sector) and sets each pass's interleave. */
@@ -254,7 +316,8 @@ static void account(struct sonar_scan *s, uint16_t a, int8_t was)
     }
     if (done) {
         s->pass++;
-        s->k = (uint16_t)interleave(s, s->window_us);
+        s->k = (uint16_t)interleave(s, window_reserve_us(s));
+        s->window_left = (uint16_t)(window_reserve_us(s) / s->cfg.ping_us);
     }
 }
 
@@ -271,6 +334,7 @@ uint16_t sonar_scan_next(struct sonar_scan *s, const struct sonar_scan_target *t
             now = s->t0 + 1000;
         if (s->cfg.mode == SONAR_SCAN_FOLLOW) {
             int8_t was = s->dir;
+            measure(s, now);
             a = follow(s, targets, n, now);
             account(s, a, was);
         } else {
@@ -278,6 +342,8 @@ uint16_t sonar_scan_next(struct sonar_scan *s, const struct sonar_scan_target *t
             a = (uint16_t)sonar_frame_wrap((int)s->cfg.start_angle + (int)s->pos);
         }
     }
+    s->last_call = now;
+    s->prev = s->head;
     ms = (now - s->t0) / 1000;
     s->seen_ms[a] = ms < 1 ? 1u : ms > 4000000000 ? 4000000000u : (uint32_t)ms;
     s->head = a;

@@ -69,6 +69,19 @@ HOST_CHECK int app_init(struct app **out, struct app_storage *mem, const struct 
                         const struct sonar_ping360_config *dcfg, const struct sonar_ping360_io *io,
                         const struct app_clock *clock, long max_sweeps, char *err, size_t errlen);
 
+/*
+ * Steers the live sonar with the scan planner (scan.h): cfg's mode, revisit_s and surveil_s; the
+ * sector, step and ping time come from the device's settings (a ping: the timing model less the
+ * head's travel). Follow mode asks the planner for every request's angle, with the confirmed
+ * tracks' predicted bearings (sonar_pipeline_targets); sweep mode leaves the driver's own
+ * stepping, byte for byte. Call after app_init with a device. Returns HOST_OK or HOST_ERR_CONFIG
+ * with the failing field in err.
+ */
+HOST_CHECK int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, size_t errlen);
+
+/* The planner, or NULL in sweep mode (its counters for the status). */
+const struct sonar_scan *app_scan(const struct app *a);
+
 /* Messages go to log(user, ...). */
 void app_set_log(struct app *a, app_log_fn log, void *user);
 

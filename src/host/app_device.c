@@ -1,6 +1,8 @@
 /* app_device.c -- the app on a live link: bytes to the device core, its beams to app_push, its timers and stop; O(bytes) per call. */
 #include "app_internal.h"
 
+#include <stdio.h>
+
 static int on_event(struct app *a, struct sonar_device_event *ev)
 {
     switch (ev->kind) {
@@ -8,6 +10,11 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         app_say(a, "Ping360 firmware %u.%u.%u on %s", a->dev.drv.info.fw_major, a->dev.drv.info.fw_minor,
                 a->dev.drv.info.fw_patch, a->link);
         app_say(a, "scanning (%s)", a->dev.drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping");
+        if (a->have_scan && a->dev.drv.state == SONAR_P360_AUTO && !a->scan_said) {
+            app_say(a, "--scan follow: the sonar steps itself in auto_transmit mode, so the planner cannot steer it; "
+                       "sweeping (use --mode step to follow)");
+            a->scan_said = 1;
+        }
         return APP_LINK_NONE;
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
@@ -69,4 +76,44 @@ int app_link_stop(struct app *a, int64_t now_us)
 const struct sonar_device *app_device(const struct app *a)
 {
     return a->have_dev ? &a->dev : NULL;
+}
+
+/* The driver's next_angle: the planner, with the tracks predicted to the wall clock now. */
+static uint16_t next_angle(void *user, int64_t now_us)
+{
+    struct app *a = user;
+    struct sonar_scan_target t[SONAR_SCAN_MAX_TARGETS];
+    unsigned n = sonar_pipeline_targets(&a->pipe, app_wall_us(a), t, SONAR_SCAN_MAX_TARGETS);
+    return sonar_scan_next(&a->scan, t, n, now_us);
+}
+
+int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, size_t errlen)
+{
+    struct sonar_scan_config c = *cfg;
+    const struct sonar_ping360_config *d = &a->dev.drv.cfg;
+    const char *why;
+    if (!a->have_dev) {
+        snprintf(err, errlen, "--scan: no sonar to steer");
+        return HOST_ERR_CONFIG;
+    }
+    if (c.mode == SONAR_SCAN_SWEEP)
+        return HOST_OK;
+    c.start_angle = d->start_angle;
+    c.stop_angle = d->stop_angle;
+    c.full_circle = d->full_circle;
+    c.step = d->step;
+    c.ping_us = sonar_ping360_model_us(1, d->range_m, d->speed_of_sound, d->baud, a->dev.drv.samples) - SONAR_SCAN_GRAD_US;
+    if ((why = sonar_scan_config_check(&c)) != NULL || sonar_scan_init(&a->scan, &c) != SONAR_OK) {
+        snprintf(err, errlen, "--scan follow: %s", why ? why : "invalid");
+        return HOST_ERR_CONFIG;
+    }
+    a->have_scan = 1;
+    a->dev.drv.io.next_angle = next_angle;
+    a->dev.drv.io.plan_user = a;
+    return HOST_OK;
+}
+
+const struct sonar_scan *app_scan(const struct app *a)
+{
+    return a->have_scan ? &a->scan : NULL;
 }

@@ -9,6 +9,9 @@ struct app {
     struct sonar_pipeline pipe;
     struct sonar_device dev;
     int have_dev;
+    struct sonar_scan scan;     /* follow mode: chooses each request's angle (app_set_scan) */
+    int have_scan;
+    int scan_said;              /* the planner's idleness under auto_transmit was said */
     struct app_clock clock;
     app_log_fn log;
     void *log_user;

@@ -130,6 +130,13 @@ static const struct opt_spec spec[] = {
      "swept back and forth from START up to STOP (mod 400); full: full turns", NULL, parse_sector},
     {"step", "G", OPT_U8, 1, 0, V(step), 1, 50, "gradians", "1", "gradians per beam (at most 10 in auto mode)", NULL, NULL},
     {"gain", "G", OPT_U8, 1, 0, V(gain), 0, 2, "(0 low, 1 normal, 2 high)", "0", "receiver gain", NULL, NULL},
+    {"scan", "sweep|follow", OPT_CHOICE, 1, 0, F(scan.mode), 0, 0, "sweep or follow", "sweep",
+     "sweep: the sector in order; follow: passes one way round that look at\nevery tracked target each pass and at the rest in turns (step mode)",
+     "sweep=0|follow=1", NULL},
+    {"revisit", "S", OPT_F32, 1, 0, F(scan.revisit_s), 0.2, SONAR_SCAN_REVISIT_MAX_S, "seconds", "1.5",
+     "follow: the revisit wanted; looks at a target later than this are counted", NULL, NULL},
+    {"surveil", "S", OPT_F32, 1, 0, F(scan.surveil_s), 0, SONAR_SCAN_REVISIT_MAX_S, "seconds (0 = twice a plain sweep)", "0",
+     "follow: no angle of the sector left unpinged longer than this", NULL, NULL},
     {"frequency", "F", OPT_U16, 1, 0, V(frequency), 500, 1000, "kHz", "750", "transmit frequency", NULL, NULL},
     {"samples", "N", OPT_U16, 1, 0, V(samples), 200, 1200, "samples", "the most the range allows", "samples per beam", NULL, NULL},
     {"transmit-duration", "U", OPT_U16, 1, 0, V(transmit_duration), 5, 500, "us", "automatic: 8000 R / c, >= 2.5 samples",
@@ -305,6 +312,7 @@ static void defaults(struct sonard_options *o)
     o->mav_fail_closed = 1;
     o->stage = SONAR_STAGE_FOREGROUND;
     o->device.gain = 0;
+    o->scan.revisit_s = 1.5f;
     o->device.frequency = 750;
     o->device.step = 1;
     o->device.full_circle = 1;
@@ -369,6 +377,10 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     }
     if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1) {
         snprintf(err, errlen, "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");
+        return HOST_ERR_CONFIG;
+    }
+    if (o->scan.mode == SONAR_SCAN_FOLLOW && o->sonar == NULL) {
+        snprintf(err, errlen, "--scan follow steers a live sonar: it goes with --sonar URL");
         return HOST_ERR_CONFIG;
     }
     if (o->device.use_auto && o->device.step > 10) {

@@ -49,6 +49,7 @@ struct sonard_options {
     int no_lcm;
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
+    struct sonar_scan_config scan; /* mode, revisit_s, surveil_s; the sector and timing come from device */
     struct opt_given given;     /* one bit per schema row applied (file or command line) */
     const char *configs[OPTIONS_MAX_CONFIGS]; /* --config files in order, re-read on SIGHUP */
     int nconfigs;

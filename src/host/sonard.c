@@ -215,6 +215,7 @@ int main(int argc, char **argv)
     struct sonar_ping360_io io;
     char err[320];
     int rc;
+    memset(&io, 0, sizeof(io));
     s.argc = argc;
     s.argv = argv;
     if ((rc = options_parse(argc, argv, &s.opt, err, sizeof(err))) != 0) {
@@ -264,6 +265,7 @@ int main(int argc, char **argv)
     }
     if (app_init(&s.app, &s.app_mem, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock,
                  s.opt.sweeps, err, sizeof(err)) != HOST_OK ||
+        (s.opt.sonar != NULL && app_set_scan(s.app, &s.opt.scan, err, sizeof(err)) != HOST_OK) ||
         open_sinks(&s, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         return 2;

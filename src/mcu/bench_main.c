@@ -8,6 +8,7 @@
 #include "sonar/tracker.h"
 #include "sonar/median.h"
 #include "sonar/pipeline.h"
+#include "sonar/scan.h"
 #include "detector_internal.h"
 
 #ifndef BENCH_BEAMS
@@ -205,6 +206,38 @@ static int default_stages(struct bench *b, int64_t out[4])
     return 0;
 }
 
+/*
+ * The scan planner's worst call: follow mode round a full circle at 1 gradian a step (a 400-beam
+ * grid), SONAR_SCAN_MAX_TARGETS targets each with the widest window, after a turn. Returns the
+ * mean us of 400 calls, or -1.
+ */
+static int64_t scan_us(void)
+{
+    static struct sonar_scan sc;
+    struct sonar_scan_config c;
+    struct sonar_scan_target t[SONAR_SCAN_MAX_TARGETS];
+    int64_t now = 0, t0;
+    int i;
+    memset(&c, 0, sizeof(c));
+    c.mode = SONAR_SCAN_FOLLOW;
+    c.full_circle = 1;
+    c.step = 1;
+    c.ping_us = 39400;
+    c.revisit_s = 1.5f;
+    for (i = 0; i < SONAR_SCAN_MAX_TARGETS; i++) {
+        t[i].angle = (float)(i * 25);
+        t[i].half_width = 40.0f;
+    }
+    if (sonar_scan_init(&sc, &c) != SONAR_OK)
+        return -1;
+    for (i = 0; i < 400; i++, now += 45400)
+        (void)sonar_scan_next(&sc, t, SONAR_SCAN_MAX_TARGETS, now);
+    t0 = board_micros();
+    for (i = 0; i < 400; i++, now += 45400)
+        (void)sonar_scan_next(&sc, t, SONAR_SCAN_MAX_TARGETS, now);
+    return (board_micros() - t0) / 400;
+}
+
 int main(void)
 {
     static struct bench b; /* main's own */
@@ -296,6 +329,12 @@ int main(void)
         if (tu < 0)
             return 5;
         put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
+    }
+    {
+        int64_t su = scan_us();
+        if (su < 0)
+            return 5;
+        put_num("insn_scan_call", (uint64_t)su * INSN_PER_US);
     }
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);

@@ -118,7 +118,7 @@ static void status(struct fw *f, int64_t now)
     host_send(f, SONAR_CPF_STATUS, sonar_status_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
-static const struct sonar_ping360_io io = {sonar_send, NULL, NULL};
+static const struct sonar_ping360_io io = {sonar_send, NULL, NULL, NULL, NULL};
 
 /* The host's sonar.config_t: checked whole with the core's checks, applied, or refused by name. */
 static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)

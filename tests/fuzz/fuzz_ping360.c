@@ -23,7 +23,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static struct sonar_ping_parser p;
     static struct sonar_ping360 d;
     struct sonar_ping360_config c;
-    struct sonar_ping360_io io = {fake_send, NULL, NULL};
+    struct sonar_ping360_io io = {fake_send, NULL, NULL, NULL, NULL};
     int64_t now = 1000;
     size_t off = 0;
     memset(&c, 0, sizeof(c));

@@ -12,6 +12,7 @@
 #include "sonar/median.h"
 #include "sonar/obstacle.h"
 #include "sonar/pipeline.h"
+#include "sonar/scan.h"
 #include "sonar/tracker.h"
 
 #define BEAMS 400
@@ -269,6 +270,37 @@ int main(int argc, char **argv)
         }
         printf("tracker_sweep_us %.3f\n", median_of(t_trk, REPS));
         printf("tracker_tracks %d\n", (int)tk0.n);
+    }
+    /* The scan planner's worst call: follow round a full circle at 1 gradian a step (a 400-beam
+       grid), the most targets it reads, each with the widest window. */
+    {
+        static struct sonar_scan sc;
+        struct sonar_scan_config c;
+        struct sonar_scan_target tg[SONAR_SCAN_MAX_TARGETS];
+        double t_sc[REPS];
+        int64_t tnow = 0;
+        int k2, rep;
+        memset(&c, 0, sizeof(c));
+        c.mode = SONAR_SCAN_FOLLOW;
+        c.full_circle = 1;
+        c.step = 1;
+        c.ping_us = 39400;
+        c.revisit_s = 1.5f;
+        for (k2 = 0; k2 < SONAR_SCAN_MAX_TARGETS; k2++) {
+            tg[k2].angle = (float)(k2 * 25);
+            tg[k2].half_width = 40.0f;
+        }
+        if (sonar_scan_init(&sc, &c) != SONAR_OK)
+            return 1;
+        for (rep = 0; rep < 400; rep++, tnow += 45400)
+            sink += sonar_scan_next(&sc, tg, SONAR_SCAN_MAX_TARGETS, tnow);
+        for (r = 0; r < REPS; r++) {
+            double t0 = now();
+            for (rep = 0; rep < 400; rep++, tnow += 45400)
+                sink += sonar_scan_next(&sc, tg, SONAR_SCAN_MAX_TARGETS, tnow);
+            t_sc[r] = (now() - t0) / 400 * 1e6;
+        }
+        printf("scan_call_us %.3f\n", median_of(t_sc, REPS));
     }
     /*
      * A moving sonar: each beam into the world grid, the vehicle 1 cm further north and 0.3

@@ -109,6 +109,15 @@ def track_at(h, o):
     return h["x_m"] + h["vx_mps"] * dt, h["y_m"] + h["vy_mps"] * dt
 
 
+def pair_dist(h, o):
+    """Metres between track h and truth object o: at o's time, or, when o can say where it was at any time
+    ("pos_at": utime -> (x, y)), at the time of h's own state."""
+    if "pos_at" in o and "utime" in h:
+        tx, ty = o["pos_at"](h["utime"])
+        return math.hypot(h["x_m"] - tx, h["y_m"] - ty)
+    return math.hypot(*(a - b for a, b in zip(track_at(h, o), (o["x"], o["y"]))))
+
+
 def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None, states=("confirmed", "coasting")):
     hidden = hidden or {}
     gt = fp = fn = idsw = frag = tp = hyp_total = 0
@@ -125,7 +134,7 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None, states=("conf
         truth_total += len(objs)
         present.update(o["id"] for o in objs)
         hyp_total += len(hyps)
-        dist = [[math.hypot(*(a - b for a, b in zip(track_at(h, o), (o["x"], o["y"])))) for h in hyps] for o in objs]
+        dist = [[pair_dist(h, o) for h in hyps] for o in objs]
         for i, o in enumerate(objs):
             for j, h in enumerate(hyps):
                 if dist[i][j] <= gate:
@@ -172,7 +181,7 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None, states=("conf
         for o in hidden.get(k, []):
             for j, h in enumerate(hyps):
                 if j not in taken and j not in dc and \
-                        math.hypot(*(a - b for a, b in zip(track_at(h, o), (o["x"], o["y"])))) <= gate:
+                        pair_dist(h, o) <= gate:
                     dc.add(j)
                     break
         hyp_total -= len(dc)

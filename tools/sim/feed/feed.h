@@ -90,6 +90,10 @@ struct feed {
     int mfd;
     mavlink_status_t mstatus;
     double scene_t0;    /* when the first beam was served: the scene's clock starts then (a vehicle's path is timed) */
+    uint8_t wall_clock; /* --scene-clock wall: timed objects move on the wall clock, whatever the order of requests */
+    const char *truth_path; /* --truth: the scene's objects every 0.1 s and each beam served, JSON lines */
+    FILE *truth;
+    double truth_next;  /* scene seconds of the next objects line */
     double next_pose;   /* the earliest of the three below */
     long poses_sent;
     double next_hb, next_att, next_pos; /* HEARTBEAT each second; ATTITUDE, LOCAL_POSITION_NED at their intervals */

@@ -50,21 +50,63 @@ int feed_load_csv(struct recording *r, const char *path, double range_m)
     return 0;
 }
 
+/* us since the epoch: the clock sonard stamps beams with. */
+static long long wall_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (long long)ts.tv_sec * 1000000LL + ts.tv_nsec / 1000;
+}
+
+/* --truth: the beam served at scene time t, and every 0.1 s the objects (in range; visible unless faded). */
+static void feed_truth(struct feed *f, double t, int sweep, uint16_t a, double range)
+{
+    long long now = wall_us();
+    int k, first = 1;
+    fprintf(f->truth, "{\"t_us\":%lld,\"beam\":%u}\n", now, a);
+    if (t < f->truth_next)
+        return;
+    while (f->truth_next <= t)
+        f->truth_next += 0.1;
+    fprintf(f->truth, "{\"t_us\":%lld,\"t\":%.3f,\"objects\":[", now, t);
+    for (k = 0; k < f->scene.nobj; k++) {
+        const struct scene_object *o = &f->scene.obj[k];
+        double x, y, vx, vy, bx, by;
+        int faded;
+        if (!scene_object_at(&f->scene, k, sweep, t, &x, &y, &vx, &vy))
+            continue;
+        scene_to_body(&f->scene, t, x, y, &bx, &by);
+        if (hypot(bx, by) > range)
+            continue;
+        faded = sweep < 64 && ((o->fade >> sweep) & 1u);
+        fprintf(f->truth, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"vx\":%.3f,\"vy\":%.3f,\"bx\":%.3f,\"by\":%.3f,\"radius\":%.2f,\"visible\":%d}",
+                first ? "" : ",", o->id, x, y, vx, vy, bx, by, o->r, !faded);
+        first = 0;
+    }
+    fputs("]}\n", f->truth);
+}
+
 /* The beam the device would send for angle a in the current sweep. */
 void feed_render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16_t *sp)
 {
     if (f->use_scene) {
         double range = sonar_geometry_range_m(f->sp, f->n, f->c);
-        /* The scene's clock: sweeps of 400 beams at the feed's own pace are not modelled; timed
-           objects move with the sweep count at a nominal 10 s a sweep. */
+        /* The scene's clock: by default timed objects move with the sweep count of the requests, at
+           a nominal 10 s a sweep; on the wall clock (a moving vehicle, --scene-clock wall) they
+           move in real time whatever the order of requests, and a "sweep" of the scene's
+           per-sweep events is 10 s of it. */
         double t = 10.0 * (double)f->sweep.index;
-        if (f->scene.veh.nwp > 0) {
-            /* A moving vehicle: the scene runs on the wall clock from the first beam, as its autopilot's poses do. */
+        int sweep = (int)f->sweep.index;
+        if (f->scene.veh.nwp > 0 || f->wall_clock) {
             if (f->scene_t0 == 0.0)
                 f->scene_t0 = feed_now();
             t = feed_now() - f->scene_t0;
+            if (f->wall_clock)
+                sweep = (int)(t / 10.0);
         }
-        scene_beam(&f->scene, (int)f->sweep.index, t, a, range, f->n, &f->rng, out);
+        scene_beam(&f->scene, sweep, t, a, range, f->n, &f->rng, out);
+        if (f->truth != NULL)
+            feed_truth(f, t, sweep, a, range);
         *n = f->n;
         *sp = f->sp;
     } else {

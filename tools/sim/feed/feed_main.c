@@ -102,6 +102,10 @@ static const struct opt_spec feed_spec[] = {
     {"pace", "device|fast", OPT_CUSTOM, 0, 0, 0, 0, 0, "device or fast", "device", "device: 19.4 ms + 6 ms a gradian + 2R/c a beam", NULL, parse_pace},
     {"firmware", "X.Y.Z", OPT_CUSTOM, 0, 0, 0, 0, 0, "X.Y.Z", "3.3.8", "firmware version reported", NULL, parse_firmware},
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "scene and fault random seed", NULL, parse_seed},
+    {"scene-clock", "sweeps|wall", OPT_CHOICE, 0, 0, FO(wall_clock), 0, 0, "sweeps or wall", "sweeps",
+     "sweeps: timed objects move 10 s a sweep of requests; wall: on the wall clock\nfrom the first beam, whatever angles are asked (a planner's)", "sweeps=0|wall=1", NULL},
+    {"truth", "FILE", OPT_STR, 0, 0, FO(truth_path), 0, 0, "file", NULL,
+     "with --scene-clock wall: the objects every 0.1 s and each beam served,\nJSON lines timed on the wall clock (us since the epoch)", NULL, NULL},
     {"log", "FILE", OPT_STR, 0, 0, FO(log_path), 0, 0, "file", NULL, "requests, faults and a summary line", NULL, NULL},
     {"max-seconds", "T", OPT_F64, 0, 0, FO(max_s), 0.1, 1e7, "seconds", "600", "exit after T", NULL, NULL},
     {"exit-after-motor-off", NULL, OPT_FLAG, 0, 0, FO(exit_after_motor_off), 0, 0, NULL, "off", "exit 0.3 s after motor_off", NULL, NULL},
@@ -183,6 +187,16 @@ int main(int argc, char **argv)
         f.use_scene = 1;
     } else if (feed_load_csv(&f.rec, csv, range) != 0) {
         return 2;
+    }
+    if (f.truth_path != NULL) {
+        if (!f.use_scene || !f.wall_clock) {
+            fprintf(stderr, "sonar_feed: --truth goes with --scene NAME --scene-clock wall (the truth is timed on the wall clock)\n");
+            return 2;
+        }
+        if ((f.truth = fopen(f.truth_path, "w")) == NULL) {
+            fprintf(stderr, "sonar_feed: --truth %s: %s\n", f.truth_path, strerror(errno));
+            return 2;
+        }
     }
     f.mfd = -1;
     if (f.mavlink != NULL && feed_open_mavlink(&f) != 0)
@@ -309,6 +323,8 @@ int main(int argc, char **argv)
                 f.motor_offs, f.beams_intact);
         fclose(f.log);
     }
+    if (f.truth != NULL)
+        fclose(f.truth);
     if (f.transport == T_PTY)
         unlink(f.pty_link);
     return 0;
