@@ -1,7 +1,8 @@
 #!/bin/sh
 # scan.sh -- the scan planner live (issue 26): sonar-feed at device pace on the wall clock (the moving scene) -> sonard
 # --scan sweep and --scan follow side by side over TCP on 127.0.0.1, scored by tools/eval/score_live.py; follow mode
-# under auto_transmit (says it cannot steer, sweeps); --scan follow without a live sonar refused. Bounded in time.
+# under auto_transmit (says it cannot steer, sweeps); --scan follow without a live sonar refused; --gain auto settling
+# on a saturating scene. Bounded in time.
 # Usage: sh tests/scan.sh BUILD_DIR [SECONDS]. Ends with "N passed, N failed".
 set -u
 B=${1:-build}
@@ -39,5 +40,29 @@ kill $fp 2>/dev/null; wait $fp 2>/dev/null
 check "follow under auto_transmit: said it cannot steer, and swept" grep -q "planner cannot steer it; sweeping" "$T/auto.err"
 check "--scan follow without a live sonar is refused by name" \
     sh -c "'$B/sonard' --replay /dev/null --scan follow 2>&1 | grep -q 'scan follow steers a live sonar'"
+# --gain auto on a scene that saturates at the starting gain (sonar-feed's gain model: the pool as drawn is low gain,
+# normal doubles it): lowered within 2 sweeps, then no other change over the next 20 (no oscillation).
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 3))" --scene pool --gain-model 0 --pace fast --max-seconds 100 2> "$T/gain-feed.err" &
+fp=$!
+sleep 0.3
+timeout 90 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 3))" --range 12 --step 4 --gain auto --sweeps 22 --no-lcm --json \
+    > "$T/gain.jsonl" 2> "$T/gain.err"
+kill $fp 2>/dev/null; wait $fp 2>/dev/null
+check "gain auto: lowered from normal within 2 sweeps of a saturating scene" grep -Eq "gain auto: normal -> low after sweep [01] " "$T/gain.err"
+check "gain auto: no other change in the 20 sweeps after (no oscillation)" test "$(grep -c 'gain auto:' "$T/gain.err")" -eq 1
+check "gain auto: the background restarted at every angle once, and said so" \
+    test "$(grep -c 'the background restarts at every angle' "$T/gain.err")" -eq 1
+check "gain auto: 22 sweeps done" test "$(wc -l < "$T/gain.jsonl")" -eq 22
+# A sonar that does not take the change: a whole sweep still at the old gain stops auto gain, said.
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 4))" --scene pool --gain-model 0 --gain-fixed --pace fast --max-seconds 60 \
+    2> "$T/fixed-feed.err" &
+fp=$!
+sleep 0.3
+timeout 60 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 4))" --range 12 --step 4 --gain auto --sweeps 5 --no-lcm \
+    > /dev/null 2> "$T/fixed.err"
+rc=$?
+kill $fp 2>/dev/null; wait $fp 2>/dev/null
+check "gain auto refused by the sonar: said, auto gain off, sonard goes on (exit 0)" \
+    sh -c "[ $rc -eq 0 ] && grep -q 'auto gain off' '$T/fixed.err'"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

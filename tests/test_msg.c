@@ -122,6 +122,17 @@ static void status_round_trip(void **state)
     s.autopilot.od_sent = 134;
     s.autopilot.od_withheld = 135;
     s.autopilot.rx_other = 136;
+    s.acq.gain = 2;
+    s.acq.gain_auto = 1;
+    s.acq.gain_changes = 137;
+    s.acq.gain_refused = 138;
+    s.acq.background_restarts = 139;
+    s.scan.mode = SONAR_SCAN_FOLLOW;
+    s.scan.interleave = 3;
+    s.scan.target_pings = 140;
+    s.scan.surveil_pings = 141;
+    s.scan.late_looks = 142;
+    s.scan.targets_dropped = 143;
     msg_status(&s, &m);
     n = sonar_status_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_true(n > 0);

@@ -35,8 +35,11 @@ SONAR_CHECK int sonar_geometry_sample_period(double range_m, uint16_t n, double 
 uint16_t sonar_geometry_max_samples(double range_m, double c);
 
 /*
- * Automatic transmit duration in us: round(8000 R / c), at least 2.5 sample intervals
- * (2.5 * ticks * 0.025 us, rounded up), clamped to [5, min(500, 64 * ticks * 0.025)].
+ * Automatic transmit duration in us (--transmit-duration auto): round(8000 R / c), at least 2.5
+ * sample intervals (2.5 * ticks * 0.025 us, rounded up), clamped to [5, min(500, 64 * ticks *
+ * 0.025)]. The rule is Ping Viewer's adjustTransmitDuration (ping-viewer src/sensor/ping360.cpp,
+ * "per firmware engineer"), also in the ping360_sonar ROS driver; both compute the 2.5-interval
+ * floor with the period in seconds, so it never bites there: here it is in us (ping.md).
  */
 uint16_t sonar_geometry_transmit_duration(double range_m, double c, uint16_t sample_period);
 

@@ -49,6 +49,18 @@ struct sonar_status {
         uint32_t od_withheld;              /* ... not sent: no beam for a second (fail closed) */
         uint32_t rx_other;                 /* messages from other systems and components, ignored */
     } autopilot;                           /* all 0 without --mavlink */
+    struct {
+        int gain;                          /* the gain asked: 0 low, 1 normal, 2 high */
+        int gain_auto;                     /* 1 while --gain auto chooses it */
+        uint32_t gain_changes;             /* changes made by auto gain */
+        uint32_t gain_refused;             /* changes the sonar did not take (auto gain then off) */
+        uint32_t background_restarts;      /* backgrounds restarted at every angle: the beams' gain changed */
+    } acq;
+    struct {
+        int mode;                          /* enum sonar_scan_mode */
+        uint32_t interleave;               /* follow: a grid angle every this many passes */
+        uint32_t target_pings, surveil_pings, late_looks, targets_dropped; /* struct sonar_scan_counters */
+    } scan;                                /* all 0 in sweep mode */
 };
 
 /*

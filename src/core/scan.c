@@ -85,25 +85,12 @@ static int64_t age_us(const struct sonar_scan *s, int g, int64_t now)
     return t == 0 ? NEVER_US : (now - s->t0) - (int64_t)t * 1000;
 }
 
-/* Whether offset p (from start_angle) lies on the sector's grid: the angles a plain sweep pings. */
-static int on_grid(const struct sonar_scan *s, int p)
-{
-    return p % s->cfg.step == 0 || (!s->cfg.full_circle && p == (int)s->span);
-}
-
 /* Gradians from a to b going way d (+1/-1); -1 when a sector's end lies between. */
 static int travel_way(const struct sonar_scan *s, int a, int b, int d)
 {
     if (s->cfg.full_circle)
         return sonar_frame_wrap(d > 0 ? b - a : a - b);
     return d * (offset(s, b) - offset(s, a)) >= 0 ? d * (offset(s, b) - offset(s, a)) : -1;
-}
-
-/* us from the head to a ping at a going way d (travel and the ping); INT64_MAX past a sector's end. */
-static int64_t arrive_us(const struct sonar_scan *s, int a, int d)
-{
-    int g = travel_way(s, s->head, a, d);
-    return g < 0 ? INT64_MAX : (int64_t)s->cfg.ping_us + (int64_t)SONAR_SCAN_GRAD_US * g;
 }
 
 /* Grid angles of the sector: a plain sweep's beams. */
@@ -167,35 +154,37 @@ static int interleave(const struct sonar_scan *s, int64_t w)
  */
 static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
 {
-    int p, n = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : (int)s->span, k = s->k;
-    /* The passes to come, with room for the windows to widen and for targets to appear meanwhile. */
-    int64_t budget = window_reserve_us(s), pass = pass_us(s, k, budget);
-    for (p = 0; p <= n; p++) {
-        int g = sonar_frame_wrap((int)s->cfg.start_angle + p), j = (p + s->cfg.step - 1) / s->cfg.step;
-        int d = (int)(((uint32_t)j + (uint32_t)k - s->pass % (uint32_t)k) % (uint32_t)k);
-        int64_t at, back;
-        if (!on_grid(s, p))
-            continue;
+    /* In ms and 32 bits: the loop runs over the whole grid every beam (a Cortex-M has no 64-bit divide). */
+    int n = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : (int)s->span, k = s->k, p, travel_g;
+    int64_t budget_us = window_reserve_us(s);
+    int32_t pass = (int32_t)(pass_us(s, k, budget_us) / 1000), bound = (int32_t)(s->surveil_us / 1000);
+    int32_t budget = (int32_t)(budget_us / 1000), ping = (int32_t)(s->cfg.ping_us / 1000), grad = (int32_t)(SONAR_SCAN_GRAD_US / 1000);
+    uint32_t now_ms = (uint32_t)((now - s->t0) / 1000), phase = s->pass % (uint32_t)k, share_q8;
+    travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
+    share_q8 = (uint32_t)pass * 256u / (uint32_t)(travel_g > 0 ? travel_g : 1);
+    for (p = 0; p <= n; p = p + s->cfg.step > n && p < n && !s->cfg.full_circle ? n : p + s->cfg.step) {
+        int g = sonar_frame_wrap((int)s->cfg.start_angle + p), tw;
+        uint32_t j = (uint32_t)(p + s->cfg.step - 1) / s->cfg.step, d = (j + (uint32_t)k - phase) % (uint32_t)k;
+        int32_t at, share, back, age;
         if (d == 0) {
             need[g] = 1;
             continue;
         }
-        at = arrive_us(s, g, s->dir);
-        if (at == INT64_MAX || s->seen_ms[g] == 0)
+        tw = travel_way(s, s->head, g, s->dir);
+        if (tw < 0 || s->seen_ms[g] == 0)
             continue; /* behind the head in a sector (the return pass decides), or not yet in its first turn */
-        /* Getting there takes its share of a pass, pings on the way included. */
-        {
-            int64_t share = pass * travel_way(s, s->head, g, s->dir) / (s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span);
-            at = share > at ? share : at;
-        }
-        back = (int64_t)d * pass;
+        /* Getting there: the travel and a ping, or its share of a pass (pings on the way included). */
+        at = ping + grad * tw;
+        share = (int32_t)(((uint64_t)share_q8 * (uint32_t)tw) >> 8);
+        at = share > at ? share : at;
+        back = (int32_t)d * pass;
         if (!s->cfg.full_circle) {
             /* In a sector the next pass is back after the far end: twice the rest of the way, and its pings. */
             int e = s->dir > 0 ? (int)s->span - p : p;
-            back = (int64_t)SONAR_SCAN_GRAD_US * 2 * e + (int64_t)(2 * e / s->cfg.step) * s->cfg.ping_us / k +
-                   budget + (int64_t)(d - 1) * pass;
+            back = grad * 2 * e + (2 * e / s->cfg.step) * ping / k + budget + ((int32_t)d - 1) * pass;
         }
-        if (age_us(s, g, now) + at + back > (int64_t)s->surveil_us)
+        age = (int32_t)(now_ms - s->seen_ms[g]);
+        if (age + at + back > bound)
             need[g] = 1;
     }
 }

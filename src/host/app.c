@@ -76,6 +76,7 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
 static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
+    app_gain_sweep(a, d->sweep);
     to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
@@ -90,6 +91,7 @@ int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipel
     a->clock = *clock;
     a->max_sweeps = max_sweeps;
     a->link = "";
+    a->last_gain = -1;
     a->pcfg[0] = *pcfg;
     a->pcfg[0].on_beam = on_stage;
     a->pcfg[0].on_sweep = on_sweep;
@@ -190,6 +192,16 @@ int app_push(struct app *a, const struct sonar_record *b)
     a->cur.stage = SONAR_STAGE_RAW;
     beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
+    if (b->gain >= 0) {
+        if (a->last_gain >= 0 && b->gain != a->last_gain) {
+            /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
+            sonar_background_reset(&a->pipe.bg);
+            a->bg_restarts++;
+            app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
+                    "afresh over its warm-up", (int)b->gain, (double)b->utime * 1e-6, (int)a->last_gain);
+        }
+        a->last_gain = b->gain;
+    }
     pb.utime = b->utime;
     pb.angle = b->angle;
     pb.n = b->n;

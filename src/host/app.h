@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "herr.h"
+#include "sonar/gain.h"
 #include "sonar/detector.h"
 #include "sonar/device.h"
 #include "sonar/pipeline.h"
@@ -78,6 +79,14 @@ HOST_CHECK int app_init(struct app **out, struct app_storage *mem, const struct 
  * with the failing field in err.
  */
 HOST_CHECK int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, size_t errlen);
+
+/*
+ * --gain auto on the live sonar (gain.h): cfg's rules, starting at the device's gain. Each live
+ * beam is counted; at each sweep's end the setting may change for the requests that follow (never
+ * mid-sector), said and on SONAR_STATUS; a change the sonar does not take (a whole sweep of beams
+ * still at the old gain) stops auto gain, said. Returns HOST_OK or HOST_ERR_CONFIG naming the field.
+ */
+HOST_CHECK int app_set_gain_auto(struct app *a, const struct sonar_gain_config *cfg, char *err, size_t errlen);
 
 /* The planner, or NULL in sweep mode (its counters for the status). */
 const struct sonar_scan *app_scan(const struct app *a);

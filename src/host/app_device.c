@@ -18,6 +18,12 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         return APP_LINK_NONE;
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
+        if (a->have_gain_auto && !a->gain_off) {
+            if (ev->beam.gain == (int32_t)a->gain.gain)
+                sonar_gain_beam(&a->gain, ev->beam.samples, ev->beam.n, (uint8_t)ev->beam.gain);
+            else
+                a->beams_other_gain++;
+        }
         if (app_push(a, &ev->beam) != HOST_OK)
             return APP_LINK_NONE; /* counted in beams_rejected; the sinks still had the raw beam */
         return APP_LINK_NONE;
@@ -116,4 +122,49 @@ int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, 
 const struct sonar_scan *app_scan(const struct app *a)
 {
     return a->have_scan ? &a->scan : NULL;
+}
+
+static const char *gain_name(int g)
+{
+    return g == 0 ? "low" : g == 1 ? "normal" : g == 2 ? "high" : "unknown";
+}
+
+int app_set_gain_auto(struct app *a, const struct sonar_gain_config *cfg, char *err, size_t errlen)
+{
+    struct sonar_gain_config c = *cfg;
+    const char *why;
+    if (!a->have_dev) {
+        snprintf(err, errlen, "--gain auto: no sonar to set");
+        return HOST_ERR_CONFIG;
+    }
+    c.start = a->dev.drv.cfg.gain;
+    if ((why = sonar_gain_config_check(&c)) != NULL || sonar_gain_init(&a->gain, &c) != SONAR_OK) {
+        snprintf(err, errlen, "--gain auto: %s", why ? why : "invalid");
+        return HOST_ERR_CONFIG;
+    }
+    a->have_gain_auto = 1;
+    return HOST_OK;
+}
+
+void app_gain_sweep(struct app *a, uint32_t sweep)
+{
+    int r, was = a->gain.gain;
+    if (!a->have_gain_auto || a->gain_off)
+        return;
+    if (a->gain.samples == 0 && a->beams_other_gain > 0 && a->gain.changes > 0) {
+        /* A whole sweep and not one beam at the setting asked: the sonar keeps its own. */
+        a->gain_off = 1;
+        a->gain_refused++;
+        if (a->last_gain >= 0 && a->last_gain <= SONAR_GAIN_MAX)
+            a->dev.drv.cfg.gain = (uint8_t)a->last_gain; /* ask for what it gives */
+        app_say(a, "gain auto: the sonar kept its gain for a whole sweep though %s was asked; auto gain off",
+                gain_name(was));
+        return;
+    }
+    a->beams_other_gain = 0;
+    if ((r = sonar_gain_sweep_end(&a->gain)) < 0)
+        return;
+    a->dev.drv.cfg.gain = (uint8_t)r;
+    app_say(a, "gain auto: %s -> %s after sweep %u (%.2f %% of its samples saturated, median %u)", gain_name(was),
+            gain_name(r), (unsigned)sweep, (double)a->gain.last_sat * 100.0, a->gain.last_median);
 }

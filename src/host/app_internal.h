@@ -12,6 +12,13 @@ struct app {
     struct sonar_scan scan;     /* follow mode: chooses each request's angle (app_set_scan) */
     int have_scan;
     int scan_said;              /* the planner's idleness under auto_transmit was said */
+    struct sonar_gain gain;     /* --gain auto (app_set_gain_auto) */
+    int have_gain_auto;
+    int gain_off;               /* the sonar did not take a change: auto gain stopped */
+    uint32_t gain_refused;
+    uint32_t beams_other_gain;  /* beams since the last sweep at another gain than the one asked */
+    int32_t last_gain;          /* the gain of the beam before, -1: none yet */
+    uint32_t bg_restarts;       /* backgrounds restarted for a change of the beams' gain */
     struct app_clock clock;
     app_log_fn log;
     void *log_user;
@@ -32,5 +39,8 @@ struct app {
     float sorted[APP_PROC_RING];
     unsigned long nproc;
 };
+
+/* app_device.c: --gain auto's decision at the end of sweep number `sweep` (before the sinks see it). */
+void app_gain_sweep(struct app *a, uint32_t sweep);
 
 #endif

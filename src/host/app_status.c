@@ -50,6 +50,19 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s)
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
     app_pose_status(a, s);
+    s->acq.gain = a->have_dev ? (int)a->dev.drv.cfg.gain : (int)a->last_gain;
+    s->acq.gain_auto = a->have_gain_auto && !a->gain_off;
+    s->acq.gain_changes = a->have_gain_auto ? a->gain.changes : 0u;
+    s->acq.gain_refused = a->gain_refused;
+    s->acq.background_restarts = a->bg_restarts;
+    if (a->have_scan) {
+        s->scan.mode = a->scan.cfg.mode;
+        s->scan.interleave = a->scan.k;
+        s->scan.target_pings = a->scan.counters.target_pings;
+        s->scan.surveil_pings = a->scan.counters.surveil_pings;
+        s->scan.late_looks = a->scan.counters.late_looks;
+        s->scan.targets_dropped = a->scan.counters.targets_dropped;
+    }
     for (i = 0; i < a->nsinks; i++)
         if (a->sinks[i]->fill != NULL)
             a->sinks[i]->fill(a->sinks[i]->self, s);

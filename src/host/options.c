@@ -54,6 +54,42 @@ static int parse_baud(void *base, const char *v, char *err, size_t n)
     return HOST_OK;
 }
 
+static int parse_gain(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    if (strcmp(v, "auto") == 0) {
+        o->gain_auto = 1;
+        o->device.gain = 1; /* the middle: one step from either end */
+        return HOST_OK;
+    }
+    if (strlen(v) != 1 || v[0] < '0' || v[0] > '2') {
+        snprintf(err, n, "--gain: '%s' is not 0 (low), 1 (normal), 2 (high) or auto", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->gain_auto = 0;
+    o->device.gain = (uint8_t)(v[0] - '0');
+    return HOST_OK;
+}
+
+/* --transmit-duration: us 5..500, or auto (0: the driver's rule from range and sample period, geometry.h). */
+static int parse_tx(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    char *end;
+    long us;
+    if (strcmp(v, "auto") == 0) {
+        o->device.transmit_duration = 0;
+        return HOST_OK;
+    }
+    us = strtol(v, &end, 10);
+    if (*v == '\0' || *end != '\0' || us < 5 || us > 500) {
+        snprintf(err, n, "--transmit-duration: '%s' is not a whole number in 5..500 us (or auto)", v);
+        return HOST_ERR_CONFIG;
+    }
+    o->device.transmit_duration = (uint16_t)us;
+    return HOST_OK;
+}
+
 static int parse_sector(void *base, const char *v, char *err, size_t n)
 {
     struct sonard_options *o = base;
@@ -129,7 +165,8 @@ static const struct opt_spec spec[] = {
     {"sector", "START:STOP", OPT_CUSTOM, 1, 0, 0, 0, 0, "START:STOP gradians 0..399, or full", "full",
      "swept back and forth from START up to STOP (mod 400); full: full turns", NULL, parse_sector},
     {"step", "G", OPT_U8, 1, 0, V(step), 1, 50, "gradians", "1", "gradians per beam (at most 10 in auto mode)", NULL, NULL},
-    {"gain", "G", OPT_U8, 1, 0, V(gain), 0, 2, "(0 low, 1 normal, 2 high)", "0", "receiver gain", NULL, NULL},
+    {"gain", "G|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "0 low, 1 normal, 2 high, or auto", "0",
+     "receiver gain; auto: from normal, lowered when a sweep saturates, raised\nwhen its median sits at the bottom of the scale (SONAR_STATUS)", NULL, parse_gain},
     {"scan", "sweep|follow", OPT_CHOICE, 1, 0, F(scan.mode), 0, 0, "sweep or follow", "sweep",
      "sweep: the sector in order; follow: passes one way round that look at\nevery tracked target each pass and at the rest in turns (step mode)",
      "sweep=0|follow=1", NULL},
@@ -139,8 +176,8 @@ static const struct opt_spec spec[] = {
      "follow: no angle of the sector left unpinged longer than this", NULL, NULL},
     {"frequency", "F", OPT_U16, 1, 0, V(frequency), 500, 1000, "kHz", "750", "transmit frequency", NULL, NULL},
     {"samples", "N", OPT_U16, 1, 0, V(samples), 200, 1200, "samples", "the most the range allows", "samples per beam", NULL, NULL},
-    {"transmit-duration", "U", OPT_U16, 1, 0, V(transmit_duration), 5, 500, "us", "automatic: 8000 R / c, >= 2.5 samples",
-     "transmit pulse length", NULL, NULL},
+    {"transmit-duration", "U|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "us 5..500, or auto", "auto",
+     "transmit pulse length; auto: Ping Viewer's rule, 8000 R / c us, at least\n2.5 sample periods, within 5..500 (geometry.h)", NULL, parse_tx},
     {"sweeps", "N", OPT_LONG, 1, 0, F(sweeps), 1, 1e9, "sweeps", "run until SIGINT/SIGTERM", "stop (motor_off) after N sweeps", NULL, NULL},
     {"lcm", "URL", OPT_STR, 1, 0, F(lcm_url), 0, 0, "LCM URL", "LCM's own: $LCM_DEFAULT_URL, else udpm ttl=0",
      "LCM provider; file:///path.lcm?mode=w writes a log; a --replay publishes\nonly when this is given", NULL, NULL},
@@ -313,6 +350,7 @@ static void defaults(struct sonard_options *o)
     o->stage = SONAR_STAGE_FOREGROUND;
     o->device.gain = 0;
     o->scan.revisit_s = 1.5f;
+    sonar_gain_defaults(&o->gain_rules);
     o->device.frequency = 750;
     o->device.step = 1;
     o->device.full_circle = 1;
@@ -377,6 +415,10 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     }
     if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1) {
         snprintf(err, errlen, "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");
+        return HOST_ERR_CONFIG;
+    }
+    if (o->gain_auto && o->sonar == NULL) {
+        snprintf(err, errlen, "--gain auto sets a live sonar's gain: it goes with --sonar URL");
         return HOST_ERR_CONFIG;
     }
     if (o->scan.mode == SONAR_SCAN_FOLLOW && o->sonar == NULL) {

@@ -8,6 +8,7 @@
 #include "herr.h"
 #include "optschema.h"
 #include "sonar/ping360.h"
+#include "sonar/gain.h"
 #include "sonar/pipeline.h"
 
 #define OPTIONS_MAX_CONFIGS 8
@@ -50,6 +51,8 @@ struct sonard_options {
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
     struct sonar_scan_config scan; /* mode, revisit_s, surveil_s; the sector and timing come from device */
+    int gain_auto;              /* --gain auto: device.gain is where it starts */
+    struct sonar_gain_config gain_rules; /* --gain auto's thresholds (sonar_gain_defaults) */
     struct opt_given given;     /* one bit per schema row applied (file or command line) */
     const char *configs[OPTIONS_MAX_CONFIGS]; /* --config files in order, re-read on SIGHUP */
     int nconfigs;

@@ -266,6 +266,7 @@ int main(int argc, char **argv)
     if (app_init(&s.app, &s.app_mem, &s.opt.pipeline, s.opt.sonar ? &s.opt.device : NULL, &io, &clock,
                  s.opt.sweeps, err, sizeof(err)) != HOST_OK ||
         (s.opt.sonar != NULL && app_set_scan(s.app, &s.opt.scan, err, sizeof(err)) != HOST_OK) ||
+        (s.opt.sonar != NULL && s.opt.gain_auto && app_set_gain_auto(s.app, &s.opt.gain_rules, err, sizeof(err)) != HOST_OK) ||
         open_sinks(&s, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         return 2;

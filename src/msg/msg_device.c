@@ -100,6 +100,17 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->obstacle_distance_sent = s->autopilot.od_sent;
     m->obstacle_distance_withheld = s->autopilot.od_withheld;
     m->autopilot_rx_other = s->autopilot.rx_other;
+    m->gain = (int8_t)(s->acq.gain < 0 ? -1 : s->acq.gain > 127 ? 127 : s->acq.gain);
+    m->gain_auto = (int8_t)(s->acq.gain_auto != 0);
+    m->gain_changes = s->acq.gain_changes;
+    m->gain_refused = s->acq.gain_refused;
+    m->background_restarts = s->acq.background_restarts;
+    m->scan_mode = (int8_t)(s->scan.mode < 0 ? -1 : s->scan.mode > 127 ? 127 : s->scan.mode);
+    m->scan_interleave = (int16_t)(s->scan.interleave > 32767u ? 32767u : s->scan.interleave);
+    m->scan_target_pings = s->scan.target_pings;
+    m->scan_surveil_pings = s->scan.surveil_pings;
+    m->scan_late_looks = s->scan.late_looks;
+    m->scan_targets_dropped = s->scan.targets_dropped;
 }
 
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
@@ -156,6 +167,17 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->autopilot.od_sent = to_u32(m->obstacle_distance_sent);
     s->autopilot.od_withheld = to_u32(m->obstacle_distance_withheld);
     s->autopilot.rx_other = to_u32(m->autopilot_rx_other);
+    s->acq.gain = m->gain;
+    s->acq.gain_auto = m->gain_auto != 0;
+    s->acq.gain_changes = to_u32(m->gain_changes);
+    s->acq.gain_refused = to_u32(m->gain_refused);
+    s->acq.background_restarts = to_u32(m->background_restarts);
+    s->scan.mode = m->scan_mode;
+    s->scan.interleave = m->scan_interleave < 0 ? 0u : (uint32_t)m->scan_interleave;
+    s->scan.target_pings = to_u32(m->scan_target_pings);
+    s->scan.surveil_pings = to_u32(m->scan_surveil_pings);
+    s->scan.late_looks = to_u32(m->scan_late_looks);
+    s->scan.targets_dropped = to_u32(m->scan_targets_dropped);
 }
 
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)

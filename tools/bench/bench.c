@@ -275,22 +275,22 @@ int main(int argc, char **argv)
        grid), the most targets it reads, each with the widest window. */
     {
         static struct sonar_scan sc;
-        struct sonar_scan_config c;
+        struct sonar_scan_config scfg;
         struct sonar_scan_target tg[SONAR_SCAN_MAX_TARGETS];
         double t_sc[REPS];
         int64_t tnow = 0;
         int k2, rep;
-        memset(&c, 0, sizeof(c));
-        c.mode = SONAR_SCAN_FOLLOW;
-        c.full_circle = 1;
-        c.step = 1;
-        c.ping_us = 39400;
-        c.revisit_s = 1.5f;
+        memset(&scfg, 0, sizeof(scfg));
+        scfg.mode = SONAR_SCAN_FOLLOW;
+        scfg.full_circle = 1;
+        scfg.step = 1;
+        scfg.ping_us = 39400;
+        scfg.revisit_s = 1.5f;
         for (k2 = 0; k2 < SONAR_SCAN_MAX_TARGETS; k2++) {
             tg[k2].angle = (float)(k2 * 25);
             tg[k2].half_width = 40.0f;
         }
-        if (sonar_scan_init(&sc, &c) != SONAR_OK)
+        if (sonar_scan_init(&sc, &scfg) != SONAR_OK)
             return 1;
         for (rep = 0; rep < 400; rep++, tnow += 45400)
             sink += sonar_scan_next(&sc, tg, SONAR_SCAN_MAX_TARGETS, tnow);

@@ -10,6 +10,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/pose.h"
 #include "sonar/status.h"
+#include "sonar/gain.h"
 #include "sonar/scan.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
@@ -25,6 +26,7 @@ SIZE(tracker, sonar_track)
 SIZE(median, sonar_median2d)
 SIZE(obstacle, sonar_obstacle)
 SIZE(pose, sonar_pose_ring)
+SIZE(gain, sonar_gain)
 SIZE(scan, sonar_scan)
 SIZE(sweep, sonar_sweep)
 SIZE(ping, sonar_ping_parser)

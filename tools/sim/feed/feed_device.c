@@ -105,6 +105,14 @@ void feed_render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16_t
                 sweep = (int)(t / 10.0);
         }
         scene_beam(&f->scene, sweep, t, a, range, f->n, &f->rng, out);
+        if (f->gain_ref >= 0 && f->gain != f->gain_ref) {
+            /* The receiver's gain: about 6 dB a setting; high clips what was bright, low loses what was faint. */
+            int up = (int)f->gain - (int)f->gain_ref, i;
+            for (i = 0; i < f->n; i++) {
+                int v = up > 0 ? out[i] << up : out[i] >> -up;
+                out[i] = (uint8_t)(v > 255 ? 255 : v);
+            }
+        }
         if (f->truth != NULL)
             feed_truth(f, t, sweep, a, range);
         *n = f->n;
@@ -228,7 +236,9 @@ void feed_handle_frame(struct feed *f, const struct sonar_ping_frame *fr)
             break;
         }
         f->streaming = 0;
-        f->gain = p[1];
+        if (!f->gain_fixed || !f->gain_set)
+            f->gain = p[1];
+        f->gain_set = 1;
         f->tx = (uint16_t)(p[4] | p[5] << 8);
         f->sp = (uint16_t)(p[6] | p[7] << 8);
         f->freq = (uint16_t)(p[8] | p[9] << 8);
@@ -247,7 +257,9 @@ void feed_handle_frame(struct feed *f, const struct sonar_ping_frame *fr)
     case SONAR_PING360_AUTO_TRANSMIT:
         if (fr->payload_len != 16)
             break;
-        f->gain = p[1];
+        if (!f->gain_fixed || !f->gain_set)
+            f->gain = p[1];
+        f->gain_set = 1;
         f->tx = (uint16_t)(p[2] | p[3] << 8);
         f->sp = (uint16_t)(p[4] | p[5] << 8);
         f->freq = (uint16_t)(p[6] | p[7] << 8);

@@ -104,6 +104,10 @@ static const struct opt_spec feed_spec[] = {
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "scene and fault random seed", NULL, parse_seed},
     {"scene-clock", "sweeps|wall", OPT_CHOICE, 0, 0, FO(wall_clock), 0, 0, "sweeps or wall", "sweeps",
      "sweeps: timed objects move 10 s a sweep of requests; wall: on the wall clock\nfrom the first beam, whatever angles are asked (a planner's)", "sweeps=0|wall=1", NULL},
+    {"gain-model", "G", OPT_LONG, 0, 0, FO(gain_ref), -1, 2, "setting 0..2 (-1 off)", "-1",
+     "the scene as drawn is what gain G gives; each setting above doubles the\nechoes (saturating at 255), each below halves them (the floor)", NULL, NULL},
+    {"gain-fixed", NULL, OPT_FLAG, 0, 0, FO(gain_fixed), 0, 0, NULL, "off",
+     "keep the first gain asked: later requests' gain is ignored (replies say so)", NULL, NULL},
     {"truth", "FILE", OPT_STR, 0, 0, FO(truth_path), 0, 0, "file", NULL,
      "with --scene-clock wall: the objects every 0.1 s and each beam served,\nJSON lines timed on the wall clock (us since the epoch)", NULL, NULL},
     {"log", "FILE", OPT_STR, 0, 0, FO(log_path), 0, 0, "file", NULL, "requests, faults and a summary line", NULL, NULL},
@@ -157,6 +161,7 @@ int main(int argc, char **argv)
     f.max_s = 600;
     f.mav_rate0 = 1.0;
     f.csv_range = -1;
+    f.gain_ref = -1;
     f.mac[0] = 0x54;
     f.mac[1] = 0x10;
     f.mac[2] = 0xEC;
