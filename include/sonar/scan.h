@@ -82,7 +82,7 @@ SONAR_CHECK int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_co
  * beam that would otherwise pass surveil_s before its turn. A pass is a turn of travel (2.4 s)
  * and its pings: that, not revisit_s, sets how often a target is looked at; looks later than
  * revisit_s are counted (late_looks). Targets past SONAR_SCAN_MAX_TARGETS or outside the sector
- * are counted and ignored. O(targets x window + 400) a call, 400 B of stack.
+ * are counted and ignored. O(targets x window + the walk to the next ping) a call, 400 B of stack.
  */
 uint16_t sonar_scan_next(struct sonar_scan *s, const struct sonar_scan_target *targets, unsigned n, int64_t now);
 

@@ -1,4 +1,4 @@
-/* scan.c -- the scan planner: sweep order, or passes that ping the targets' windows each time and the grid in turns; O(targets x window + 400) a call, 400 B of stack, no heap. */
+/* scan.c -- the scan planner: sweep order, or passes that ping the targets' windows each time and the grid in turns; O(targets x window + the walk to the next ping) a call, 400 B of stack, no heap. */
 #include "sonar/scan.h"
 
 #include <string.h>
@@ -6,6 +6,15 @@
 #define STR2(x) #x
 #define STR(x) STR2(x)
 #define NEVER_US ((int64_t)86400000000) /* a day: the age of an angle never looked at */
+
+/* us to ms for the per-beam loops: in 32 bits when it fits (a Cortex-M has no 64-bit divide), up to 2^31 ms. */
+static int32_t ms(int64_t us)
+{
+    if (us >= 0 && us <= (int64_t)UINT32_MAX)
+        return (int32_t)((uint32_t)us / 1000u);
+    us /= 1000;
+    return us > INT32_MAX ? INT32_MAX : us < INT32_MIN ? INT32_MIN : (int32_t)us;
+}
 
 const char *sonar_scan_config_check(const struct sonar_scan_config *c)
 {
@@ -85,14 +94,6 @@ static int64_t age_us(const struct sonar_scan *s, int g, int64_t now)
     return t == 0 ? NEVER_US : (now - s->t0) - (int64_t)t * 1000;
 }
 
-/* Gradians from a to b going way d (+1/-1); -1 when a sector's end lies between. */
-static int travel_way(const struct sonar_scan *s, int a, int b, int d)
-{
-    if (s->cfg.full_circle)
-        return sonar_frame_wrap(d > 0 ? b - a : a - b);
-    return d * (offset(s, b) - offset(s, a)) >= 0 ? d * (offset(s, b) - offset(s, a)) : -1;
-}
-
 /* Grid angles of the sector: a plain sweep's beams. */
 static int grid_beams(const struct sonar_scan *s)
 {
@@ -124,13 +125,14 @@ static int64_t window_reserve_us(const struct sonar_scan *s)
 static int64_t model_pass_us(const struct sonar_scan *s, int k, int64_t w)
 {
     int travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
-    return (int64_t)SONAR_SCAN_GRAD_US * travel_g + w + ((int64_t)grid_beams(s) * s->cfg.ping_us + k - 1) / k;
+    /* The grid's pings fit 32 bits (400 x 10^7 us): a Cortex-M divides those in hardware. */
+    return (int64_t)SONAR_SCAN_GRAD_US * travel_g + w + ((uint32_t)grid_beams(s) * s->cfg.ping_us + (uint32_t)k - 1u) / (uint32_t)k;
 }
 
 /* The same, scaled by how much slower than the model the last pass was (the link, the host: never faster). */
 static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
 {
-    return model_pass_us(s, k, w) * s->slow_q8 / 256;
+    return model_pass_us(s, k, w) * s->slow_q8 >> 8;
 }
 
 /*
@@ -147,46 +149,54 @@ static int interleave(const struct sonar_scan *s, int64_t w)
     return k;
 }
 
-/*
- * Marks in need[] the grid angles this pass pings: grid beam j on the passes q with q = j mod k,
- * and any that, skipped now, would pass the bound before its next such pass (when the interleave
- * changes, or the passes grow with the targets).
- */
-static void mark_grid(const struct sonar_scan *s, uint8_t *need, int64_t now)
+/* What deciding a grid beam needs, worked out once a call: ms and 32 bits (a Cortex-M has no 64-bit divide). */
+struct grid_plan {
+    int32_t pass, bound, budget, ping, grad; /* ms: a pass to come (windows at their reserve), the bound, ... */
+    uint32_t now_ms, phase, share_q8;        /* ms since t0; this pass mod k; a pass's ms a gradian, 1/256 */
+    int hoff;                                /* the head's gradians from start_angle */
+};
+
+static void grid_plan(const struct sonar_scan *s, struct grid_plan *c, int64_t now)
 {
-    /* In ms and 32 bits: the loop runs over the whole grid every beam (a Cortex-M has no 64-bit divide). */
-    int n = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : (int)s->span, k = s->k, p, travel_g;
+    int travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
     int64_t budget_us = window_reserve_us(s);
-    int32_t pass = (int32_t)(pass_us(s, k, budget_us) / 1000), bound = (int32_t)(s->surveil_us / 1000);
-    int32_t budget = (int32_t)(budget_us / 1000), ping = (int32_t)(s->cfg.ping_us / 1000), grad = (int32_t)(SONAR_SCAN_GRAD_US / 1000);
-    uint32_t now_ms = (uint32_t)((now - s->t0) / 1000), phase = s->pass % (uint32_t)k, share_q8;
-    travel_g = s->cfg.full_circle ? (int)SONAR_GRAD_TURN : (int)s->span;
-    share_q8 = (uint32_t)pass * 256u / (uint32_t)(travel_g > 0 ? travel_g : 1);
-    for (p = 0; p <= n; p = p + s->cfg.step > n && p < n && !s->cfg.full_circle ? n : p + s->cfg.step) {
-        int g = sonar_frame_wrap((int)s->cfg.start_angle + p), tw;
-        uint32_t j = (uint32_t)(p + s->cfg.step - 1) / s->cfg.step, d = (j + (uint32_t)k - phase) % (uint32_t)k;
-        int32_t at, share, back, age;
-        if (d == 0) {
-            need[g] = 1;
-            continue;
-        }
-        tw = travel_way(s, s->head, g, s->dir);
-        if (tw < 0 || s->seen_ms[g] == 0)
-            continue; /* behind the head in a sector (the return pass decides), or not yet in its first turn */
-        /* Getting there: the travel and a ping, or its share of a pass (pings on the way included). */
-        at = ping + grad * tw;
-        share = (int32_t)(((uint64_t)share_q8 * (uint32_t)tw) >> 8);
-        at = share > at ? share : at;
-        back = (int32_t)d * pass;
-        if (!s->cfg.full_circle) {
-            /* In a sector the next pass is back after the far end: twice the rest of the way, and its pings. */
-            int e = s->dir > 0 ? (int)s->span - p : p;
-            back = grad * 2 * e + (2 * e / s->cfg.step) * ping / k + budget + ((int32_t)d - 1) * pass;
-        }
-        age = (int32_t)(now_ms - s->seen_ms[g]);
-        if (age + at + back > bound)
-            need[g] = 1;
+    c->pass = ms(pass_us(s, s->k, budget_us));
+    c->bound = (int32_t)(s->surveil_us / 1000u);
+    c->budget = ms(budget_us);
+    c->ping = (int32_t)(s->cfg.ping_us / 1000u);
+    c->grad = (int32_t)(SONAR_SCAN_GRAD_US / 1000u);
+    c->now_ms = (uint32_t)ms(now - s->t0);
+    c->phase = s->pass % (uint32_t)s->k;
+    c->share_q8 = (uint32_t)c->pass * 256u / (uint32_t)(travel_g > 0 ? travel_g : 1);
+    c->hoff = offset(s, s->head);
+}
+
+/*
+ * Whether grid gradian g (p gradians from start_angle, on the grid) is pinged this pass: grid beam
+ * j on the passes q with q = j mod k, and any that, skipped now, would pass the bound before its
+ * next such pass (when the interleave changes, or the passes grow with the targets). tw: the
+ * head's travel to it the way it goes.
+ */
+static int grid_needed(const struct sonar_scan *s, const struct grid_plan *c, int g, int p, int tw)
+{
+    uint32_t k = s->k, j = (uint32_t)(p + s->cfg.step - 1) / s->cfg.step, d = (j + k - c->phase) % k;
+    int32_t age, at, share, back;
+    if (d == 0)
+        return 1;
+    if (s->seen_ms[g] == 0)
+        return 0; /* not yet in its first turn: its turn decides */
+    age = (int32_t)(c->now_ms - s->seen_ms[g]);
+    /* Getting there: the travel and a ping, or its share of a pass (pings on the way included). */
+    at = c->ping + c->grad * tw;
+    share = (int32_t)((c->share_q8 * (uint32_t)tw) >> 8);
+    at = share > at ? share : at;
+    back = (int32_t)d * c->pass;
+    if (!s->cfg.full_circle) {
+        /* In a sector the next pass is back after the far end: twice the rest of the way, and its pings. */
+        int e = s->dir > 0 ? (int)s->span - p : p;
+        back = c->grad * 2 * e + (2 * e / s->cfg.step) * c->ping / (int32_t)k + c->budget + ((int32_t)d - 1) * c->pass;
     }
+    return age + at + back > c->bound;
 }
 
 /*
@@ -232,16 +242,25 @@ static void mark_targets(struct sonar_scan *s, uint8_t *need, const struct sonar
     s->window_us = (int64_t)beams * s->cfg.ping_us;
 }
 
-/* The first needed angle from the head going way d (+1/-1), inside the sector; -1 when none. */
-static int first_needed(const struct sonar_scan *s, const uint8_t *need, int d)
+/*
+ * The first angle from the head going way d (+1/-1), inside the sector, that needs a ping: in a
+ * window (need[] bit 2) or a grid beam due (grid_needed, then marked bit 1); -1 when none. Only the
+ * first matters, so the grid is decided lazily, walking out from the head.
+ */
+static int first_needed(const struct sonar_scan *s, uint8_t *need, const struct grid_plan *c, int d)
 {
-    int k, h = s->head;
-    for (k = 1; k < (int)SONAR_GRAD_TURN; k++) {
-        int a = sonar_frame_wrap(h + d * k);
-        if (!in_sector(s, a))
-            break;
+    int k, a = s->head, p = c->hoff, left = s->cfg.full_circle ? (int)SONAR_GRAD_TURN - 1 : d > 0 ? (int)s->span - c->hoff : c->hoff;
+    for (k = 1; k <= left; k++) {
+        a += d;
+        a = a < 0 ? a + (int)SONAR_GRAD_TURN : a >= (int)SONAR_GRAD_TURN ? a - (int)SONAR_GRAD_TURN : a;
+        p += d;
+        p = p < 0 ? p + (int)SONAR_GRAD_TURN : p >= (int)SONAR_GRAD_TURN ? p - (int)SONAR_GRAD_TURN : p;
         if (need[a])
             return a;
+        if ((p % s->cfg.step == 0 || (!s->cfg.full_circle && p == (int)s->span)) && grid_needed(s, c, a, p, k)) {
+            need[a] = 1;
+            return a;
+        }
     }
     return -1;
 }
@@ -250,15 +269,16 @@ static int first_needed(const struct sonar_scan *s, const uint8_t *need, int d)
 static uint16_t follow(struct sonar_scan *s, const struct sonar_scan_target *t, unsigned n, int64_t now)
 {
     uint8_t need[SONAR_GRAD_TURN];
+    struct grid_plan c;
     int a;
     memset(need, 0, sizeof(need));
-    mark_grid(s, need, now);
+    grid_plan(s, &c, now);
     mark_targets(s, need, t, t == NULL ? 0u : n, now);
     need[s->head] = 0; /* just pinged */
-    a = first_needed(s, need, s->dir);
+    a = first_needed(s, need, &c, s->dir);
     if (a < 0 && !s->cfg.full_circle) {
         s->dir = (int8_t)-s->dir;
-        a = first_needed(s, need, s->dir);
+        a = first_needed(s, need, &c, s->dir);
     }
     if (a < 0) {
         /* Nothing needs a ping: the plain sweep's next angle from here. */
@@ -283,12 +303,13 @@ static uint16_t follow(struct sonar_scan *s, const struct sonar_scan_target *t, 
  */
 static void measure(struct sonar_scan *s, int64_t now)
 {
-    int64_t model = (int64_t)sonar_scan_cost_us(s, s->prev, s->head), took = now - s->last_call, q;
-    if (model <= 0 || took <= 0)
+    uint32_t model = sonar_scan_cost_us(s, s->prev, s->head), took, q;
+    if (model == 0 || now <= s->last_call)
         return;
-    q = took * 256 / model;
-    q = q < 256 ? 256 : q > 1024 ? 1024 : q;
-    s->slow_q8 = (uint16_t)(((int64_t)s->slow_q8 * 7 + q) / 8);
+    took = now - s->last_call > 16000000 ? 16000000u : (uint32_t)(now - s->last_call); /* x 256 fits 32 bits */
+    q = took * 256u / model;
+    q = q < 256u ? 256u : q > 1024u ? 1024u : q;
+    s->slow_q8 = (uint16_t)((s->slow_q8 * 7u + q) / 8u);
 }
 
 /* Counts passes (a turn of travel round a circle, a turn of the head's way in a sector) and sets each pass's interleave. */
