@@ -10,7 +10,7 @@ tracks predicted to each): what a consumer holding the latest message sees.
 
 The head's schedule comes from the beams served: an object is looked at by a beam within half a step (--step) of its
 true bearing then; looks closer than --pass apart are one look (a window of beams). Revisit: the intervals between
-looks at each visible object after the warm-up (median and 95th percentile over all of them, and the longest). The
+looks at each object while it stays visible, after the warm-up (median and 95th percentile over all of them, and the longest). The
 longest unvisited angle: over the sweep grid (every --step gradians), the longest time with no beam within half a step,
 the run's end included.
 """
@@ -83,6 +83,10 @@ def revisit(beams, frames, t0, step, merge_us):
         k = bisect.bisect_right(ftimes, t) - 1
         if k < 0:
             continue
+        # An object out of sight (gone, out of range, faded) starts afresh: its absence is not a revisit.
+        seen = {o["id"] for o in frames[k]["objects"] if o["visible"]}
+        for oid in [i for i in last if i not in seen]:
+            del last[oid]
         for o in frames[k]["objects"]:
             if not o["visible"]:
                 continue
