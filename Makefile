@@ -329,12 +329,14 @@ MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c $(MSG_SRC) $(
 MCU_LCM   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.c)
 MCU_FLAGS = $(ARM_M7) $(MCU_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 
-## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), then check that the linked image has no heap
-firmware: $(BUILD)/mcu/sonard-an500.bin
-	@if $(ARM_NM) $(BUILD)/mcu/sonard-an500.elf | grep -wE '_?(malloc|calloc|realloc|free|_malloc_r|_sbrk)$$'; then \
-	  echo "firmware: FAILED: the linked image references the heap"; exit 1; \
-	else echo "firmware: $(BUILD)/mcu/sonard-an500.elf links no malloc, calloc, realloc, free or _sbrk"; fi
+## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), and sonard-an500-h743.elf (the same in an STM32H743's banks: the linker fails an overflowing bank; each bank's use printed), then check that neither links the heap
+firmware: $(BUILD)/mcu/sonard-an500.bin $(BUILD)/mcu/sonard-an500-h743.elf
+	@for e in $(BUILD)/mcu/sonard-an500.elf $(BUILD)/mcu/sonard-an500-h743.elf; do \
+	  if $(ARM_NM) $$e | grep -wE '_?(malloc|calloc|realloc|free|_malloc_r|_sbrk)$$'; then \
+	    echo "firmware: FAILED: $$e references the heap"; exit 1; \
+	  else echo "firmware: $$e links no malloc, calloc, realloc, free or _sbrk"; fi; done
 	@$(ARM_SIZE) $(BUILD)/mcu/sonard-an500.elf
+	@sh tools/build/banks.sh $(BUILD)/mcu/sonard-an500-h743.elf src/mcu/h743.ld
 
 $(BUILD)/mcu/inc/lcm/lcm_coretypes.h: /usr/include/lcm/lcm_coretypes.h
 	@mkdir -p $(dir $@)
@@ -346,6 +348,12 @@ $(BUILD)/mcu/sonard-an500.elf: $(MCU_SRC) src/mcu/an500.ld src/mcu/board.h $(BUI
 	$(ARM_CC) $(MCU_FLAGS) -std=c99 -w -c $(MCU_LCM) && mv $(LCM_NAMES:%=%.o) $(BUILD)/mcu/
 	$(ARM_CC) $(WARN) $(MCU_FLAGS) -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections \
 	  -Wl,-Map=$(BUILD)/mcu/sonard-an500.map $(filter-out src/mcu/main.c,$(MCU_SRC)) $(BUILD)/mcu/main.o \
+	  $(LCM_NAMES:%=$(BUILD)/mcu/%.o) -lm -o $@
+
+# The same objects in the STM32H743's banks (h743.ld), on the same QEMU board.
+$(BUILD)/mcu/sonard-an500-h743.elf: $(BUILD)/mcu/sonard-an500.elf src/mcu/h743.ld
+	$(ARM_CC) $(WARN) $(MCU_FLAGS) -nostartfiles --specs=nano.specs -T src/mcu/h743.ld -Wl,--gc-sections \
+	  -Wl,-Map=$(BUILD)/mcu/sonard-an500-h743.map $(filter-out src/mcu/main.c,$(MCU_SRC)) $(BUILD)/mcu/main.o \
 	  $(LCM_NAMES:%=$(BUILD)/mcu/%.o) -lm -o $@
 
 # The bench image: BENCH_BEAMS x BENCH_N synthetic sweeps through the core, timed in instructions under -icount shift=0.

@@ -26,6 +26,7 @@ struct log {
 };
 
 static struct sonar_pipeline pipe_;
+static struct sonar_background bg_;
 static struct log lg;
 
 static void on_beam(void *user, int stage, const struct sonar_beam *b)
@@ -92,7 +93,7 @@ static void test_stage_order_and_sweeps(void **state)
     (void)state;
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (a = 0; a < 1000; a += 4)
         push((uint16_t)(a % 400), s, N, 10.0f);
     assert_int_equal(lg.sweeps, 2); /* two full turns ended; the third is open */
@@ -114,7 +115,7 @@ static void test_2d_median_flushes_each_sweep(void **state)
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
     c.median2d = 5;
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (a = 100; a <= 140; a++) /* forward, then back: two sweeps */
         push((uint16_t)a, s, N, 10.0f);
     for (a = 139; a >= 120; a--)
@@ -134,12 +135,12 @@ static void test_geometry_change_cuts_and_resets(void **state)
     (void)state;
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     push(0, s, N, 10.0f);
     push(1, s, N, 10.0f);
     push(2, s, N, 20.0f);
     assert_int_equal(lg.sweeps, 1);
-    assert_int_equal(pipe_.bg.visits[2], 1);
+    assert_int_equal(pipe_.bg->visits[2], 1);
     push(3, s, 200, 20.0f);
     assert_int_equal(lg.sweeps, 2);
     assert_int_equal(pipe_.geometry_changes, 2);
@@ -151,7 +152,7 @@ static void test_geometry_change_cuts_and_resets(void **state)
         assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_ERR_ARG);
     }
     c.median = 4;
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_ERR_ARG);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_ERR_ARG);
 }
 
 /* A static scene (a wall at sample 200 in every beam) for 3 turns, then an object: only it is found. */
@@ -163,7 +164,7 @@ static void test_object_over_static_scene(void **state)
     (void)state;
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (turn = 0; turn < 5; turn++)
         for (a = 0; a < 400; a++) {
             for (i = 0; i < N; i++)
@@ -241,7 +242,7 @@ static void run_vehicle(int with_poses, int bare_rules)
         c.detector.max_extent_m = 0.0f;
         c.detector.max_aspect = 0.0f;
     }
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     sonar_pose_limits_default(&lim);
     assert_int_equal(sonar_pose_init(&ring_, &lim), SONAR_OK);
     if (with_poses)
@@ -271,7 +272,7 @@ static void test_moving_vehicle_world_frame(void **state)
     (void)state;
     run_vehicle(1, 0);
     assert_int_equal(pipe_.world_sweeps, 6);
-    assert_true(pipe_.world_beams == 2400u && pipe_.bg.world);
+    assert_true(pipe_.world_beams == 2400u && pipe_.bg->world);
     /* The wall is background once the grid has seen it; the post is found where it stands. */
     for (turn = 1; turn < 3; turn++)
         assert_int_equal(lg.last_count[turn], 0);
@@ -328,7 +329,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     cfg_init(&c);
     c.track = 0;
     c.detector.max_aspect = 0.0f; /* a one-beam speck is also a radial streak: that rule is not the one tested */
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (turn = 0; turn < 4; turn++)
         for (a = 0; a < 400; a++) {
             speck_beam(s, turn, a);
@@ -343,7 +344,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     /* With the window on each beam alone the speck is found too. */
     memset(&lg, 0, sizeof(lg));
     c.detector.cfar.across = 0;
-    assert_int_equal(sonar_pipeline_init(&pipe_, &c), SONAR_OK);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (turn = 0; turn < 4; turn++)
         for (a = 0; a < 400; a++) {
             speck_beam(s, turn, a);

@@ -1,4 +1,4 @@
-/* pipeline.h -- beam-by-beam pipeline: median -> background -> detector, sweeps cut from the angle sequence; RAM: struct sonar_pipeline, the background's cells plus the detector's runs and two beams (docs/sizes.md). */
+/* pipeline.h -- beam-by-beam pipeline: median -> background -> detector, sweeps cut from the angle sequence; RAM: struct sonar_pipeline, the detector's runs and two beams, plus the caller's struct sonar_background (docs/sizes.md). */
 #ifndef SONAR_PIPELINE_H
 #define SONAR_PIPELINE_H
 
@@ -62,7 +62,7 @@ struct sonar_pipeline {
     const struct sonar_pipeline_config *next; /* pending sonar_pipeline_reconfigure, or NULL */
     struct sonar_sweep sweep;
     struct sonar_median2d m2d;
-    struct sonar_background bg;
+    struct sonar_background *bg; /* the caller's (sonar_pipeline_init): the one large block, placed where it fits */
     struct sonar_detector det;
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_detections out;
@@ -104,8 +104,14 @@ struct sonar_pipeline {
  */
 const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg);
 
-/* Validates cfg (kept by pointer: it must outlive p). Returns SONAR_OK or SONAR_ERR_ARG. */
-SONAR_CHECK int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
+/*
+ * Validates cfg (kept by pointer: it must outlive p) and sets p up with bg as its background
+ * (caller-allocated, kept by pointer, at least as long-lived as p; struct sonar_background is most
+ * of the pipeline's RAM, so a board can place it in its own memory bank). Returns SONAR_OK or
+ * SONAR_ERR_ARG (a NULL, or cfg invalid).
+ */
+SONAR_CHECK int sonar_pipeline_init(struct sonar_pipeline *p, struct sonar_background *bg,
+                                    const struct sonar_pipeline_config *cfg);
 
 /* Fills cfg with sonard's defaults (median 5, auto background, CFAR; see docs/architecture.md). */
 void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg);

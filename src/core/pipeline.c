@@ -68,19 +68,20 @@ const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
     return sonar_detector_config_check(&cfg->detector);
 }
 
-int sonar_pipeline_init(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg)
+int sonar_pipeline_init(struct sonar_pipeline *p, struct sonar_background *bg, const struct sonar_pipeline_config *cfg)
 {
     int r;
-    if (p == NULL || cfg == NULL || sonar_pipeline_config_check(cfg) != NULL)
+    if (p == NULL || bg == NULL || cfg == NULL || sonar_pipeline_config_check(cfg) != NULL)
         return SONAR_ERR_ARG;
     memset(p, 0, sizeof(*p));
     p->cfg = cfg;
+    p->bg = bg;
     p->prev_width = 1.8f; /* two gradians, until a second beam gives the step */
     if ((r = sonar_sweep_init(&p->sweep, cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
         return r;
     if (cfg->median2d != 0 && (r = sonar_median2d_init(&p->m2d, cfg->median2d)) != SONAR_OK)
         return r;
-    if ((r = sonar_background_init(&p->bg, &cfg->background)) != SONAR_OK)
+    if ((r = sonar_background_init(p->bg, &cfg->background)) != SONAR_OK)
         return r;
     if (cfg->track && (r = sonar_tracker_init(&p->trk, &cfg->tracker)) != SONAR_OK)
         return r;
@@ -153,7 +154,7 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
     p->have_prev_bearing = 1;
     p->world_beams++;
     *done = 1;
-    return sonar_background_apply_world_keep(&p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n, discs,
+    return sonar_background_apply_world_keep(p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n, discs,
                                              keep_discs(p, discs));
 }
 
@@ -240,11 +241,11 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     struct sonar_bg_span sp[SONAR_MAX_TRACKS];
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
     uint8_t *b = p->buf[p->cur];
-    int r, done, seeding = sonar_background_seeding(&p->bg, angle);
+    int r, done, seeding = sonar_background_seeding(p->bg, angle);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
-    if (!done && (r = sonar_background_apply_keep(&p->bg, angle, b, b, p->n, sp, keep_spans(p, angle, sp))) != SONAR_OK)
+    if (!done && (r = sonar_background_apply_keep(p->bg, angle, b, b, p->n, sp, keep_spans(p, angle, sp))) != SONAR_OK)
         return r;
     tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
     if (!across(p)) {
@@ -280,13 +281,13 @@ static int switch_config(struct sonar_pipeline *p)
                                     : sonar_tracker_init(&p->trk, &c->tracker)) != SONAR_OK)
         return r;
     if (!fresh)
-        return sonar_background_tune(&p->bg, &c->background);
+        return sonar_background_tune(p->bg, &c->background);
     /* The filtered values the model learned no longer match: relearn from the next beam. */
     if ((r = sonar_sweep_init(&p->sweep, c->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
         return r;
     if (c->median2d != 0 && (r = sonar_median2d_init(&p->m2d, c->median2d)) != SONAR_OK)
         return r;
-    return sonar_background_init(&p->bg, &c->background);
+    return sonar_background_init(p->bg, &c->background);
 }
 
 int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg)
@@ -344,7 +345,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         if ((r = end_sweep(p)) != SONAR_OK)
             return r;
         p->geometry_changes++;
-        sonar_background_reset(&p->bg);
+        sonar_background_reset(p->bg);
         if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
             return r;
     }

@@ -96,7 +96,7 @@ int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipel
     a->pcfg[0].on_beam = on_stage;
     a->pcfg[0].on_sweep = on_sweep;
     a->pcfg[0].user = a;
-    if ((why = sonar_pipeline_config_check(&a->pcfg[0])) != NULL || sonar_pipeline_init(&a->pipe, &a->pcfg[0]) != SONAR_OK) {
+    if ((why = sonar_pipeline_config_check(&a->pcfg[0])) != NULL || sonar_pipeline_init(&a->pipe, &a->bg, &a->pcfg[0]) != SONAR_OK) {
         snprintf(err, errlen, "pipeline configuration: %s", why ? why : "invalid");
         return HOST_ERR_CONFIG;
     }
@@ -195,7 +195,7 @@ int app_push(struct app *a, const struct sonar_record *b)
     if (b->gain >= 0) {
         if (a->last_gain >= 0 && b->gain != a->last_gain) {
             /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
-            sonar_background_reset(&a->pipe.bg);
+            sonar_background_reset(a->pipe.bg);
             a->bg_restarts++;
             app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
                     "afresh over its warm-up", (int)b->gain, (double)b->utime * 1e-6, (int)a->last_gain);

@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: struct app_storage, the pipeline plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: struct app_storage, the pipeline and its background plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -49,13 +49,14 @@ enum app_link_event { APP_LINK_NONE = 0, APP_LINK_LOST = 1, APP_LINK_STOPPED = 2
 
 /*
  * The app: opaque outside app*.c (app_internal.h). Caller-allocated, no heap: an app lives in a
- * struct app_storage (the pipeline plus APP_STORAGE_REST bytes; static or inside a static
+ * struct app_storage (the pipeline, its background and APP_STORAGE_REST bytes; static or inside a static
  * struct, never on a small stack), and app_init hands out the app in it.
  */
 struct app;
 struct app_storage {
     union { int64_t i; double d; void *p; } align_;
     struct sonar_pipeline pipe_;
+    struct sonar_background bg_;
     unsigned char rest_[APP_STORAGE_REST];
 };
 

@@ -7,6 +7,7 @@
 struct app {
     struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
     struct sonar_pipeline pipe;
+    struct sonar_background bg; /* the pipeline's */
     struct sonar_device dev;
     int have_dev;
     struct sonar_scan scan;     /* follow mode: chooses each request's angle (app_set_scan) */

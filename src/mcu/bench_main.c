@@ -134,11 +134,12 @@ static struct sonar_detector_config det_cfg(void)
 static int64_t pipeline_us(struct bench *b)
 {
     static struct sonar_pipeline pipe;
+    static struct sonar_background pipe_bg;
     static struct sonar_pipeline_config pc;
     int64_t t0 = 0;
     int s, i;
     sonar_pipeline_defaults(&pc);
-    if (sonar_pipeline_init(&pipe, &pc) != SONAR_OK)
+    if (sonar_pipeline_init(&pipe, &pipe_bg, &pc) != SONAR_OK)
         return -1;
     for (s = 0; s < 5; s++) {
         make_sweep(b, s);

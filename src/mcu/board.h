@@ -9,6 +9,13 @@
 #define BOARD_UART_HOST 1  /* co-processor frames to the onboard computer */
 #define BOARD_SONAR_BAUD 115200u /* both UARTs' bit rate: the Ping360's serial default (the host does not set it) */
 
+/*
+ * Large, streamed state (the pipeline's background, 480 KB at 400 x 1200) goes in this section, which
+ * a board's linker script places in its big RAM bank (an STM32H743's AXI SRAM: h743.ld); the rest
+ * of the static state and the stack stay in the fast bank. Zeroed at reset like .bss.
+ */
+#define BOARD_LARGE __attribute__((section(".bss.large")))
+
 /* Clocks, UARTs (BOARD_SONAR_BAUD 8N1, receive by interrupt into a ring), the 1 kHz tick. */
 void board_init(void);
 

@@ -16,6 +16,7 @@ struct fw {
     struct sonar_ping360_config dcfg;
     struct sonar_pipeline_config pcfg, next; /* running; a configuration being checked */
     struct sonar_pipeline pipe;
+    struct sonar_background *bg;     /* the pipeline's, in the board's large bank (BOARD_LARGE) */
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
     int64_t next_status, reconnect_at;
@@ -156,7 +157,7 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     /* A configuration restarts processing: the open sweep is dropped, the background relearns and
      * sweeps count from 0, so everything after the reply comes from the new settings. */
     f->pcfg = *next;
-    if (sonar_pipeline_init(&f->pipe, &f->pcfg) != SONAR_OK) {
+    if (sonar_pipeline_init(&f->pipe, f->bg, &f->pcfg) != SONAR_OK) {
         f->config_errors++;
         reply(f, "error", "pipeline: rejected");
         return;
@@ -194,10 +195,12 @@ static void sonar_in(struct fw *f, int64_t now)
 
 int main(void)
 {
-    static struct fw f; /* ~545 KB: the pipeline; main's own, not a shared global */
+    static struct fw f;                          /* ~80 KB: main's own, not a shared global */
+    static struct sonar_background bg BOARD_LARGE; /* ~480 KB at 400 x 1200 */
     int64_t now;
     board_init();
     memset(&f, 0, sizeof(f));
+    f.bg = &bg;
     sonar_cpf_parser_init(&f.host);
     sonar_pipeline_defaults(&f.pcfg);
     f.pcfg.on_sweep = on_sweep;
@@ -209,7 +212,7 @@ int main(void)
     f.dcfg.step = 1;
     f.dcfg.full_circle = 1;
     f.dcfg.baud = BOARD_SONAR_BAUD;
-    if (sonar_pipeline_init(&f.pipe, &f.pcfg) != SONAR_OK || sonar_device_init(&f.dev, &f.dcfg, &io) != SONAR_OK)
+    if (sonar_pipeline_init(&f.pipe, f.bg, &f.pcfg) != SONAR_OK || sonar_device_init(&f.dev, &f.dcfg, &io) != SONAR_OK)
         return 1;
     now = board_micros();
     if (sonar_device_up(&f.dev, now) != SONAR_OK)

@@ -2,7 +2,7 @@
 #include <stdint.h>
 #include <string.h>
 
-extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _sstack, _estack;
+extern uint32_t _sidata, _sdata, _edata, _sbss, _ebss, _sbss_large, _ebss_large, _sstack, _estack;
 int main(void);
 uint32_t board_stack_used(void);
 void Reset_Handler(void);
@@ -38,6 +38,7 @@ void Reset_Handler(void)
     __asm__ volatile("dsb\n isb");
     memcpy(&_sdata, &_sidata, (size_t)((char *)&_edata - (char *)&_sdata));
     memset(&_sbss, 0, (size_t)((char *)&_ebss - (char *)&_sbss));
+    memset(&_sbss_large, 0, (size_t)((char *)&_ebss_large - (char *)&_sbss_large)); /* BOARD_LARGE, in its bank */
     /* Paint the stack below the current frame: the lowest overwritten word gives the high-water mark. */
     for (p = &_sstack; p < end; p++)
         *p = STACK_PAINT;

@@ -29,6 +29,7 @@ static struct sonar_obstacle obstacles;       /* the OBSTACLE_DISTANCE map */
 static struct sonar_detector det;
 static struct sonar_detections out, worst_out;
 static struct sonar_pipeline pipe; /* sonard's defaults, beam by beam */
+static struct sonar_background pipe_bg;
 
 static double now(void)
 {
@@ -151,7 +152,7 @@ int main(int argc, char **argv)
      */
     {
         double t_pipe[REPS];
-        if (sonar_pipeline_init(&pipe, &defaults) != SONAR_OK)
+        if (sonar_pipeline_init(&pipe, &pipe_bg, &defaults) != SONAR_OK)
             return 1;
         for (r = 0; r < 8 + REPS; r++) {
             double t0 = 0.0;

@@ -8,7 +8,7 @@ M7="-mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard"
 M4F="-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard"
 mkdir -p "$B/mcu"
 status=0
-printf '%-34s %10s %10s %12s\n' "image (limits)" "flash B" "RAM B" "pipeline B"
+printf '%-34s %10s %10s %12s %12s\n' "image (limits)" "flash B" "RAM B" "pipeline B" "background B"
 for v in "m7 400x1200|$M7|" "m7 400x600|$M7|-DSONAR_MAX_SAMPLES=600" "m4f 200x600|$M4F|-DSONAR_MAX_ANGLES=200 -DSONAR_MAX_SAMPLES=600" "m4f 400x1200|$M4F|"; do
     name=${v%%|*}; rest=${v#*|}; cpu=${rest%%|*}; defs=${rest#*|}
     out="$B/mcu/$(echo "$name" | tr ' ' '-').elf"
@@ -19,10 +19,11 @@ for v in "m7 400x1200|$M7|" "m7 400x600|$M7|-DSONAR_MAX_SAMPLES=600" "m4f 200x60
     set -- $($SIZE "$out" | tail -1)
     flash=$(( $1 + $2 )); ram=$(( $2 + $3 ))
     pipe=$(grep -A1 -E '^ \.bss\.pipeline' "$out.map" | grep -oE '0x[0-9a-f]+ +0x[0-9a-f]+' | head -1 | awk '{print $2}')
-    printf '%-34s %10d %10d %12d\n' "$name" "$flash" "$ram" "$((pipe))"
+    bg=$(grep -A1 -E '^ \.bss\.background' "$out.map" | grep -oE '0x[0-9a-f]+ +0x[0-9a-f]+' | head -1 | awk '{print $2}')
+    printf '%-34s %10d %10d %12d %12d\n' "$name" "$flash" "$ram" "$((pipe))" "$((bg))"
     if [ "$name" = "m7 400x1200" ] && [ "$ram" -gt 524288 ]; then
         echo "size: FAILED: the default build needs $ram B of static RAM, more than one 512 KB STM32H7 AXI SRAM"; status=1
     fi
 done
-echo "(flash = text + data; RAM = data + bss, without stack. STM32H743 AXI SRAM: 524288 B.)"
+echo "(flash = text + data; RAM = data + bss, without stack; the background is the one block a board places in its large bank. STM32H743 AXI SRAM: 524288 B.)"
 exit $status

@@ -356,11 +356,11 @@ int main(int argc, char **argv)
         return 2;
     (void)source_replay_run(&rp, app, stderr);
     pipe = app_pipeline(app);
-    if (!pipe->bg.world) {
+    if (!pipe->bg->world) {
         fprintf(stderr, "sonar-wallfit: the background is not in the world frame (no pose?)\n");
         return 1;
     }
-    printf("grid cell %.3f m, range cell %.4f m\n", (double)pipe->bg.cell_m, (double)(pipe->range_m / (float)pipe->n));
+    printf("grid cell %.3f m, range cell %.4f m\n", (double)pipe->bg->cell_m, (double)(pipe->range_m / (float)pipe->n));
     for (i = 0; i < nw; i++) {
         double dn = walls[i][2] - walls[i][0], de = walls[i][3] - walls[i][1], len = sqrt(dn * dn + de * de), s;
         double nn = -de / len, ne = dn / len, sum = 0.0, sum2 = 0.0;
@@ -368,7 +368,7 @@ int main(int argc, char **argv)
         /* Every 0.2 m, a metre clear of the corners (where two walls meet, the fit mixes them). */
         for (s = 1.0; s <= len - 1.0; s += 0.2) {
             int peak;
-            double off = fit(&pipe->bg, walls[i][0] + s * dn / len, walls[i][1] + s * de / len, nn, ne, &peak);
+            double off = fit(pipe->bg, walls[i][0] + s * dn / len, walls[i][1] + s * de / len, nn, ne, &peak);
             tried++;
             if (isnan(off))
                 continue;

@@ -5,6 +5,7 @@
 
 /* The caller's allocation, as firmware would do it: static, sized by config.h. */
 static struct sonar_pipeline pipeline;
+static struct sonar_background background;
 static struct sonar_pipeline_config config;
 static uint8_t beam[SONAR_MAX_SAMPLES];
 static volatile uint32_t detections;
@@ -21,7 +22,7 @@ int main(void)
     uint16_t a;
     sonar_pipeline_defaults(&config);
     config.on_sweep = on_sweep;
-    if (sonar_pipeline_init(&pipeline, &config) != SONAR_OK)
+    if (sonar_pipeline_init(&pipeline, &background, &config) != SONAR_OK)
         return 1;
     b.utime = 0;
     b.n = SONAR_MAX_SAMPLES;
