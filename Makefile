@@ -325,18 +325,19 @@ ARM_M4F = -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
 ARM_CFLAGS = $(WARN) -Os -ffunction-sections -fdata-sections -Iinclude
 
 # The co-processor firmware for QEMU's mps2-an500 (Cortex-M7): the core, the board, the LCM encoders.
-MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
+MCU_SRC   = src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
 MCU_LCM   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.c)
 MCU_FLAGS = $(ARM_M7) $(MCU_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 
-## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), and sonard-an500-h743.elf (the same in an STM32H743's banks: the linker fails an overflowing bank; each bank's use printed), then check that neither links the heap
-firmware: $(BUILD)/mcu/sonard-an500.bin $(BUILD)/mcu/sonard-an500-h743.elf
-	@for e in $(BUILD)/mcu/sonard-an500.elf $(BUILD)/mcu/sonard-an500-h743.elf; do \
+## firmware: build/mcu/sonard-an500.elf and .bin (QEMU mps2-an500), sonard-an500-h743.elf (the same in an STM32H743's banks) and sonard-f405.elf (STM32F405, QEMU netduinoplus2, 200 x 500); the linker fails an overflowing bank, each bank's use is printed, and no image may link the heap (BOARD=f405 is accepted: every board is built)
+firmware: $(BUILD)/mcu/sonard-an500.bin $(BUILD)/mcu/sonard-an500-h743.elf $(BUILD)/mcu/sonard-f405.elf
+	@for e in $(BUILD)/mcu/sonard-an500.elf $(BUILD)/mcu/sonard-an500-h743.elf $(BUILD)/mcu/sonard-f405.elf; do \
 	  if $(ARM_NM) $$e | grep -wE '_?(malloc|calloc|realloc|free|_malloc_r|_sbrk)$$'; then \
 	    echo "firmware: FAILED: $$e references the heap"; exit 1; \
 	  else echo "firmware: $$e links no malloc, calloc, realloc, free or _sbrk"; fi; done
 	@$(ARM_SIZE) $(BUILD)/mcu/sonard-an500.elf
 	@sh tools/build/banks.sh $(BUILD)/mcu/sonard-an500-h743.elf src/mcu/h743.ld
+	@sh tools/build/banks.sh $(BUILD)/mcu/sonard-f405.elf src/mcu/f405.ld
 
 $(BUILD)/mcu/inc/lcm/lcm_coretypes.h: /usr/include/lcm/lcm_coretypes.h
 	@mkdir -p $(dir $@)
@@ -356,33 +357,63 @@ $(BUILD)/mcu/sonard-an500-h743.elf: $(BUILD)/mcu/sonard-an500.elf src/mcu/h743.l
 	  -Wl,-Map=$(BUILD)/mcu/sonard-an500-h743.map $(filter-out src/mcu/main.c,$(MCU_SRC)) $(BUILD)/mcu/main.o \
 	  $(LCM_NAMES:%=$(BUILD)/mcu/%.o) -lm -o $@
 
+# The STM32F405 (Cortex-M4F) image: 200 angles (2-gradian cells: the Ping360's beam is 2 degrees wide) x 500
+# samples, so that the background (100 KB) and the rest fit its 128 KiB SRAM and 64 KiB CCM (docs/coprocessor.md).
+F405_GRID  = -DSONAR_MAX_ANGLES=200 -DSONAR_MAX_SAMPLES=500
+F405_FLAGS = $(ARM_M4F) $(F405_GRID) $(F405_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
+F405_SRC   = src/mcu/startup.c src/mcu/board_f405.c src/mcu/board_common.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
+$(BUILD)/mcu/sonard-f405.elf: $(F405_SRC) src/mcu/f405.ld src/mcu/board.h $(BUILD)/lcm/.stamp $(BUILD)/mcu/inc/lcm/lcm_coretypes.h
+	@mkdir -p $(BUILD)/mcu/f405
+	@for f in $(MCU_LCM); do $(ARM_CC) $(F405_FLAGS) -std=c99 -w -c $$f -o $(BUILD)/mcu/f405/$$(basename $$f .c).o || exit 1; done
+	$(ARM_CC) $(WARN) $(F405_FLAGS) -nostartfiles --specs=nano.specs -T src/mcu/f405.ld -Wl,--gc-sections \
+	  -Wl,-Map=$(BUILD)/mcu/sonard-f405.map $(F405_SRC) $(LCM_NAMES:%=$(BUILD)/mcu/f405/%.o) -lm -o $@
+
 # The bench image: BENCH_BEAMS x BENCH_N synthetic sweeps through the core, timed in instructions under -icount shift=0.
-$(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/mcu/an500.ld
+$(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/mcu/an500.ld
 	@mkdir -p $(dir $@)
 	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -Isrc/core -DBENCH_BEAMS=$(word 1,$(subst x, ,$*)) -DBENCH_N=$(word 2,$(subst x, ,$*)) \
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline scan
+MCU_UNIT = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline scan gain
 # The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
-$(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
+$(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)
 	$(ARM_CC) $(WARN) $(MCU_FLAGS) -O2 -Itests/mcu -Isrc/msg $(if $(filter $*,$(WHITEBOX)),-Isrc/core) -Wl,--defsym=STACK_SIZE=0x20000 \
 	  -nostartfiles --specs=nano.specs --specs=nosys.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
-## mcu-demo: the demo's pool detected on the emulated co-processor (QEMU), the QEMU command line printed
-mcu-demo: deps all firmware
-	@sh tools/mcu_demo.sh $(BUILD)
+# The same cases on the STM32F405 (QEMU netduinoplus2) at its grid (200 x 500), those that do not assume the default
+# grid's 1200 samples (median, background, cfar) or need more than its 192 KiB (ping, cpframe, detector, pipeline).
+MCU_UNIT_F405 = ping360 geometry sweep kmeans hull detector_stages tracker pose obstacle scan gain
+$(BUILD)/mcu/f405/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_f405.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c tests/mcu/f405_test.ld
+	@mkdir -p $(dir $@)
+	$(ARM_CC) $(WARN) $(ARM_M4F) $(F405_GRID) -O2 -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Itests/mcu -Isrc/msg \
+	  $(if $(filter $*,$(WHITEBOX)),-Isrc/core) -nostartfiles --specs=nano.specs --specs=nosys.specs -T tests/mcu/f405_test.ld \
+	  -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
-## mcu-unit: the core's CMocka cases built for Cortex-M7 and run in qemu-system-arm -M mps2-an500 with semihosting
-mcu-unit: $(MCU_UNIT:%=$(BUILD)/mcu/test_%.elf)
-	@for e in $^; do echo "== $$e"; timeout 300 qemu-system-arm -M mps2-an500 -display none -monitor none -serial null \
+## mcu-demo: the demo's pool detected on the emulated co-processor (QEMU; BOARD=an500, or f405 for the STM32F405), the QEMU command line printed
+BOARD ?= an500
+mcu-demo: deps all firmware
+	@sh tools/mcu_demo.sh $(BUILD) $(BOARD)
+
+## mcu-unit: the core's CMocka cases built for Cortex-M7 and run in qemu-system-arm -M mps2-an500, then those that fit an STM32F405 built for it and run in -M netduinoplus2, with semihosting
+mcu-unit: $(MCU_UNIT:%=$(BUILD)/mcu/test_%.elf) $(MCU_UNIT_F405:%=$(BUILD)/mcu/f405/test_%.elf)
+	@for e in $(MCU_UNIT:%=$(BUILD)/mcu/test_%.elf); do echo "== $$e"; timeout 300 qemu-system-arm -M mps2-an500 -display none -monitor none -serial null \
+	  -semihosting-config enable=on,target=native -kernel $$e || exit 1; done
+	@for e in $(MCU_UNIT_F405:%=$(BUILD)/mcu/f405/test_%.elf); do echo "== $$e (STM32F405)"; timeout 300 qemu-system-arm -M netduinoplus2 -display none -monitor none -serial null \
 	  -semihosting-config enable=on,target=native -kernel $$e || exit 1; done
 
-## mcu-bench: instructions per beam and per sweep detection on the Cortex-M7 in QEMU (-icount shift=0), at 400x1200, 400x600, 200x600
-mcu-bench: $(BUILD)/mcu/bench-400x1200.elf $(BUILD)/mcu/bench-400x600.elf $(BUILD)/mcu/bench-200x600.elf
-	@for e in $^; do echo "== $$e"; timeout 600 qemu-system-arm -M mps2-an500 -display none -monitor none -icount shift=0 \
+## mcu-bench: instructions per beam and per sweep detection on the Cortex-M7 in QEMU (-icount shift=0), at 400x1200, 400x600, 200x600; then on the Cortex-M4F at the STM32F405's grid (200x500; QEMU's mps2-an386, the M4 MPS2 board: the bench's 200 KB of sweeps do not fit the F405's RAM, and instructions do not depend on the board)
+mcu-bench: $(BUILD)/mcu/bench-400x1200.elf $(BUILD)/mcu/bench-400x600.elf $(BUILD)/mcu/bench-200x600.elf $(BUILD)/mcu/bench-f405.elf
+	@for e in $(filter-out %/bench-f405.elf,$^); do echo "== $$e"; timeout 600 qemu-system-arm -M mps2-an500 -display none -monitor none -icount shift=0 \
 	  -semihosting-config enable=on,target=native -kernel $$e -serial stdio -serial null || exit 1; done
+	@echo "== $(BUILD)/mcu/bench-f405.elf (Cortex-M4F, 200 x 500)"; timeout 600 qemu-system-arm -M mps2-an386 -display none -monitor none \
+	  -icount shift=0 -semihosting-config enable=on,target=native -kernel $(BUILD)/mcu/bench-f405.elf -serial stdio -serial null
+
+$(BUILD)/mcu/bench-f405.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/mcu/an500.ld
+	@mkdir -p $(dir $@)
+	$(ARM_CC) $(WARN) $(ARM_M4F) $(F405_GRID) -O2 -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -Isrc/core \
+	  -DBENCH_BEAMS=200 -DBENCH_N=500 -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 $(BUILD)/mcu/sonard-an500.bin: $(BUILD)/mcu/sonard-an500.elf
 	$(ARM_OBJCOPY) -O binary $< $@

@@ -10,6 +10,7 @@ PIDS=""
 trap 'for p in $PIDS; do kill $p 2>/dev/null; done; rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
 ELF="$B/mcu/sonard-an500.elf"
+MACHINE=mps2-an500
 # A co-processor that refuses the configuration: sonard says why and exits 2 (no QEMU needed).
 fp=$PORT; PORT=$((PORT + 1))
 python3 tests/fake_coproc.py "$fp" & pp=$!
@@ -36,7 +37,7 @@ run() {
     "$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" --scene pool --pace fast --log "$T/$name.feed" --max-seconds 150 "$@" \
         2> /dev/null & fp=$!
     sleep 0.3
-    qemu-system-arm -M mps2-an500 -display none -monitor none -kernel "$ELF" \
+    qemu-system-arm -M "$MACHINE" -display none -monitor none -kernel "$ELF" \
         -serial "tcp:127.0.0.1:$p0,reconnect=1" -serial "tcp:127.0.0.1:$p1,server=on,wait=off" \
         > "$T/$name.qemu" 2>&1 & qp=$!
     PIDS="$fp $qp"
@@ -113,7 +114,35 @@ check "H743 banks: the painted stack stays within its 8 KiB (stack_used on SONAR
     "import json, sys; s = json.load(open(sys.argv[1])); print('stack_used', s['stack_used'], 'B'); assert 0 < s['stack_used'] <= 8192" \
     "$T/h743.status"
 sed 's/^/    /' "$T/out"
+
+# The second board: an STM32F405 (Cortex-M4F) in QEMU's netduinoplus2, USART1 to the sonar and USART2 to the host (the
+# same command line shape: first -serial, second -serial), built for 200 angles x 500 samples.
+ELF="$B/mcu/sonard-f405.elf"
+MACHINE=netduinoplus2
+run f405 3
+check "STM32F405: the firmware runs, 3 sweeps, exit 0" sh -c "test $rc -eq 0 && test \$(wc -l < '$T/f405.jsonl') -eq 3"
+check "STM32F405: the firmware accepted the pushed configuration" grep -q "configuration accepted" "$T/f405.err"
+check "STM32F405: detections equal --replay of the beams the firmware forwarded" cmp_replay f405
+sed 's/^/    /' "$T/out"
+python3 tools/data/lcm_log.py "$T/f405.lcm" status --types "$types" > "$T/f405.status" 2>&1
+check "STM32F405: the painted stack stays within its 8 KiB (stack_used on SONAR_STATUS)" python3 -c \
+    "import json, sys; s = json.load(open(sys.argv[1])); print('stack_used', s['stack_used'], 'B'); assert 0 < s['stack_used'] <= 8192" \
+    "$T/f405.status"
+sed 's/^/    /' "$T/out"
+# A configuration for a bigger grid than the board was built for: refused by name, sonard exits 2.
+p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" --scene pool --pace fast --max-seconds 30 2> /dev/null & fp=$!
+sleep 0.3
+qemu-system-arm -M netduinoplus2 -display none -monitor none -kernel "$ELF" -serial "tcp:127.0.0.1:$p0,reconnect=1" \
+    -serial "tcp:127.0.0.1:$p1,server=on,wait=off" > "$T/big.qemu" 2>&1 & qp=$!
+PIDS="$fp $qp"
+sleep 0.5
+timeout 30 "$B/sonard" --coprocessor "tcp:127.0.0.1:$p1" --range 12 --samples 600 --no-lcm --json > /dev/null 2> "$T/big.err"; rc=$?
+kill $qp $fp 2>/dev/null; wait $qp $fp 2>/dev/null; PIDS=""
+check "STM32F405: 600 samples (its build takes 500) refused by name, sonard exits 2" \
+    sh -c "test $rc -eq 2 && grep -q 'samples: 200..500 on this board' '$T/big.err'"
 ELF="$B/mcu/sonard-an500.elf"
+MACHINE=mps2-an500
 
 # A bad host: garbage, truncated and corrupt frames, an out-of-range configuration (named, settings kept), then silence.
 p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))

@@ -1,8 +1,14 @@
 #!/bin/sh
-# mcu_demo.sh -- make demo's pool, detected on the emulated co-processor: sonar-feed -> QEMU mps2-an500 UART0 (the
-# firmware runs the core's driver and pipeline) -> UART1 -> sonard --coprocessor -> LCM log; scored against the truth.
+# mcu_demo.sh -- make demo's pool, detected on the emulated co-processor: sonar-feed -> QEMU's first UART (the
+# firmware runs the core's driver and pipeline) -> its second UART -> sonard --coprocessor -> LCM log; scored against the
+# truth. Usage: sh tools/mcu_demo.sh BUILD_DIR [an500|f405] (mps2-an500's Cortex-M7, or an STM32F405 in netduinoplus2).
 set -eu
 B=${1:-build}
+case "${2:-an500}" in
+    an500) MACHINE=mps2-an500; ELF=$B/mcu/sonard-an500.elf ;;
+    f405) MACHINE=netduinoplus2; ELF=$B/mcu/sonard-f405.elf ;;
+    *) echo "mcu_demo: BOARD '${2}' is not an500 or f405" >&2; exit 2 ;;
+esac
 D=${DEMO_DIR:-$B/mcu-demo}
 PORT=${DEMO_PORT:-$(( 30000 + ($$ % 20000) ))}
 mkdir -p "$D"
@@ -11,7 +17,7 @@ rm -f "$D/pool.lcm"
 echo "== 1. a simulated Ping360 on tcp:127.0.0.1:$PORT (the pool of make demo)"
 "$B/sonar-feed" --listen "tcp:127.0.0.1:$PORT" --scene pool --pace fast --max-seconds 300 --log "$D/feed.log" 2> "$D/feed.err" &
 FEED=$!
-QEMU_CMD="qemu-system-arm -M mps2-an500 -display none -monitor none -kernel $B/mcu/sonard-an500.elf -serial tcp:127.0.0.1:$PORT,reconnect=1 -serial tcp:127.0.0.1:$((PORT + 1)),server=on,wait=off"
+QEMU_CMD="qemu-system-arm -M $MACHINE -display none -monitor none -kernel $ELF -serial tcp:127.0.0.1:$PORT,reconnect=1 -serial tcp:127.0.0.1:$((PORT + 1)),server=on,wait=off"
 sleep 0.3
 echo "== 2. the co-processor firmware in QEMU; UART0 is the sonar, UART1 the onboard computer. On a real board these"
 echo "      are its two serial ports; here:"

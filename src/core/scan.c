@@ -76,7 +76,7 @@ int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
     s->dir = 1;
     s->head = cfg->start_angle;
     /* A plain sweep: one beam a step over the sector, each a ping and the step's travel. */
-    beams = cfg->full_circle ? (SONAR_GRAD_TURN + cfg->step - 1u) / cfg->step : s->span / cfg->step + 1u;
+    beams = cfg->full_circle ? (SONAR_GRAD_TURN + cfg->step - 1u) / cfg->step : (uint32_t)s->span / cfg->step + 1u;
     s->sweep_us = beams * (cfg->ping_us + SONAR_SCAN_GRAD_US * cfg->step);
     s->surveil_us = cfg->surveil_s > 0.0f ? (uint32_t)(cfg->surveil_s * 1e6f) : 2u * s->sweep_us;
     if (s->surveil_us < s->sweep_us)

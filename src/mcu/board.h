@@ -1,4 +1,4 @@
-/* board.h -- what the co-processor firmware needs of a board: two non-blocking UARTs, a microsecond clock, an idle wait, a debug line; one implementation per board (board_an500.c). */
+/* board.h -- what the co-processor firmware needs of a board: two non-blocking UARTs, a microsecond clock, an idle wait, the stack's high-water mark; one implementation per board (board_an500.c, board_f405.c), each with its vector table. */
 #ifndef SONAR_MCU_BOARD_H
 #define SONAR_MCU_BOARD_H
 
@@ -42,6 +42,13 @@ void board_idle(void);
 
 /* Stack high-water mark in bytes: the painted words overwritten since reset (startup.c paints them). */
 uint32_t board_stack_used(void);
+
+/* startup.c: the reset handler and the trap for unused exceptions, for each board's vector table. */
+void Reset_Handler(void);
+void Default_Handler(void);
+
+/* The top of the stack (the linker script's), the vector table's first word. */
+extern uint32_t _estack;
 
 /* Ends the program: under QEMU with -semihosting, QEMU exits with code (0 or 1); elsewhere it halts. */
 void board_exit(int code);

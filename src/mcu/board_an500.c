@@ -3,6 +3,8 @@
 
 #include <stdint.h>
 
+#include "board_common.h"
+
 #define SYSCLK_HZ 25000000u
 #define BAUD BOARD_SONAR_BAUD
 
@@ -35,49 +37,33 @@
 #define UART_RX_IRQ(n) (2u * (uint32_t)(n)) /* UART0 RX is IRQ 0 and TX 1; UART1 RX 2 and TX 3 */
 #define UART_TX_IRQ(n) (2u * (uint32_t)(n) + 1u)
 
-#define RX_RING 1024u
-/* Transmit rings: the sonar gets 24-byte requests; the host gets whole frames (a detections frame is up to 4 KB). */
-#ifndef BOARD_SONAR_TX_RING
-#define BOARD_SONAR_TX_RING 256u
-#endif
-#ifndef BOARD_HOST_TX_RING
-#define BOARD_HOST_TX_RING 8192u
-#endif
-
-struct ring_rx {
-    uint8_t b[RX_RING];
-    volatile uint16_t head, tail; /* head: written by the interrupt; tail: by the main loop */
-};
-
-struct ring_tx {
-    uint8_t *b;
-    uint16_t size, head, tail;
-};
-
 /* The hardware's state: the interrupt handlers reach it, so it cannot live in a caller's struct. */
 static struct an500 {
-    struct ring_rx rx[2];
-    struct ring_tx tx[2];
-    uint8_t tx0[BOARD_SONAR_TX_RING], tx1[BOARD_HOST_TX_RING];
-    uint32_t overruns[2];
+    struct board_uarts u;
     uint32_t last_ticks;
     uint64_t ticks_hi; /* timer ticks elapsed before last_ticks, extended past 32 bits */
 } hw;
 
-void board_uart0_rx_irq(void);
-void board_uart1_rx_irq(void);
-void board_uart0_tx_irq(void);
-void board_uart1_tx_irq(void);
-void board_systick_irq(void);
+static void board_uart0_rx_irq(void);
+static void board_uart1_rx_irq(void);
+static void board_uart0_tx_irq(void);
+static void board_uart1_tx_irq(void);
+static void board_systick_irq(void);
+
+/* 16 system exceptions, then the MPS2 IRQs: 0 UART0 RX, 1 UART0 TX, 2 UART1 RX, ... */
+__attribute__((section(".isr_vector"), used)) static void (*const vectors[16 + 32])(void) = {
+    (void (*)(void))(uintptr_t)&_estack, Reset_Handler, Default_Handler, Default_Handler, Default_Handler,
+    Default_Handler, Default_Handler, 0, 0, 0, 0, Default_Handler, Default_Handler, 0, Default_Handler,
+    board_systick_irq,
+    [16 + 0] = board_uart0_rx_irq, [16 + 1] = board_uart0_tx_irq, [16 + 2] = board_uart1_rx_irq,
+    [16 + 3] = board_uart1_tx_irq,
+};
 
 /* Moves queued bytes of uart n into its transmitter while it has room (interrupts masked by the caller). */
 static void pump(int n)
 {
-    struct ring_tx *t = &hw.tx[n];
-    while (t->tail != t->head && !(UART_STATE(n) & STATE_TX_FULL)) {
-        UART_DATA(n) = t->b[t->tail];
-        t->tail = (uint16_t)((t->tail + 1u) % t->size);
-    }
+    while (board_tx_pending(&hw.u.tx[n]) > 0 && !(UART_STATE(n) & STATE_TX_FULL))
+        UART_DATA(n) = (uint32_t)board_tx_next(&hw.u.tx[n]);
 }
 
 /* The transmitter emptied: the next byte goes out from here, so a frame never waits for the main loop. */
@@ -87,42 +73,30 @@ static void tx_irq(int n)
     pump(n);
 }
 
-void board_uart0_tx_irq(void) { tx_irq(0); }
-void board_uart1_tx_irq(void) { tx_irq(1); }
+static void board_uart0_tx_irq(void) { tx_irq(0); }
+static void board_uart1_tx_irq(void) { tx_irq(1); }
 
 static void rx_irq(int n)
 {
-    struct ring_rx *r = &hw.rx[n];
     /* Clear first, then drain: a byte arriving after the drain raises a fresh interrupt, where
      * clearing last would swallow it and leave the receiver full and silent. */
     UART_INT(n) = INT_RX;
-    while (UART_STATE(n) & STATE_RX_FULL) {
-        uint8_t c = (uint8_t)UART_DATA(n);
-        uint16_t next = (uint16_t)((r->head + 1u) % RX_RING);
-        if (next == r->tail)
-            hw.overruns[n]++; /* the main loop fell behind by a whole ring */
-        else {
-            r->b[r->head] = c;
-            r->head = next;
-        }
-    }
+    while (UART_STATE(n) & STATE_RX_FULL)
+        board_rx_put(&hw.u.rx[n], (uint8_t)UART_DATA(n), &hw.u.overruns[n]);
     if (UART_STATE(n) & STATE_RX_OVERRUN) {
-        hw.overruns[n]++;
+        hw.u.overruns[n]++;
         UART_STATE(n) = STATE_RX_OVERRUN; /* write 1 to clear */
     }
 }
 
-void board_uart0_rx_irq(void) { rx_irq(0); }
-void board_uart1_rx_irq(void) { rx_irq(1); }
-void board_systick_irq(void) { /* only wakes board_idle */ }
+static void board_uart0_rx_irq(void) { rx_irq(0); }
+static void board_uart1_rx_irq(void) { rx_irq(1); }
+static void board_systick_irq(void) { /* only wakes board_idle */ }
 
 void board_init(void)
 {
     int n;
-    hw.tx[0].b = hw.tx0;
-    hw.tx[0].size = BOARD_SONAR_TX_RING;
-    hw.tx[1].b = hw.tx1;
-    hw.tx[1].size = BOARD_HOST_TX_RING;
+    board_uarts_init(&hw.u);
     for (n = 0; n < 2; n++) {
         UART_BAUDDIV(n) = SYSCLK_HZ / BAUD;
         UART_CTRL(n) = CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INT | CTRL_TX_INT;
@@ -137,53 +111,6 @@ void board_init(void)
     SYST_CSR = 7u; /* processor clock, interrupt, enable */
 }
 
-size_t board_uart_read(int uart, uint8_t *buf, size_t cap)
-{
-    struct ring_rx *r = &hw.rx[uart];
-    size_t n = 0;
-    while (n < cap && r->tail != r->head) {
-        buf[n++] = r->b[r->tail];
-        r->tail = (uint16_t)((r->tail + 1u) % RX_RING);
-    }
-    return n;
-}
-
-size_t board_uart_write(int uart, const uint8_t *buf, size_t n)
-{
-    struct ring_tx *t = &hw.tx[uart];
-    size_t k = 0;
-    while (k < n) {
-        uint16_t next = (uint16_t)((t->head + 1u) % t->size);
-        if (next == t->tail)
-            break;
-        t->b[t->head] = buf[k++];
-        t->head = next;
-    }
-    board_uart_pump();
-    return k;
-}
-
-void board_uart_pump(void)
-{
-    /* The TX interrupt pumps too: mask it while the main loop does, so tail has one writer at a time. */
-    __asm__ volatile("cpsid i" ::: "memory");
-    pump(0);
-    pump(1);
-    __asm__ volatile("cpsie i" ::: "memory");
-}
-
-size_t board_uart_room(int uart)
-{
-    const struct ring_tx *t = &hw.tx[uart];
-    return t->size - 1u - (size_t)((t->head + t->size - t->tail) % t->size);
-}
-
-size_t board_uart_pending(int uart)
-{
-    const struct ring_tx *t = &hw.tx[uart];
-    return (size_t)((t->head + t->size - t->tail) % t->size);
-}
-
 int64_t board_micros(void)
 {
     /* The timer counts down from 2^32 - 1 at 25 MHz (wraps every 171 s); called far more often than that. */
@@ -193,22 +120,12 @@ int64_t board_micros(void)
     return (int64_t)(hw.ticks_hi / (SYSCLK_HZ / 1000000u));
 }
 
-void board_idle(void)
+struct board_uarts *board_uarts(void)
 {
-    __asm__ volatile("wfi");
+    return &hw.u;
 }
 
-uint32_t board_uart_overruns(int uart)
+void board_uart_kick(int n)
 {
-    return hw.overruns[uart];
-}
-
-void board_exit(int code)
-{
-    /* Semihosting SYS_EXIT (0x18) with ADP_Stopped_ApplicationExit (0x20026) or RunTimeErrorUnknown (0x20023). */
-    register uint32_t r0 __asm__("r0") = 0x18u;
-    register uint32_t r1 __asm__("r1") = code == 0 ? 0x20026u : 0x20023u;
-    __asm__ volatile("bkpt #0xAB" : : "r"(r0), "r"(r1) : "memory");
-    for (;;)
-        __asm__ volatile("wfi");
+    pump(n);
 }

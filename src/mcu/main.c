@@ -5,6 +5,7 @@
 #include "msg.h"
 #include "sonar/cpframe.h"
 #include "sonar/device.h"
+#include "sonar/geometry.h"
 #include "sonar/pipeline.h"
 #include "sonar/status.h"
 
@@ -121,6 +122,21 @@ static void status(struct fw *f, int64_t now)
 
 static const struct sonar_ping360_io io = {sonar_send, NULL, NULL, NULL, NULL};
 
+#define STR2(x) #x
+#define STR(x) STR2(x)
+
+/* NULL when the samples asked fit this build's SONAR_MAX_SAMPLES; a smaller board's build says so by name. */
+static const char *fits_build(const struct sonar_ping360_config *d)
+{
+#if SONAR_MAX_SAMPLES < SONAR_DEVICE_MAX_SAMPLES
+    if (d->samples == 0 || d->samples > SONAR_MAX_SAMPLES)
+        return "samples: 200.." STR(SONAR_MAX_SAMPLES) " on this board's build (SONAR_MAX_SAMPLES; 0, the most the range allows, may be more)";
+#else
+    (void)d;
+#endif
+    return NULL;
+}
+
 /* The host's sonar.config_t: checked whole with the core's checks, applied, or refused by name. */
 static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
 {
@@ -136,8 +152,9 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     }
     *next = f->pcfg;
     msg_config_in(&c, BOARD_SONAR_BAUD, &d, next, &beam_every);
-    /* Nothing changes unless all of it is valid. */
-    if ((why = sonar_ping360_config_check(&d)) != NULL || (why = sonar_pipeline_config_check(next)) != NULL) {
+    /* Nothing changes unless all of it is valid, and fits the grid this image was built for. */
+    if ((why = sonar_ping360_config_check(&d)) != NULL || (why = sonar_pipeline_config_check(next)) != NULL ||
+        (why = fits_build(&d)) != NULL) {
         f->config_errors++;
         reply(f, "error", why);
         return;

@@ -1,4 +1,4 @@
-/* startup.c -- Cortex-M7 vector table and reset: FPU on, .data copied, .bss zeroed, the stack painted for the high-water mark, then main; no RAM of its own. */
+/* startup.c -- Cortex-M reset for every board: FPU on, .data copied, .bss (and the large bank) zeroed, the stack painted for the high-water mark, then main; each board file holds its vector table; no RAM of its own. */
 #include <stdint.h>
 #include <string.h>
 
@@ -7,11 +7,6 @@ int main(void);
 uint32_t board_stack_used(void);
 void Reset_Handler(void);
 void Default_Handler(void);
-void board_uart0_rx_irq(void);
-void board_uart1_rx_irq(void);
-void board_uart0_tx_irq(void);
-void board_uart1_tx_irq(void);
-void board_systick_irq(void);
 
 #define STACK_PAINT 0xA5A5A5A5u
 
@@ -46,12 +41,3 @@ void Reset_Handler(void)
     for (;;)
         __asm__ volatile("wfi");
 }
-
-/* 16 system exceptions, then the MPS2 IRQs: 0 UART0 RX, 1 UART0 TX, 2 UART1 RX, ... */
-__attribute__((section(".isr_vector"), used)) static void (*const vectors[16 + 32])(void) = {
-    (void (*)(void))(uintptr_t)&_estack, Reset_Handler, Default_Handler, Default_Handler, Default_Handler,
-    Default_Handler, Default_Handler, 0, 0, 0, 0, Default_Handler, Default_Handler, 0, Default_Handler,
-    board_systick_irq,
-    [16 + 0] = board_uart0_rx_irq, [16 + 1] = board_uart0_tx_irq, [16 + 2] = board_uart1_rx_irq,
-    [16 + 3] = board_uart1_tx_irq,
-};
