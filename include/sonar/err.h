@@ -20,6 +20,10 @@ enum sonar_err {
 #define SONAR_CHECK
 #endif
 
+/* A limit macro's value as text, for the config checks' static "field: rule" messages. */
+#define SONAR_STR_(x) #x
+#define SONAR_STR(x) SONAR_STR_(x)
+
 /* Returns a static, NUL-terminated name for err ("ok", "bad argument", ...); never NULL. */
 const char *sonar_err_str(int err);
 

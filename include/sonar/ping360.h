@@ -10,6 +10,8 @@
 
 /* All times are microseconds on a monotonic clock the caller reads; no OS calls are made here. */
 
+#define SONAR_P360_GRAD_US 6000u /* the head's travel, us a gradian (ping.md: Ping Viewer's 2.4 s a turn) */
+
 enum sonar_ping360_state {
     SONAR_P360_DOWN = 0,     /* no link: the host must (re)connect, then call sonar_ping360_connected */
     SONAR_P360_CONNECTING = 1, /* host only: the transport is opening (the driver stays DOWN meanwhile) */

@@ -6,13 +6,14 @@
 
 #include "sonar/err.h"
 #include "sonar/frame.h"
+#include "sonar/ping360.h"
 
 enum sonar_scan_mode {
     SONAR_SCAN_SWEEP = 0, /* the sector in order, as the driver steps it: full turns, or back and forth */
     SONAR_SCAN_FOLLOW = 1 /* round and round, pinging the targets' windows every pass and the grid in turns */
 };
 
-#define SONAR_SCAN_GRAD_US 6000u    /* the head's travel, us a gradian (ping.md: 2.4 s a turn) */
+#define SONAR_SCAN_GRAD_US SONAR_P360_GRAD_US /* the head's travel, us a gradian: the driver's timing model's */
 #define SONAR_SCAN_MAX_HALF 25      /* a target's window spans at most +-25 gradians */
 #define SONAR_SCAN_REVISIT_MAX_S 60 /* revisit_s and surveil_s: at most a minute */
 #define SONAR_SCAN_MAX_TARGETS 16   /* targets the planner reads a call; more are ignored (counted) */

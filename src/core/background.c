@@ -6,19 +6,16 @@
 #include "simd_internal.h"
 #include "sonar/frame.h"
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
-
 const char *sonar_background_config_check(const struct sonar_background_config *cfg)
 {
     if (cfg->mode > SONAR_BACKGROUND_AUTO)
         return "mode: off, per-angle, range or auto";
     if (cfg->warmup < 1 || cfg->warmup > SONAR_BG_WARMUP_MAX)
-        return "warmup: 1.." STR(SONAR_BG_WARMUP_MAX) " observations";
+        return "warmup: 1.." SONAR_STR(SONAR_BG_WARMUP_MAX) " observations";
     if (cfg->step < 1 || cfg->step > SONAR_BG_STEP_MAX)
-        return "step: 1.." STR(SONAR_BG_STEP_MAX) " grey levels";
+        return "step: 1.." SONAR_STR(SONAR_BG_STEP_MAX) " grey levels";
     if (cfg->margin > SONAR_BG_MARGIN_MAX)
-        return "margin: 0.." STR(SONAR_BG_MARGIN_MAX) " sixteenths";
+        return "margin: 0.." SONAR_STR(SONAR_BG_MARGIN_MAX) " sixteenths";
     return NULL;
 }
 

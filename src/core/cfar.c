@@ -5,9 +5,6 @@
 
 #include "simd_internal.h"
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
-
 #define LANES 8 /* blocks ranked side by side: int16 lanes of one 128-bit vector */
 #define MAX_TRAIN (2 * SONAR_CFAR_TRAIN_MAX)
 
@@ -16,15 +13,15 @@ const char *sonar_cfar_config_check(const struct sonar_cfar_config *c)
     if (c->across > 1)
         return "cfar.across: 0 or 1 beam each side";
     if (c->cut > SONAR_CFAR_CUT_MAX)
-        return "cfar.cut: 0.." STR(SONAR_CFAR_CUT_MAX) " blocks";
+        return "cfar.cut: 0.." SONAR_STR(SONAR_CFAR_CUT_MAX) " blocks";
     if (c->guard > SONAR_CFAR_GUARD_MAX)
-        return "cfar.guard: 0.." STR(SONAR_CFAR_GUARD_MAX) " blocks";
+        return "cfar.guard: 0.." SONAR_STR(SONAR_CFAR_GUARD_MAX) " blocks";
     if (c->train < 1 || c->train > SONAR_CFAR_TRAIN_MAX)
-        return "cfar.train: 1.." STR(SONAR_CFAR_TRAIN_MAX) " blocks";
+        return "cfar.train: 1.." SONAR_STR(SONAR_CFAR_TRAIN_MAX) " blocks";
     if (c->rank16 < 1 || c->rank16 > 16)
         return "cfar.rank16: 1..16 sixteenths";
     if (!(c->scale >= (float)SONAR_CFAR_SCALE_MIN && c->scale <= (float)SONAR_CFAR_SCALE_MAX))
-        return "cfar.scale: " STR(SONAR_CFAR_SCALE_MIN) ".." STR(SONAR_CFAR_SCALE_MAX);
+        return "cfar.scale: " SONAR_STR(SONAR_CFAR_SCALE_MIN) ".." SONAR_STR(SONAR_CFAR_SCALE_MAX);
     if (c->floor > 254)
         return "cfar.floor: 0..254 grey levels";
     return NULL;

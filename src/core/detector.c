@@ -6,8 +6,6 @@
 
 #include "detector_internal.h"
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
 
 const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
 {
@@ -17,30 +15,30 @@ const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
     if (c->threshold_mode == SONAR_DET_CFAR && sonar_cfar_config_check(&c->cfar) != NULL)
         return sonar_cfar_config_check(&c->cfar);
     if (!(c->threshold_k >= 0.0f && c->threshold_k <= (float)SONAR_DET_K_MAX))
-        return "threshold_k: 0.." STR(SONAR_DET_K_MAX);
+        return "threshold_k: 0.." SONAR_STR(SONAR_DET_K_MAX);
     if (c->min_threshold > SONAR_DET_MIN_THRESHOLD_MAX)
-        return "min_threshold: 0.." STR(SONAR_DET_MIN_THRESHOLD_MAX);
+        return "min_threshold: 0.." SONAR_STR(SONAR_DET_MIN_THRESHOLD_MAX);
     if (c->max_clusters < 1 || c->max_clusters > SONAR_MAX_CLUSTERS)
-        return "max_clusters: 1..SONAR_MAX_CLUSTERS (" STR(SONAR_MAX_CLUSTERS) ")";
+        return "max_clusters: 1..SONAR_MAX_CLUSTERS (" SONAR_STR(SONAR_MAX_CLUSTERS) ")";
     if (c->iterations < 1 || c->iterations > SONAR_DET_ITERATIONS_MAX)
-        return "iterations: 1.." STR(SONAR_DET_ITERATIONS_MAX);
+        return "iterations: 1.." SONAR_STR(SONAR_DET_ITERATIONS_MAX);
     if (c->link_beams < 1 || c->link_beams > SONAR_DET_LINK_BEAMS_MAX)
-        return "link_beams: 1.." STR(SONAR_DET_LINK_BEAMS_MAX);
+        return "link_beams: 1.." SONAR_STR(SONAR_DET_LINK_BEAMS_MAX);
     if (c->min_points < 1)
         return "min_points: 1..65535";
     if (!(c->link_m >= 0.0f && c->link_m <= (float)SONAR_DET_LINK_M_MAX))
-        return "link_m: 0.." STR(SONAR_DET_LINK_M_MAX) " metres";
+        return "link_m: 0.." SONAR_STR(SONAR_DET_LINK_M_MAX) " metres";
     if (!(c->angle_offset >= -(float)SONAR_DET_ANGLE_OFFSET_MAX && c->angle_offset <= (float)SONAR_DET_ANGLE_OFFSET_MAX))
-        return "angle_offset: -" STR(SONAR_DET_ANGLE_OFFSET_MAX) ".." STR(SONAR_DET_ANGLE_OFFSET_MAX) " gradians";
+        return "angle_offset: -" SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) ".." SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) " gradians";
     if (!(c->max_extent_m >= 0.0f && c->max_extent_m <= (float)SONAR_DET_DISTANCE_MAX))
-        return "max_extent_m: 0.." STR(SONAR_DET_DISTANCE_MAX) " metres";
+        return "max_extent_m: 0.." SONAR_STR(SONAR_DET_DISTANCE_MAX) " metres";
     if (!(c->min_range_m >= 0.0f && c->min_range_m <= (float)SONAR_DET_DISTANCE_MAX))
-        return "min_range_m: 0.." STR(SONAR_DET_DISTANCE_MAX) " metres";
+        return "min_range_m: 0.." SONAR_STR(SONAR_DET_DISTANCE_MAX) " metres";
     if (!(c->max_aspect == 0.0f ||
           (c->max_aspect >= (float)SONAR_DET_ASPECT_MIN && c->max_aspect <= (float)SONAR_DET_ASPECT_MAX)))
-        return "max_aspect: 0 (no limit) or " STR(SONAR_DET_ASPECT_MIN) ".." STR(SONAR_DET_ASPECT_MAX);
+        return "max_aspect: 0 (no limit) or " SONAR_STR(SONAR_DET_ASPECT_MIN) ".." SONAR_STR(SONAR_DET_ASPECT_MAX);
     if (!(c->track_m >= 0.0f && c->track_m <= (float)SONAR_DET_TRACK_M_MAX))
-        return "track_m: 0.." STR(SONAR_DET_TRACK_M_MAX) " metres";
+        return "track_m: 0.." SONAR_STR(SONAR_DET_TRACK_M_MAX) " metres";
     if (c->track_m > 0.0f && c->track_points < 1)
         return "track_points: 1..65535 when track_m is set";
     return NULL;

@@ -82,7 +82,7 @@ int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_confi
 
 uint32_t sonar_ping360_model_us(unsigned step, float range_m, float speed_of_sound, uint32_t baud, uint16_t samples)
 {
-    double us = 19400.0 + 6000.0 * (step ? step : 1u) + 2.0 * (double)range_m / (double)speed_of_sound * 1e6;
+    double us = 19400.0 + (double)SONAR_P360_GRAD_US * (step ? step : 1u) + 2.0 * (double)range_m / (double)speed_of_sound * 1e6;
     if (baud > 0) /* 10 bits a byte: the reply (10 + 14 + samples) and the 24-byte request */
         us += 10.0 * (24.0 + 24.0 + samples) * 1e6 / (double)baud;
     return (uint32_t)us;
@@ -101,7 +101,7 @@ static int64_t timeout_us(const struct sonar_ping360 *d, int64_t now)
 {
     uint32_t base = d->observed_us > d->expected_us ? d->observed_us : d->expected_us;
     int gap = (int)sonar_frame_gap(d->from, d->angle) - (int)d->cfg.step;
-    int64_t t = (int64_t)base + (base / 2 > 15000u ? base / 2 : 15000u) + (gap > 0 ? 6000 * (int64_t)gap : 0);
+    int64_t t = (int64_t)base + (base / 2 > 15000u ? base / 2 : 15000u) + (gap > 0 ? (int64_t)SONAR_P360_GRAD_US * gap : 0);
     /* First command, long idle, or repeated silence: the head may be re-homing. */
     if (d->last_rx == 0 || now - d->last_rx > IDLE_REHOME_US || d->attempts >= 2)
         t += REHOME_US;

@@ -3,8 +3,6 @@
 
 #include <string.h>
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
 #define NEVER_US ((int64_t)86400000000) /* a day: the age of an angle never looked at */
 
 /* us to ms for the per-beam loops: in 32 bits when it fits (a Cortex-M has no 64-bit divide), up to 2^31 ms. */
@@ -30,9 +28,9 @@ const char *sonar_scan_config_check(const struct sonar_scan_config *c)
         return "ping_us: 1..10^7 us";
     if (c->mode == SONAR_SCAN_FOLLOW) {
         if (!(c->revisit_s >= 0.2f && c->revisit_s <= (float)SONAR_SCAN_REVISIT_MAX_S))
-            return "revisit_s: 0.2.." STR(SONAR_SCAN_REVISIT_MAX_S) " s";
+            return "revisit_s: 0.2.." SONAR_STR(SONAR_SCAN_REVISIT_MAX_S) " s";
         if (!(c->surveil_s == 0.0f || (c->surveil_s > 0.0f && c->surveil_s <= (float)SONAR_SCAN_REVISIT_MAX_S)))
-            return "surveil_s: 0 (twice a plain sweep) or up to " STR(SONAR_SCAN_REVISIT_MAX_S) " s";
+            return "surveil_s: 0 (twice a plain sweep) or up to " SONAR_STR(SONAR_SCAN_REVISIT_MAX_S) " s";
     }
     return NULL;
 }

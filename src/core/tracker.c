@@ -7,9 +7,6 @@
 #include "sonar/frame.h"
 #include "tracker_internal.h"
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
-
 SONAR_STATIC_ASSERT(SONAR_TRK_WINDOW_MAX <= 8, history_fits_a_byte);
 
 void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
@@ -30,25 +27,25 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
 const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
 {
     if (!(c->accel_mps2 >= 0.001f && c->accel_mps2 <= (float)SONAR_TRK_ACCEL_MAX))
-        return "accel_mps2: 0.001.." STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
+        return "accel_mps2: 0.001.." SONAR_STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
     if (!(c->manoeuvre_mps2 >= 0.0f && c->manoeuvre_mps2 <= (float)SONAR_TRK_ACCEL_MAX))
-        return "manoeuvre_mps2: 0.." STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
+        return "manoeuvre_mps2: 0.." SONAR_STR(SONAR_TRK_ACCEL_MAX) " m/s^2";
     if (!(c->meas_m >= 0.01f && c->meas_m <= (float)SONAR_TRK_MEAS_MAX))
-        return "meas_m: 0.01.." STR(SONAR_TRK_MEAS_MAX) " metres";
+        return "meas_m: 0.01.." SONAR_STR(SONAR_TRK_MEAS_MAX) " metres";
     if (!(c->speed0_mps >= 0.01f && c->speed0_mps <= (float)SONAR_TRK_SPEED_MAX))
-        return "speed0_mps: 0.01.." STR(SONAR_TRK_SPEED_MAX) " m/s";
+        return "speed0_mps: 0.01.." SONAR_STR(SONAR_TRK_SPEED_MAX) " m/s";
     if (!(c->max_speed_mps == 0.0f || (c->max_speed_mps >= 0.1f && c->max_speed_mps <= (float)SONAR_TRK_SPEED_MAX)))
-        return "max_speed_mps: 0 (off) or 0.1.." STR(SONAR_TRK_SPEED_MAX) " m/s";
+        return "max_speed_mps: 0 (off) or 0.1.." SONAR_STR(SONAR_TRK_SPEED_MAX) " m/s";
     if (!(c->gate >= 1.0f && c->gate <= (float)SONAR_TRK_GATE_MAX))
-        return "gate: 1.." STR(SONAR_TRK_GATE_MAX) " (squared Mahalanobis distance)";
+        return "gate: 1.." SONAR_STR(SONAR_TRK_GATE_MAX) " (squared Mahalanobis distance)";
     if (c->confirm_n < 1 || c->confirm_n > SONAR_TRK_WINDOW_MAX)
-        return "confirm_n: 1.." STR(SONAR_TRK_WINDOW_MAX) " sweeps";
+        return "confirm_n: 1.." SONAR_STR(SONAR_TRK_WINDOW_MAX) " sweeps";
     if (c->confirm_m < 1 || c->confirm_m > c->confirm_n)
         return "confirm_m: 1..confirm_n hits";
     if (c->max_misses < 1 || c->max_misses > 127)
         return "max_misses: 1..127 sweeps";
     if (!(c->max_dt_s >= 1.0f && c->max_dt_s <= (float)SONAR_TRK_MAX_DT_MAX))
-        return "max_dt_s: 1.." STR(SONAR_TRK_MAX_DT_MAX) " seconds";
+        return "max_dt_s: 1.." SONAR_STR(SONAR_TRK_MAX_DT_MAX) " seconds";
     return NULL;
 }
 

@@ -122,15 +122,12 @@ static void status(struct fw *f, int64_t now)
 
 static const struct sonar_ping360_io io = {sonar_send, NULL, NULL, NULL, NULL};
 
-#define STR2(x) #x
-#define STR(x) STR2(x)
-
 /* NULL when the samples asked fit this build's SONAR_MAX_SAMPLES; a smaller board's build says so by name. */
 static const char *fits_build(const struct sonar_ping360_config *d)
 {
 #if SONAR_MAX_SAMPLES < SONAR_DEVICE_MAX_SAMPLES
     if (d->samples == 0 || d->samples > SONAR_MAX_SAMPLES)
-        return "samples: 200.." STR(SONAR_MAX_SAMPLES) " on this board's build (SONAR_MAX_SAMPLES; 0, the most the range allows, may be more)";
+        return "samples: 200.." SONAR_STR(SONAR_MAX_SAMPLES) " on this board's build (SONAR_MAX_SAMPLES; 0, the most the range allows, may be more)";
 #else
     (void)d;
 #endif
