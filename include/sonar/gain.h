@@ -29,6 +29,8 @@ struct sonar_gain {
     struct sonar_gain_config cfg;
     uint32_t hist[256];     /* this sweep's raw samples by value */
     uint32_t samples;       /* in hist */
+    uint32_t other;         /* beams this sweep at another setting (not counted): replies from before a change, or a
+                               sonar that did not take it */
     uint32_t changes;       /* settings changed */
     uint8_t gain;           /* the setting now, 0..2 */
     uint8_t held;           /* sweeps since the last change (saturating) */
@@ -49,12 +51,12 @@ const char *sonar_gain_config_check(const struct sonar_gain_config *cfg);
 /* Copies cfg; the setting is cfg->start. Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_gain_init(struct sonar_gain *g, const struct sonar_gain_config *cfg);
 
-/* Counts one raw beam of n samples (read during the call only) taken at setting `at` (others are not counted: a reply from before a change). */
+/* Counts one raw beam of n samples (read during the call only) taken at setting `at`; one at another setting is only counted in other. */
 void sonar_gain_beam(struct sonar_gain *g, const uint8_t *samples, uint16_t n, uint8_t at);
 
 /*
- * Ends a sweep: decides from its beams and starts the next count. Returns the new setting (0..2)
- * when it changes, else -1. O(256).
+ * Ends a sweep: decides from its beams and starts the next count (samples and other back to 0).
+ * Returns the new setting (0..2) when it changes, else -1. O(256).
  */
 int sonar_gain_sweep_end(struct sonar_gain *g);
 

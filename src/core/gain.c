@@ -43,7 +43,11 @@ int sonar_gain_init(struct sonar_gain *g, const struct sonar_gain_config *cfg)
 void sonar_gain_beam(struct sonar_gain *g, const uint8_t *samples, uint16_t n, uint8_t at)
 {
     uint16_t i;
-    if (at != g->gain || g->samples > 0xF0000000u)
+    if (at != g->gain) {
+        g->other++;
+        return;
+    }
+    if (g->samples > 0xF0000000u)
         return;
     for (i = 0; i < n; i++)
         g->hist[samples[i]]++;
@@ -55,6 +59,7 @@ int sonar_gain_sweep_end(struct sonar_gain *g)
     uint32_t sat = 0, half = g->samples / 2, seen = 0;
     unsigned v, median = 0;
     int next = -1;
+    g->other = 0;
     if (g->samples == 0)
         return -1;
     for (v = g->cfg.sat_level; v < 256; v++)

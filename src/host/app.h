@@ -89,9 +89,6 @@ HOST_CHECK int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, 
  */
 HOST_CHECK int app_set_gain_auto(struct app *a, const struct sonar_gain_config *cfg, char *err, size_t errlen);
 
-/* The planner, or NULL in sweep mode (its counters for the status). */
-const struct sonar_scan *app_scan(const struct app *a);
-
 /* Messages go to log(user, ...). */
 void app_set_log(struct app *a, app_log_fn log, void *user);
 

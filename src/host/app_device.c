@@ -18,12 +18,8 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         return APP_LINK_NONE;
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
-        if (a->have_gain_auto && !a->gain_off) {
-            if (ev->beam.gain == (int32_t)a->gain.gain)
-                sonar_gain_beam(&a->gain, ev->beam.samples, ev->beam.n, (uint8_t)ev->beam.gain);
-            else
-                a->beams_other_gain++;
-        }
+        if (a->have_gain_auto && !a->gain_off)
+            sonar_gain_beam(&a->gain, ev->beam.samples, ev->beam.n, (uint8_t)ev->beam.gain);
         if (app_push(a, &ev->beam) != HOST_OK)
             return APP_LINK_NONE; /* counted in beams_rejected; the sinks still had the raw beam */
         return APP_LINK_NONE;
@@ -119,11 +115,6 @@ int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, 
     return HOST_OK;
 }
 
-const struct sonar_scan *app_scan(const struct app *a)
-{
-    return a->have_scan ? &a->scan : NULL;
-}
-
 static const char *gain_name(int g)
 {
     return g == 0 ? "low" : g == 1 ? "normal" : g == 2 ? "high" : "unknown";
@@ -151,7 +142,7 @@ void app_gain_sweep(struct app *a, uint32_t sweep)
     int r, was = a->gain.gain;
     if (!a->have_gain_auto || a->gain_off)
         return;
-    if (a->gain.samples == 0 && a->beams_other_gain > 0 && a->gain.changes > 0) {
+    if (a->gain.samples == 0 && a->gain.other > 0 && a->gain.changes > 0) {
         /* A whole sweep and not one beam at the setting asked: the sonar keeps its own. */
         a->gain_off = 1;
         a->gain_refused++;
@@ -161,7 +152,6 @@ void app_gain_sweep(struct app *a, uint32_t sweep)
                 gain_name(was));
         return;
     }
-    a->beams_other_gain = 0;
     if ((r = sonar_gain_sweep_end(&a->gain)) < 0)
         return;
     a->dev.drv.cfg.gain = (uint8_t)r;

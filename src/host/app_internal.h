@@ -17,7 +17,6 @@ struct app {
     int have_gain_auto;
     int gain_off;               /* the sonar did not take a change: auto gain stopped */
     uint32_t gain_refused;
-    uint32_t beams_other_gain;  /* beams since the last sweep at another gain than the one asked */
     int32_t last_gain;          /* the gain of the beam before, -1: none yet */
     uint32_t bg_restarts;       /* backgrounds restarted for a change of the beams' gain */
     struct app_clock clock;
