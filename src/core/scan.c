@@ -59,12 +59,12 @@ uint32_t sonar_scan_cost_us(const struct sonar_scan *s, uint16_t from, uint16_t 
     return s->cfg.ping_us + SONAR_SCAN_GRAD_US * (uint32_t)travel(s, from, to);
 }
 
+static int grid_beams(const struct sonar_scan *s);
 static int interleave(const struct sonar_scan *s, int64_t w);
 static int64_t window_reserve_us(const struct sonar_scan *s);
 
 int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
 {
-    uint32_t beams;
     if (s == NULL || cfg == NULL || sonar_scan_config_check(cfg) != NULL)
         return SONAR_ERR_ARG;
     memset(s, 0, sizeof(*s));
@@ -74,8 +74,7 @@ int sonar_scan_init(struct sonar_scan *s, const struct sonar_scan_config *cfg)
     s->dir = 1;
     s->head = cfg->start_angle;
     /* A plain sweep: one beam a step over the sector, each a ping and the step's travel. */
-    beams = cfg->full_circle ? (SONAR_GRAD_TURN + cfg->step - 1u) / cfg->step : (uint32_t)s->span / cfg->step + 1u;
-    s->sweep_us = beams * (cfg->ping_us + SONAR_SCAN_GRAD_US * cfg->step);
+    s->sweep_us = (uint32_t)grid_beams(s) * (cfg->ping_us + SONAR_SCAN_GRAD_US * cfg->step);
     s->surveil_us = cfg->surveil_s > 0.0f ? (uint32_t)(cfg->surveil_s * 1e6f) : 2u * s->sweep_us;
     if (s->surveil_us < s->sweep_us)
         s->surveil_us = s->sweep_us; /* a bound tighter than a plain sweep cannot be kept */
@@ -127,7 +126,7 @@ static int64_t model_pass_us(const struct sonar_scan *s, int k, int64_t w)
     return (int64_t)SONAR_SCAN_GRAD_US * travel_g + w + ((uint32_t)grid_beams(s) * s->cfg.ping_us + (uint32_t)k - 1u) / (uint32_t)k;
 }
 
-/* The same, scaled by how much slower than the model the last pass was (the link, the host: never faster). */
+/* The same, scaled by how much slower than the model the beams have come (slow_q8: the link, the host; never faster). */
 static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
 {
     return model_pass_us(s, k, w) * s->slow_q8 >> 8;
@@ -135,8 +134,9 @@ static int64_t pass_us(const struct sonar_scan *s, int k, int64_t w)
 
 /*
  * The interleave for the next pass: the most passes k between pings of a grid angle that keep it
- * within the bound, less a sixteenth so that a longer pass is caught up without a cascade (k passes round a circle; k + 1 in a sector, whose ends see uneven returns),
- * with w us of target windows a pass; 1 (every angle every pass, a plain sweep) at the least.
+ * within the bound less a sixteenth (so that a longer pass is caught up without a cascade): k
+ * passes round a circle, k + 1 in a sector (whose ends see uneven returns), with w us of target
+ * windows a pass; 1 (every angle every pass, a plain sweep) at the least.
  */
 static int interleave(const struct sonar_scan *s, int64_t w)
 {
