@@ -405,6 +405,9 @@ static void test_bad_input(void **state)
     (void)state;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
     assert_int_equal(sonar_detector_add(&det, 400, b, 4, 1.0f, 0), SONAR_ERR_ARG);
+    /* Beyond SONAR_DET_DISTANCE_MAX metres the run centres would leave the bounded mm grid. */
+    assert_int_equal(sonar_detector_add(&det, 0, b, 4, (float)SONAR_DET_DISTANCE_MAX + 1.0f, 0), SONAR_ERR_ARG);
+    assert_int_equal(sonar_detector_add(&det, 0, b, 4, 0.0f, 0), SONAR_ERR_ARG);
     assert_int_equal(sonar_detector_add(&det, 0, b, 4, 1.0f, 0), SONAR_OK);
     assert_int_equal(sonar_detector_add(&det, 1, b, 3, 1.0f, 0), SONAR_ERR_STATE);
     assert_int_equal(sonar_detector_add(&det, 1, b, 4, 2.0f, 0), SONAR_ERR_STATE);

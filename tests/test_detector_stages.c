@@ -1,4 +1,4 @@
-/* test_detector_stages.c -- the detector's stages one at a time through detector_internal.h: runs and threshold, linking, grouping and cutting, rules and emission; and the frame vocabulary they share. */
+/* test_detector_stages.c -- the detector's stages one at a time through detector_internal.h: runs and threshold, linking, grouping and cutting (the cuts against a plain reference), rules and emission; and the frame vocabulary they share. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -165,6 +165,128 @@ static void test_seed_keeps_largest_groups_and_cuts_wide_ones(void **state)
         assert_int_equal(part[a], 0); /* every centre belongs to the one group */
 }
 
+/* The plain cut the seeding must equal: every run end on the box, every run rescanned for each new centre. */
+static int64_t ref_d2(struct sonar_xy a, int32_t x, int32_t y)
+{
+    int64_t dx = (int64_t)a.x - x, dy = (int64_t)a.y - y;
+    return dx * dx + dy * dy;
+}
+
+static uint8_t ref_cut(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint8_t k)
+{
+    uint8_t ng = k, j;
+    for (j = 0; j < ng; j++) {
+        int32_t x0 = INT32_MAX, x1 = INT32_MIN, y0 = INT32_MAX, y1 = INT32_MIN, width;
+        int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), piece = lim / 2 > 0 ? lim / 2 : 1, want, have;
+        int32_t far = -1;
+        int64_t far_d = 0;
+        uint16_t i;
+        for (i = 0; i < d->nruns; i++) {
+            int e;
+            if (d->pts[i].w == 0 || d->labels[i] != j)
+                continue;
+            for (e = 0; e < 2; e++) {
+                struct sonar_xy p = sonar_det_polar_mm(d, d->angles[d->runs[i].beam],
+                                                       2u * (d->runs[i].start + (e ? d->pts[i].w - 1u : 0u)) + 1u);
+                x0 = p.x < x0 ? p.x : x0;
+                x1 = p.x > x1 ? p.x : x1;
+                y0 = p.y < y0 ? p.y : y0;
+                y1 = p.y > y1 ? p.y : y1;
+            }
+        }
+        width = x1 - x0 > y1 - y0 ? x1 - x0 : y1 - y0;
+        if (width <= lim)
+            continue;
+        want = (width + piece - 1) / piece;
+        for (i = 0; i < d->nruns; i++)
+            if (d->pts[i].w > 0 && d->labels[i] == j && ref_d2(c[j], d->pts[i].x, d->pts[i].y) > far_d) {
+                far_d = ref_d2(c[j], d->pts[i].x, d->pts[i].y);
+                far = i;
+            }
+        for (have = 1; have < want && k < SONAR_MAX_CLUSTERS && far >= 0; have++) {
+            c[k].x = d->pts[far].x;
+            c[k].y = d->pts[far].y;
+            far = -1;
+            far_d = 0;
+            for (i = 0; i < d->nruns; i++) {
+                int64_t dk, dl;
+                if (d->pts[i].w == 0 || d->labels[i] >= k || part[d->labels[i]] != j)
+                    continue;
+                dk = ref_d2(c[k], d->pts[i].x, d->pts[i].y);
+                dl = ref_d2(c[d->labels[i]], d->pts[i].x, d->pts[i].y);
+                if (dk < dl) {
+                    d->labels[i] = k;
+                    dl = dk;
+                }
+                if (dl > far_d) {
+                    far_d = dl;
+                    far = i;
+                }
+            }
+            part[k] = j;
+            k++;
+        }
+    }
+    return k;
+}
+
+static void test_cuts_equal_plain_ones(void **state)
+{
+    /*
+     * Random sweeps of blobs and speckle at ranges up to the bound: the seeding's cuts (widths from
+     * each beam's end cells, only the centres a new one can take runs from rescanned) give the
+     * labels, centres and parts of the plain cut, which boxes every run end and rescans every run.
+     * Beams and samples within the build's grid (the STM32F405's is smaller).
+     */
+    static struct sonar_detector plain;
+    static uint8_t b[600];
+    int trial;
+    (void)state;
+    srand(11);
+    for (trial = 0; trial < 150; trial++) {
+        struct sonar_detector_config c = cfg();
+        struct sonar_xy cg[SONAR_MAX_CLUSTERS], cr[SONAR_MAX_CLUSTERS];
+        uint8_t pg[SONAR_MAX_CLUSTERS], pr[SONAR_MAX_CLUSTERS], kg, kr;
+        uint16_t groups;
+        int nb = 10 + rand() % (SONAR_MAX_SWEEP_BEAMS < 200 ? SONAR_MAX_SWEEP_BEAMS - 10 : 190),
+            n = 50 + rand() % (SONAR_MAX_SAMPLES < 600 ? SONAR_MAX_SAMPLES - 50 : 550), blobs = 1 + rand() % 10, i, s;
+        float range = trial == 0 ? (float)SONAR_DET_DISTANCE_MAX : 1.0f + (float)(rand() % 1000) / 10.0f;
+        c.max_clusters = (uint8_t)(1 + rand() % SONAR_MAX_CLUSTERS);
+        c.min_points = (uint16_t)(1 + rand() % 10);
+        c.link_beams = (uint8_t)(1 + rand() % 3);
+        c.max_extent_m = range / (float)(2 + rand() % 40);
+        c.split_points = 1;
+        assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
+        for (s = 0; s < nb; s++) {
+            memset(b, 0, sizeof(b));
+            for (i = 0; i < blobs; i++) {
+                int at = (i * 7919 + trial * 104729) % n, len = 1 + (i * 31 + trial) % (n / 4 + 1), j;
+                if ((s + i * 13) % (nb / (i + 1) + 1) > nb / 3)
+                    continue;
+                for (j = at; j < at + len && j < n; j++)
+                    b[j] = (uint8_t)(rand() % 4 ? 40 : 0);
+            }
+            for (i = 0; i < n / 40; i++)
+                b[rand() % n] = 40;
+            assert_int_equal(sonar_detector_add(&det, (uint16_t)(s * 400 / nb), b, (uint16_t)n, range, s), SONAR_OK);
+        }
+        sonar_det_link(&det);
+        memcpy(&plain, &det, sizeof(det));
+        kg = sonar_det_seed(&det, cg, pg, &groups);
+        plain.cfg.max_extent_m = 0.0f; /* groups only: the reference cuts them */
+        kr = sonar_det_seed(&plain, cr, pr, &groups);
+        plain.cfg.max_extent_m = c.max_extent_m;
+        kr = ref_cut(&plain, cr, pr, kr);
+        assert_int_equal(kg, kr);
+        assert_memory_equal(det.labels, plain.labels, det.nruns);
+        for (i = 0; i < kg; i++) {
+            assert_int_equal(cg[i].x, cr[i].x);
+            assert_int_equal(cg[i].y, cr[i].y);
+            assert_int_equal(pg[i], pr[i]);
+        }
+    }
+}
+
 static void test_emit_rules_and_detection(void **state)
 {
     struct sonar_detector_config c = cfg();
@@ -211,6 +333,7 @@ int main(void)
         cmocka_unit_test(test_runs_threshold_and_polar),
         cmocka_unit_test(test_link_by_beams_and_gap),
         cmocka_unit_test(test_seed_keeps_largest_groups_and_cuts_wide_ones),
+        cmocka_unit_test(test_cuts_equal_plain_ones),
         cmocka_unit_test(test_emit_rules_and_detection),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

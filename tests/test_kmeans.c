@@ -219,7 +219,8 @@ static void test_pruned_search_equals_plain(void **state)
 {
     /*
      * Clustered and uniform points on a coarse grid (many exact ties), k = 1..20 (beyond 16 the
-     * search is the plain one), free and within parts: labels, centres and rounds all equal.
+     * search is the plain one), free and within parts, 1..25 rounds: labels, centres and rounds
+     * all equal, whatever the pruned search, the kept sums and the skipped centres leave out.
      */
     static struct sonar_point p[400];
     static uint8_t l[400], lr[400];
@@ -228,8 +229,8 @@ static void test_pruned_search_equals_plain(void **state)
     int trial;
     (void)state;
     srand(5);
-    for (trial = 0; trial < 300; trial++) {
-        int n = 1 + rand() % 400, k = 1 + rand() % 20, within = trial % 2, i, j, got, want;
+    for (trial = 0; trial < 600; trial++) {
+        int n = 1 + rand() % 400, k = 1 + rand() % 20, within = trial % 2, i, j, got, want, rounds = 1 + rand() % 25;
         int grid = trial % 3 == 0 ? 1 : 50;
         for (i = 0; i < n; i++) {
             int blob = rand() % 4;
@@ -252,12 +253,12 @@ static void test_pruned_search_equals_plain(void **state)
             for (i = 0; i < n; i++)
                 if (p[i].w == 0)
                     lr[i] = SONAR_KMEANS_SKIP;
-            got = sonar_kmeans_lloyd_within(p, (uint16_t)n, l, c, part, (uint8_t)k, 25);
-            want = ref_lloyd(p, n, lr, cr, part, k, 25);
+            got = sonar_kmeans_lloyd_within(p, (uint16_t)n, l, c, part, (uint8_t)k, (uint8_t)rounds);
+            want = ref_lloyd(p, n, lr, cr, part, k, rounds);
         } else {
             memset(lr, SONAR_KMEANS_SKIP, sizeof(lr));
-            got = sonar_kmeans_lloyd(p, (uint16_t)n, l, c, (uint8_t)k, 25);
-            want = ref_lloyd(p, n, lr, cr, NULL, k, 25);
+            got = sonar_kmeans_lloyd(p, (uint16_t)n, l, c, (uint8_t)k, (uint8_t)rounds);
+            want = ref_lloyd(p, n, lr, cr, NULL, k, rounds);
         }
         assert_int_equal(got, want);
         for (i = 0; i < n; i++)

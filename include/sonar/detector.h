@@ -114,6 +114,7 @@ struct sonar_detector {
     uint64_t sum, sumsq, cells;
     float prev_mean, prev_std;
     float range_m;
+    uint32_t range_mm; /* range_m in mm, rounded: the polar conversions' scale */
     int64_t utime;
     int64_t t0;                                 /* utime of the sweep's first beam */
     uint16_t dt_ms[SONAR_MAX_SWEEP_BEAMS];      /* each beam's time after t0, ms (saturating at 65.5 s) */
@@ -135,7 +136,8 @@ const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
 SONAR_CHECK int sonar_detector_init(struct sonar_detector *d, const struct sonar_detector_config *cfg);
 
 /*
- * Adds one foreground beam of n samples (1..SONAR_MAX_SAMPLES) over range_m metres at angle
+ * Adds one foreground beam of n samples (1..SONAR_MAX_SAMPLES) over range_m metres (0 <
+ * range_m <= SONAR_DET_DISTANCE_MAX: the run centres are mm within SONAR_KMEANS_MAX_COORD) at angle
  * gradians (0..399). Every beam of a sweep must have the same n and range_m (else
  * SONAR_ERR_STATE: end the sweep first). Returns SONAR_OK, SONAR_ERR_FULL when the sweep already
  * has SONAR_MAX_SWEEP_BEAMS beams, or SONAR_ERR_ARG.

@@ -11,82 +11,153 @@ static uint16_t seed_min(const struct sonar_detector *d)
     return d->cfg.min_points;
 }
 
-/* Width of each kept group (labels[i] = its index): the larger side of the box around its runs' end cells, mm. */
-static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *width)
+/* Widens box b (x0, x1, y0, y1) to hold cells lo and hi of beam `beam`. */
+static void box_add(const struct sonar_detector *d, int32_t *b, uint16_t beam, uint16_t lo, uint16_t hi)
 {
-    int32_t x0[SONAR_MAX_CLUSTERS], x1[SONAR_MAX_CLUSTERS], y0[SONAR_MAX_CLUSTERS], y1[SONAR_MAX_CLUSTERS];
-    uint16_t i;
-    uint8_t j, e;
-    for (j = 0; j < k; j++) {
-        x0[j] = y0[j] = INT32_MAX;
-        x1[j] = y1[j] = INT32_MIN;
+    uint8_t e;
+    for (e = 0; e < 2; e++) {
+        struct sonar_xy p = sonar_det_polar_mm(d, d->angles[beam], 2u * (e ? hi : lo) + 1u);
+        b[0] = p.x < b[0] ? p.x : b[0];
+        b[1] = p.x > b[1] ? p.x : b[1];
+        b[2] = p.y < b[2] ? p.y : b[2];
+        b[3] = p.y > b[3] ? p.y : b[3];
     }
-    for (i = 0; i < d->nruns; i++) {
-        const struct sonar_detector_run *r = &d->runs[i];
-        if (d->pts[i].w == 0)
-            continue;
-        j = d->labels[i];
-        for (e = 0; e < 2; e++) {
-            uint32_t cell = e ? (uint32_t)r->start + d->pts[i].w - 1u : r->start;
-            struct sonar_xy p = sonar_det_polar_mm(d, d->angles[r->beam], 2u * cell + 1u);
-            x0[j] = p.x < x0[j] ? p.x : x0[j];
-            x1[j] = p.x > x1[j] ? p.x : x1[j];
-            y0[j] = p.y < y0[j] ? p.y : y0[j];
-            y1[j] = p.y > y1[j] ? p.y : y1[j];
-        }
-    }
-    for (j = 0; j < k; j++)
-        width[j] = x1[j] - x0[j] > y1[j] - y0[j] ? x1[j] - x0[j] : y1[j] - y0[j];
-}
-
-/* The run of group `root` farthest from its labelled centre (maximin), lowest index on ties; -1 if all coincide. */
-static int32_t farthest(const struct sonar_detector *d, const struct sonar_xy *c, uint16_t root)
-{
-    int64_t far_d = 0;
-    int32_t far_i = -1;
-    uint16_t i;
-    for (i = 0; i < d->nruns; i++) {
-        const struct sonar_point *p = &d->pts[i];
-        int64_t e;
-        if (p->w == 0 || d->runs[i].parent != root)
-            continue;
-        e = sonar_det_dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y);
-        if (e > far_d) {
-            far_d = e;
-            far_i = i;
-        }
-    }
-    return far_i;
 }
 
 /*
- * One more centre, c[k] = run `at` of group `root`; the group's runs nearer to it move to it.
- * The same pass finds the next farthest run, so each centre costs one pass of two distances.
+ * Width of each kept group (labels[i] = its index): the larger side of the box around its runs'
+ * end cells, mm. Along one beam x and y are monotone in range (sonar_det_polar_mm rounds r cos a
+ * and r sin a of a monotone r), so only a group's nearest and farthest end cells on a beam can be
+ * on the box: the runs come beam by beam, and a group converts two cells a beam, not two a run.
  */
-static int32_t split_at(struct sonar_detector *d, struct sonar_xy *c, uint8_t k, uint16_t root, int32_t at)
+static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *width)
 {
-    int64_t far_d = 0;
-    int32_t far_i = -1;
+    int32_t box[SONAR_MAX_CLUSTERS][4];
+    uint16_t beam[SONAR_MAX_CLUSTERS], lo[SONAR_MAX_CLUSTERS], hi[SONAR_MAX_CLUSTERS];
+    uint8_t open[SONAR_MAX_CLUSTERS];
     uint16_t i;
-    c[k].x = d->pts[at].x;
-    c[k].y = d->pts[at].y;
+    uint8_t j;
+    for (j = 0; j < k; j++) {
+        box[j][0] = box[j][2] = INT32_MAX;
+        box[j][1] = box[j][3] = INT32_MIN;
+        open[j] = 0;
+    }
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        uint16_t end;
+        j = d->labels[i];
+        if (d->pts[i].w == 0 || j >= k)
+            continue;
+        end = (uint16_t)(r->start + d->pts[i].w - 1u);
+        if (open[j] && beam[j] == r->beam) {
+            lo[j] = r->start < lo[j] ? r->start : lo[j];
+            hi[j] = end > hi[j] ? end : hi[j];
+            continue;
+        }
+        if (open[j])
+            box_add(d, box[j], beam[j], lo[j], hi[j]);
+        open[j] = 1;
+        beam[j] = r->beam;
+        lo[j] = r->start;
+        hi[j] = end;
+    }
+    for (j = 0; j < k; j++) {
+        if (open[j])
+            box_add(d, box[j], beam[j], lo[j], hi[j]);
+        width[j] = box[j][1] - box[j][0] > box[j][3] - box[j][2] ? box[j][1] - box[j][0] : box[j][3] - box[j][2];
+    }
+}
+
+/*
+ * Each centre's farthest run (maximin): far_d[l] its squared distance, far_i[l] its index (the
+ * lowest on ties), -1 and 0 when every run of centre l sits on it.
+ */
+struct farthest {
+    int64_t far_d[SONAR_MAX_CLUSTERS];
+    int32_t far_i[SONAR_MAX_CLUSTERS];
+};
+
+/*
+ * Rescans the runs of the centres with redo[l] set (all below k): when k < SONAR_MAX_CLUSTERS and
+ * c[k] is a new centre, each such run nearer to c[k] moves to it, and centre k's farthest is
+ * found too. Runs of other centres keep their labels and their centres' farthest runs.
+ */
+static void rescan(struct sonar_detector *d, const struct sonar_xy *c, uint8_t k, int add, const uint8_t *redo,
+                   struct farthest *f)
+{
+    uint16_t i;
+    uint8_t l;
+    for (l = 0; l <= k && l < SONAR_MAX_CLUSTERS; l++)
+        if (l == k ? add : redo[l]) {
+            f->far_d[l] = 0;
+            f->far_i[l] = -1;
+        }
     for (i = 0; i < d->nruns; i++) {
         const struct sonar_point *p = &d->pts[i];
-        int64_t dk, dl;
-        if (p->w == 0 || d->runs[i].parent != root)
+        int64_t dl;
+        l = d->labels[i];
+        if (l >= k || !redo[l] || p->w == 0)
             continue;
-        dk = sonar_det_dist2_mm(p->x, p->y, c[k].x, c[k].y);
-        dl = sonar_det_dist2_mm(p->x, p->y, c[d->labels[i]].x, c[d->labels[i]].y);
-        if (dk < dl) {
-            d->labels[i] = k;
-            dl = dk;
+        dl = sonar_det_dist2_mm(p->x, p->y, c[l].x, c[l].y);
+        if (add) {
+            int64_t dk = sonar_det_dist2_mm(p->x, p->y, c[k].x, c[k].y);
+            if (dk < dl) {
+                d->labels[i] = l = k;
+                dl = dk;
+            }
         }
-        if (dl > far_d) {
-            far_d = dl;
-            far_i = i;
+        /* Ascending i with a strict test keeps the lowest index on ties. */
+        if (dl > f->far_d[l]) {
+            f->far_d[l] = dl;
+            f->far_i[l] = i;
         }
     }
-    return far_i;
+}
+
+/* The farthest run of all of group j's centres (part[l] == j, l < k), lowest index on ties; -1 if none. */
+static int32_t farthest_of(const struct farthest *f, const uint8_t *part, uint8_t k, uint8_t j)
+{
+    int64_t best_d = 0;
+    int32_t best_i = -1;
+    uint8_t l;
+    for (l = 0; l < k; l++)
+        if (part[l] == j && f->far_i[l] >= 0 &&
+            (f->far_d[l] > best_d || (f->far_d[l] == best_d && f->far_i[l] < best_i))) {
+            best_d = f->far_d[l];
+            best_i = f->far_i[l];
+        }
+    return best_i;
+}
+
+/*
+ * Cuts group j (centre j, the k centres so far) with farthest-point centres up to `want` pieces,
+ * while centres remain: each new centre is the run farthest from its centre, and the group's runs
+ * nearer to it move to it. A centre l can lose runs to the new centre c only if
+ * |c - c_l| < 2 max|p - c_l| (else every run of l is at least as near c_l: triangle inequality),
+ * so only those centres are rescanned; the labels and the centres are those of rescanning every
+ * run each time. Returns the new k.
+ */
+static uint8_t cut_group(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint8_t k, uint8_t j,
+                         int64_t want)
+{
+    struct farthest f;
+    uint8_t redo[SONAR_MAX_CLUSTERS], l;
+    int64_t have = 1;
+    int32_t far;
+    memset(redo, 0, sizeof(redo));
+    redo[j] = 1;
+    rescan(d, c, k, 0, redo, &f);
+    for (far = f.far_i[j]; have < want && k < SONAR_MAX_CLUSTERS && far >= 0; have++) {
+        c[k].x = d->pts[far].x;
+        c[k].y = d->pts[far].y;
+        for (l = 0; l < k; l++)
+            redo[l] = part[l] == j && 4 * f.far_d[l] > sonar_det_dist2_mm(c[l].x, c[l].y, c[k].x, c[k].y);
+        rescan(d, c, k, 1, redo, &f);
+        part[k] = j;
+        k++;
+        far = farthest_of(&f, part, k, j);
+    }
+    return k;
 }
 
 /*
@@ -101,7 +172,6 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
     uint64_t sw[SONAR_MAX_CLUSTERS];
     uint8_t k = 0, ng, j;
     uint16_t i, need = seed_min(d);
-    int32_t far;
     struct sonar_detector_run *r = d->runs;
     for (i = 0; i < d->nruns; i++) {
         r[i].parent = sonar_det_find(r, i);
@@ -158,15 +228,8 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
     ng = k;
     for (j = 0; j < ng; j++) {
         int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), piece = lim / 2 > 0 ? lim / 2 : 1;
-        int64_t want = (width[j] + piece - 1) / piece, have = 1;
-        if (width[j] <= lim)
-            continue;
-        for (far = farthest(d, c, root[j]); have < want && k < SONAR_MAX_CLUSTERS && far >= 0; have++) {
-            far = split_at(d, c, k, root[j], far);
-            part[k] = j;
-            k++;
-        }
+        if (width[j] > lim)
+            k = cut_group(d, c, part, k, j, (width[j] + piece - 1) / piece);
     }
     return k;
 }
-

@@ -26,11 +26,15 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
  */
 int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at);
 
-/* Squared distance in mm^2. */
+/*
+ * Squared distance in mm^2 between points within SONAR_KMEANS_MAX_COORD (run centres at ranges up
+ * to SONAR_DET_DISTANCE_MAX, their means, and the tracks set_tracks keeps): a difference fits an
+ * int32, so each square is one 32 x 32 -> 64 multiply on a Cortex-M.
+ */
 static inline int64_t sonar_det_dist2_mm(int32_t ax, int32_t ay, int32_t bx, int32_t by)
 {
-    int64_t dx = (int64_t)ax - bx, dy = (int64_t)ay - by;
-    return dx * dx + dy * dy;
+    int32_t dx = ax - bx, dy = ay - by;
+    return (int64_t)dx * dx + (int64_t)dy * dy;
 }
 
 #endif

@@ -27,8 +27,7 @@ static uint8_t threshold_now(const struct sonar_detector *d)
 struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, uint32_t twice_pos)
 {
     struct sonar_xy p;
-    int64_t range_mm = (int64_t)((double)d->range_m * 1000.0 + 0.5);
-    uint64_t num = (uint64_t)twice_pos * (uint64_t)range_mm;
+    uint64_t num = (uint64_t)twice_pos * d->range_mm;
     /* One 32-bit divide when the product fits (up to 1000 m at 1200 samples), not a 64-bit library call. */
     int64_t r = num <= UINT32_MAX ? (int64_t)((uint32_t)num / (2u * (uint32_t)d->n))
                                   : (int64_t)(num / (2u * (uint64_t)d->n));
@@ -171,11 +170,13 @@ static int open_beam(struct sonar_detector *d, uint16_t angle, const uint8_t *fg
                      int64_t utime)
 {
     int beam;
-    if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > SONAR_GRAD_MAX || !(range_m > 0.0f))
+    if (d == NULL || fg == NULL || n == 0 || n > SONAR_MAX_SAMPLES || angle > SONAR_GRAD_MAX ||
+        !(range_m > 0.0f && range_m <= (float)SONAR_DET_DISTANCE_MAX))
         return SONAR_ERR_ARG;
     if (d->beams == 0) {
         d->n = n;
         d->range_m = range_m;
+        d->range_mm = (uint32_t)((double)range_m * 1000.0 + 0.5);
     } else if (n != d->n || range_m != d->range_m) {
         return SONAR_ERR_STATE;
     }

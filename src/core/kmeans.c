@@ -95,7 +95,7 @@ static int32_t rounded_mean(int64_t sum, uint64_t w)
 
 /* Nearest centre sharing part tag `tag`; `from` is one such centre, so there is always an answer. */
 static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c, const uint8_t *part, uint8_t k,
-                          uint8_t from)
+                          uint8_t from, int64_t *best_d)
 {
     uint8_t j, best = from, tag = part[from];
     int64_t bd = dist2(p, &c[from]);
@@ -109,113 +109,186 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c,
             best = j;
         }
     }
+    *best_d = bd;
     return best;
 }
 
-/* Centres up to this many get the neighbour lists below (stack: PRUNE_K^2 * 9 bytes); more use the plain search. */
+/* Centres up to this many get the gap table below (stack: PRUNE_K^2 * 8 + PRUNE_K * 8 bytes); more use the plain search. */
 #define PRUNE_K 16
 
 /*
- * For each centre a, the other centres a point labelled a may move to (its part's, or all),
- * nearest first: nb[a][t] with q[a][t] = |c_a - c_nb|^2 ascending.
+ * q[a][j] = |c_a - c_j|^2 for centres a point labelled a may move to (its part's, or all), else
+ * INT64_MAX (so also for j == a); s[a] = the least of row a.
  */
-struct neighbours {
-    int64_t q[PRUNE_K][PRUNE_K - 1];
-    uint8_t nb[PRUNE_K][PRUNE_K - 1];
-    uint8_t cnt[PRUNE_K];
+struct gaps {
+    int64_t q[PRUNE_K][PRUNE_K];
+    int64_t s[PRUNE_K];
 };
 
-static void neighbours_build(struct neighbours *n, const struct sonar_xy *c, const uint8_t *part, uint8_t k)
+static void gaps_build(struct gaps *g, const struct sonar_xy *c, const uint8_t *part, uint8_t k)
 {
     uint8_t a, j;
     for (a = 0; a < k; a++) {
-        uint8_t m = 0;
-        for (j = 0; j < k; j++) {
-            struct sonar_point pa;
-            int64_t q;
-            uint8_t t;
-            if (j == a || (part != NULL && part[j] != part[a]))
-                continue;
-            pa.x = c[a].x;
-            pa.y = c[a].y;
-            pa.w = 1;
-            q = dist2(&pa, &c[j]);
-            /* Insertion by distance; j ascends, so equal distances stay in index order. */
-            for (t = m; t > 0 && n->q[a][t - 1] > q; t--) {
-                n->q[a][t] = n->q[a][t - 1];
-                n->nb[a][t] = n->nb[a][t - 1];
-            }
-            n->q[a][t] = q;
-            n->nb[a][t] = j;
-            m++;
-        }
-        n->cnt[a] = m;
+        g->q[a][a] = INT64_MAX;
+        g->s[a] = INT64_MAX;
     }
+    for (a = 0; a < k; a++)
+        for (j = (uint8_t)(a + 1); j < k; j++) {
+            int64_t q = INT64_MAX;
+            if (part == NULL || part[j] == part[a]) {
+                int32_t dx = c[a].x - c[j].x, dy = c[a].y - c[j].y;
+                q = (int64_t)dx * dx + (int64_t)dy * dy;
+            }
+            g->q[a][j] = g->q[j][a] = q;
+            g->s[a] = q < g->s[a] ? q : g->s[a];
+            g->s[j] = q < g->s[j] ? q : g->s[j];
+        }
 }
 
 /*
- * The nearest centre to p among a's list, lowest index on ties: the same answer as a full
- * search. A centre j with |c_a - c_j| > 2 |p - c_a| is strictly farther from p than c_a (triangle
- * inequality), and the list is sorted, so the scan stops at the first such j. All integer: the
- * test is |c_a - c_j|^2 > 4 |p - c_a|^2.
+ * The nearest centre to p, lowest index on ties, for a point labelled a: the same answer as a full
+ * search of a's part. A centre j with |c_a - c_j| > 2 |p - c_a| is strictly farther from p than
+ * c_a (triangle inequality), so only the others are measured, and none when even the nearest
+ * centre to c_a is that far (most points, most rounds). All integer: the test is
+ * |c_a - c_j|^2 > 4 |p - c_a|^2.
  */
-static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct neighbours *n,
-                              uint8_t a)
+static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g, uint8_t k,
+                              uint8_t a, int64_t *best_d)
 {
     int64_t da = dist2(p, &c[a]), bd = da, lim = 4 * da;
-    uint8_t t, best = a;
-    for (t = 0; t < n->cnt[a] && n->q[a][t] <= lim; t++) {
-        uint8_t j = n->nb[a][t];
-        int64_t d = dist2(p, &c[j]);
+    uint8_t j, best = a;
+    *best_d = da;
+    if (g->s[a] > lim)
+        return a;
+    for (j = 0; j < k; j++) {
+        int64_t d;
+        if (g->q[a][j] > lim)
+            continue;
+        d = dist2(p, &c[j]);
         if (d < bd || (d == bd && j < best)) {
             bd = d;
             best = j;
         }
     }
+    *best_d = bd;
     return best;
 }
 
-/* Lloyd's rounds, unconstrained (part == NULL) or kept inside parts; arguments already checked. */
+/* The nearest centre to p of label a's part (of all when a >= k: a free point's first round); *d its squared distance. */
+static uint8_t assign(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g, const uint8_t *part,
+                      uint8_t k, uint8_t a, int64_t *d)
+{
+    if (a < k && g != NULL)
+        return nearest_pruned(p, c, g, k, a, d);
+    if (a >= k || part == NULL)
+        return nearest(p, c, k, d);
+    return nearest_in(p, c, part, k, a, d);
+}
+
+/*
+ * Which centres' points the next round must search (hot[a]): every centre that moved (moved[a]),
+ * and every centre a that a moved centre j of its part may take points from. r[a] bounds
+ * |p - c_a|^2 over a's points; a moved centre with |c_a - c_j| > 2 sqrt(r[a]) is strictly farther
+ * from each of them than c_a (triangle inequality), and centres that stayed compare as before, so
+ * a's points keep their labels. Without the gap table (g == NULL) any move makes its part hot.
+ */
+static void mark_hot(uint8_t *hot, const uint8_t *moved, const int64_t *r, const struct gaps *g, const uint8_t *part,
+                     uint8_t k)
+{
+    uint8_t a, j;
+    for (a = 0; a < k; a++) {
+        hot[a] = moved[a];
+        for (j = 0; j < k && !hot[a]; j++)
+            if (moved[j])
+                hot[a] = g != NULL ? g->q[a][j] <= 4 * r[a] : part == NULL || part[j] == part[a];
+    }
+}
+
+/*
+ * Lloyd's rounds, unconstrained (part == NULL) or kept inside parts; arguments already checked.
+ * Two shortcuts give the plain rounds' labels, centres and round count exactly:
+ *  - after the first round the centre sums are moved with the points that change centre
+ *    (integer sums, so the same sums), and only centres whose sums changed are divided again;
+ *  - a round searches only the points of hot centres (mark_hot); the others keep their labels.
+ * Near convergence few centres move, so most points cost one label test a round.
+ */
 static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                  const uint8_t *part, uint8_t k, uint8_t iterations)
 {
-    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
+    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K], r[SONAR_KMEANS_MAX_K];
     uint64_t sw[SONAR_KMEANS_MAX_K];
-    struct neighbours nbr;
+    uint8_t dirty[SONAR_KMEANS_MAX_K], hot[SONAR_KMEANS_MAX_K];
+    struct gaps gap;
+    const struct gaps *g = k <= PRUNE_K ? &gap : NULL;
     unsigned it;
     uint16_t i;
     uint8_t j;
+    memset(hot, 1, sizeof(hot));
     for (it = 0; it < iterations; it++) {
         unsigned changed = 0;
-        int prune = k <= PRUNE_K;
-        memset(sx, 0, sizeof(sx));
-        memset(sy, 0, sizeof(sy));
-        memset(sw, 0, sizeof(sw));
-        if (prune)
-            neighbours_build(&nbr, c, part, k);
-        for (i = 0; i < n; i++) {
-            uint8_t l;
-            if (pts[i].w == 0)
-                continue;
-            if (prune && labels[i] < k)
-                l = nearest_pruned(&pts[i], c, &nbr, labels[i]);
-            else
-                l = part == NULL ? nearest(&pts[i], c, k, NULL) : nearest_in(&pts[i], c, part, k, labels[i]);
-            changed += l != labels[i];
-            labels[i] = l;
-            sx[l] += (int64_t)pts[i].x * pts[i].w;
-            sy[l] += (int64_t)pts[i].y * pts[i].w;
-            sw[l] += pts[i].w;
-        }
-        /*
-         * Moving the centres when nothing changed leaves them where they were, except in a first
-         * round inside parts: entry centres need not be their parts' means yet.
-         */
+        if (g != NULL)
+            gaps_build(&gap, c, part, k);
+        if (it > 0)
+            mark_hot(hot, dirty, r, g, part, k); /* dirty holds which centres moved */
         for (j = 0; j < k; j++)
-            if (sw[j] > 0) {
-                c[j].x = rounded_mean(sx[j], sw[j]);
-                c[j].y = rounded_mean(sy[j], sw[j]);
+            if (hot[j])
+                r[j] = 0;
+        memset(dirty, 0, sizeof(dirty));
+        for (i = 0; i < n; i++) {
+            const struct sonar_point *p = &pts[i];
+            int64_t dl;
+            uint8_t l, a = labels[i];
+            if (p->w == 0 || (a < k && !hot[a]))
+                continue;
+            if (a < k && g != NULL) {
+                /* nearest_pruned's first test inline: most points stay, and cost one distance. */
+                dl = dist2(p, &c[a]);
+                if (g->s[a] > 4 * dl) {
+                    r[a] = dl > r[a] ? dl : r[a];
+                    continue;
+                }
             }
+            l = assign(p, c, g, part, k, a, &dl);
+            r[l] = dl > r[l] ? dl : r[l];
+            if (l == a)
+                continue;
+            changed++;
+            labels[i] = l;
+            if (it > 0) {
+                sx[a] -= (int64_t)p->x * p->w;
+                sy[a] -= (int64_t)p->y * p->w;
+                sw[a] -= p->w;
+                sx[l] += (int64_t)p->x * p->w;
+                sy[l] += (int64_t)p->y * p->w;
+                sw[l] += p->w;
+                dirty[a] = dirty[l] = 1;
+            }
+        }
+        if (it == 0) {
+            /* The entry labels need not match any sums, and entry centres need not be their means. */
+            memset(sx, 0, sizeof(sx));
+            memset(sy, 0, sizeof(sy));
+            memset(sw, 0, sizeof(sw));
+            for (i = 0; i < n; i++)
+                if (pts[i].w > 0) {
+                    sx[labels[i]] += (int64_t)pts[i].x * pts[i].w;
+                    sy[labels[i]] += (int64_t)pts[i].y * pts[i].w;
+                    sw[labels[i]] += pts[i].w;
+                }
+            memset(dirty, 1, sizeof(dirty));
+        }
+        /* dirty: sums changed; after this loop, the centre moved. */
+        for (j = 0; j < k; j++) {
+            struct sonar_xy was = c[j];
+            if (!dirty[j] || sw[j] == 0) {
+                dirty[j] = 0;
+                continue;
+            }
+            c[j].x = rounded_mean(sx[j], sw[j]);
+            c[j].y = rounded_mean(sy[j], sw[j]);
+            dirty[j] = c[j].x != was.x || c[j].y != was.y;
+        }
+        /* After a round that moved nothing the centres are where they were (the first round inside parts aside). */
         if (changed == 0 && (it > 0 || part == NULL))
             return (int)it + 1;
     }
