@@ -292,6 +292,7 @@ static void test_emit_rules_and_detection(void **state)
     struct sonar_detector_config c = cfg();
     struct sonar_xy centres[SONAR_MAX_CLUSTERS], at;
     struct sonar_detection o;
+    struct sonar_det_cluster cl;
     uint8_t part[SONAR_MAX_CLUSTERS];
     uint16_t groups;
     int a;
@@ -301,7 +302,11 @@ static void test_emit_rules_and_detection(void **state)
         add((uint16_t)a, 40, 49, 60); /* 5 beams x 10 cells at 4..5 m around angle 2 */
     sonar_det_link(&det);
     assert_int_equal(sonar_det_seed(&det, centres, part, &groups), 1);
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 1);
+    sonar_det_clusters(&det, 1, &cl);
+    assert_int_equal(cl.nbeams, 5);
+    assert_int_equal(cl.rlo, 40);
+    assert_int_equal(cl.rhi, 49);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 1);
     assert_int_equal(o.points, 50);
     assert_true(fabs(o.mean_intensity - 60.0f) < 1e-6);
     assert_true(fabs(o.range_m - 4.5f) < 0.02);
@@ -310,20 +315,20 @@ static void test_emit_rules_and_detection(void **state)
     assert_true(abs(at.x - 4498) < 5);
     /* The same cluster against each rule. */
     det.cfg.min_range_m = 5.0f;
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
     det.cfg.min_range_m = 0.0f;
     det.cfg.min_beams = 6;
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
     det.cfg.min_beams = 0;
     det.cfg.max_extent_m = 0.5f; /* ~1.1 m along the diagonal */
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
     det.cfg.max_extent_m = 0.0f;
     det.cfg.max_aspect = 0.5f;   /* 1 m along, ~0.28 m across */
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 0);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
     det.cfg.max_aspect = 0.0f;
     det.cfg.split_points = 60;
-    assert_int_equal(sonar_det_accept(&det, 0, 1, &o, &at), 0); /* a cut piece needs split_points cells */
-    assert_int_equal(sonar_det_accept(&det, 0, 0, &o, &at), 1); /* a whole group does not */
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 1, &o, &at), 0); /* a cut piece needs split_points cells */
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 1); /* a whole group does not */
 }
 
 int main(void)

@@ -106,6 +106,8 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
         k = sonar_det_seed(d, c, part, &out->groups);
     }
     if (k > 0 && sonar_kmeans_lloyd_within(d->pts, d->nruns, d->labels, c, part, k, d->cfg.iterations) > 0) {
+        struct sonar_det_cluster cl[SONAR_MAX_CLUSTERS];
+        sonar_det_clusters(d, k, cl);
         for (j = 0; j < k; j++) {
             struct sonar_detection o;
             struct sonar_xy a;
@@ -113,7 +115,7 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
             int cut = 0;
             for (q = 0; q < k; q++)
                 cut |= q != j && part[q] == part[j];
-            if (!sonar_det_accept(d, j, cut, &o, &a))
+            if (!sonar_det_accept(d, j, &cl[j], cut, &o, &a))
                 continue;
             /* Largest first, at most max_clusters; equal sizes keep cluster order. */
             for (pos = out->count; pos > 0 && out->det[pos - 1].points < o.points; pos--)

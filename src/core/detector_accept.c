@@ -1,4 +1,4 @@
-/* detector_accept.c -- stage 4: each cluster against the rules (cells, beams, range, aspect, extent, tracking gate), its incremental hull and the detection in metres; O(runs) per cluster. */
+/* detector_accept.c -- stage 4: each cluster against the rules (cells, beams, range, aspect, extent, tracking gate), its incremental hull and the detection in metres; one pass over the runs for the rules, one more per cluster that passes them. */
 #include <math.h>
 #include <string.h>
 
@@ -70,28 +70,62 @@ static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, u
     return 1;
 }
 
-int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at)
+void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl)
+{
+    uint16_t i;
+    uint8_t j;
+    for (j = 0; j < k; j++) {
+        memset(&cl[j], 0, sizeof(cl[j]));
+        cl[j].rlo = UINT32_MAX;
+        cl[j].beam = 0xFFFFu;
+    }
+    for (i = 0; i < d->nruns; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        struct sonar_det_cluster *q;
+        uint32_t end;
+        if (d->labels[i] >= k)
+            continue;
+        q = &cl[d->labels[i]];
+        q->w += d->pts[i].w;
+        q->sx += (int64_t)d->pts[i].x * d->pts[i].w;
+        q->sy += (int64_t)d->pts[i].y * d->pts[i].w;
+        end = (uint32_t)r->start + d->pts[i].w - 1u;
+        q->rlo = r->start < q->rlo ? r->start : q->rlo;
+        q->rhi = end > q->rhi ? end : q->rhi;
+        if (q->beam == 0xFFFFu)
+            q->first = i;
+        q->last = i;
+        if (r->beam != q->beam) {
+            q->beam = r->beam;
+            q->nbeams++;
+        }
+    }
+}
+
+int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
+                     struct sonar_detection *o, struct sonar_xy *at)
 {
     struct hull_scratch hs;
-    uint64_t w = 0, s = 0, st = 0;
-    int64_t sx = 0, sy = 0;
-    uint16_t i, nw = 0, beam = 0xFFFFu, nbeams = 0;
-    uint32_t lo = 0, hi = 0, rlo = UINT32_MAX, rhi = 0;
+    uint64_t w = cl->w, s = 0, st = 0;
+    int64_t sx = cl->sx, sy = cl->sy;
+    uint16_t i, nw = 0, beam = 0xFFFFu;
+    uint32_t lo = 0, hi = 0;
     int h, v;
-    double th = sonar_frame_rad((double)d->cfg.angle_offset), c = cos(th), sn = sin(th);
-    for (i = 0; i < d->nruns; i++) {
+    double th, c = 1.0, sn = 0.0;
+    if (w == 0 || cl->beam == 0xFFFFu)
+        return 0;
+    at->x = (int32_t)(sx / (int64_t)w);
+    at->y = (int32_t)(sy / (int64_t)w);
+    if (!passes(d, w, cl->nbeams, cl->rlo, cl->rhi, at->x, at->y, cut))
+        return 0;
+    for (i = cl->first; i <= cl->last; i++) {
         const struct sonar_detector_run *r = &d->runs[i];
         uint32_t end;
         if (d->labels[i] != j)
             continue;
-        w += d->pts[i].w;
         s += r->sum;
         st += (uint64_t)d->dt_ms[r->beam] * d->pts[i].w;
-        sx += (int64_t)d->pts[i].x * d->pts[i].w;
-        sy += (int64_t)d->pts[i].y * d->pts[i].w;
         end = (uint32_t)r->start + d->pts[i].w - 1u;
-        rlo = r->start < rlo ? r->start : rlo;
-        rhi = end > rhi ? end : rhi;
         /* Runs of one beam lie on one ray: only its nearest and farthest cells can be hull vertices. */
         if (r->beam != beam) {
             if (beam != 0xFFFFu) {
@@ -99,7 +133,6 @@ int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_
                 hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
             }
             beam = r->beam;
-            nbeams++;
             lo = r->start;
             hi = end;
         } else {
@@ -107,12 +140,6 @@ int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_
             hi = end > hi ? end : hi;
         }
     }
-    if (w == 0 || beam == 0xFFFFu)
-        return 0;
-    at->x = (int32_t)(sx / (int64_t)w);
-    at->y = (int32_t)(sy / (int64_t)w);
-    if (!passes(d, w, nbeams, rlo, rhi, at->x, at->y, cut))
-        return 0;
     hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
     hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
     h = sonar_hull_build(hs.work, nw, hs.hull, 2 * SONAR_HULL_WORK);
@@ -128,6 +155,11 @@ int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_
                 if (dx * dx + dy * dy > lim2)
                     return 0;
             }
+    }
+    if (d->cfg.angle_offset != 0.0f) {
+        th = sonar_frame_rad((double)d->cfg.angle_offset);
+        c = cos(th);
+        sn = sin(th);
     }
     memset(o, 0, sizeof(*o));
     o->utime = d->t0 + (int64_t)(st * 1000u / w);

@@ -20,11 +20,25 @@ void sonar_det_link(struct sonar_detector *d);
  */
 uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint16_t *groups);
 
+/* What the rules need of a cluster: its cells, centroid sums (mm x cells), beams and sample span. */
+struct sonar_det_cluster {
+    uint64_t w;
+    int64_t sx, sy;
+    uint32_t rlo, rhi;
+    uint16_t nbeams, beam; /* beam: its last run's, 0xFFFF for none */
+    uint16_t first, last;  /* its runs' lowest and highest index */
+};
+
+/* Stage 4, detector_accept.c: cl[j] for the k clusters (labels 0..k-1), in one pass over the runs. */
+void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl);
+
 /*
- * Stage 4, detector_accept.c: cluster j -> detection *o and its device-frame centroid *at (mm), when
- * it passes every rule (cut: it is a piece of a wider group). Returns 1, or 0 when not an object.
+ * Stage 4: cluster j (cl from sonar_det_clusters) -> detection *o and its device-frame centroid
+ * *at (mm), when it passes every rule (cut: it is a piece of a wider group); only then are its runs
+ * read again, for the hull and the detection. Returns 1, or 0 when not an object.
  */
-int sonar_det_accept(struct sonar_detector *d, uint8_t j, int cut, struct sonar_detection *o, struct sonar_xy *at);
+int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
+                     struct sonar_detection *o, struct sonar_xy *at);
 
 /*
  * Squared distance in mm^2 between points within SONAR_KMEANS_MAX_COORD (run centres at ranges up

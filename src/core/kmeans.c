@@ -95,7 +95,7 @@ static int32_t rounded_mean(int64_t sum, uint64_t w)
 
 /* Nearest centre sharing part tag `tag`; `from` is one such centre, so there is always an answer. */
 static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c, const uint8_t *part, uint8_t k,
-                          uint8_t from, int64_t *best_d)
+                          uint8_t from)
 {
     uint8_t j, best = from, tag = part[from];
     int64_t bd = dist2(p, &c[from]);
@@ -109,28 +109,52 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c,
             best = j;
         }
     }
-    *best_d = bd;
     return best;
 }
 
-/* Centres up to this many get the gap table below (stack: PRUNE_K^2 * 8 + PRUNE_K * 8 bytes); more use the plain search. */
+/* Centres up to this many get the gap table below (stack: about PRUNE_K^2 * 8 bytes); more use the plain search. */
 #define PRUNE_K 16
+#define NEAR 4 /* the nearest centres each centre lists, nearest first */
 
 /*
  * q[a][j] = |c_a - c_j|^2 for centres a point labelled a may move to (its part's, or all), else
- * INT64_MAX (so also for j == a); s[a] = the least of row a.
+ * INT64_MAX (so also for j == a); near[a] the NEAR smallest of row a in ascending order (nq their
+ * values, cnt how many: fewer when the part has fewer other centres); stay[a] the largest
+ * |p - c_a|^2 for which even a's nearest centre is beyond the pruning bound (nq > 4 |p - c_a|^2),
+ * so that p stays with a.
  */
 struct gaps {
     int64_t q[PRUNE_K][PRUNE_K];
-    int64_t s[PRUNE_K];
+    int64_t stay[PRUNE_K];
+    int64_t nq[PRUNE_K][NEAR];
+    uint8_t near[PRUNE_K][NEAR];
+    uint8_t cnt[PRUNE_K];
 };
+
+/* Lists centre j at gap q among a's nearest, if it is one. */
+static void near_add(struct gaps *g, uint8_t a, uint8_t j, int64_t q)
+{
+    uint8_t t = g->cnt[a];
+    if (t == NEAR && g->nq[a][NEAR - 1] <= q)
+        return;
+    if (t < NEAR)
+        g->cnt[a]++;
+    else
+        t = NEAR - 1;
+    for (; t > 0 && g->nq[a][t - 1] > q; t--) {
+        g->nq[a][t] = g->nq[a][t - 1];
+        g->near[a][t] = g->near[a][t - 1];
+    }
+    g->nq[a][t] = q;
+    g->near[a][t] = j;
+}
 
 static void gaps_build(struct gaps *g, const struct sonar_xy *c, const uint8_t *part, uint8_t k)
 {
     uint8_t a, j;
     for (a = 0; a < k; a++) {
         g->q[a][a] = INT64_MAX;
-        g->s[a] = INT64_MAX;
+        g->cnt[a] = 0;
     }
     for (a = 0; a < k; a++)
         for (j = (uint8_t)(a + 1); j < k; j++) {
@@ -138,69 +162,69 @@ static void gaps_build(struct gaps *g, const struct sonar_xy *c, const uint8_t *
             if (part == NULL || part[j] == part[a]) {
                 int32_t dx = c[a].x - c[j].x, dy = c[a].y - c[j].y;
                 q = (int64_t)dx * dx + (int64_t)dy * dy;
+                near_add(g, a, j, q);
+                near_add(g, j, a, q);
             }
             g->q[a][j] = g->q[j][a] = q;
-            g->s[a] = q < g->s[a] ? q : g->s[a];
-            g->s[j] = q < g->s[j] ? q : g->s[j];
         }
+    for (a = 0; a < k; a++)
+        /* nq > 4 d <=> d <= (nq - 1) / 4 for nq >= 1; a centre on c_a (nq = 0) keeps no point. */
+        g->stay[a] = g->cnt[a] == 0 ? INT64_MAX : g->nq[a][0] == 0 ? -1 : (g->nq[a][0] - 1) / 4;
 }
 
 /*
  * The nearest centre to p, lowest index on ties, for a point labelled a: the same answer as a full
  * search of a's part. A centre j with |c_a - c_j| > 2 |p - c_a| is strictly farther from p than
- * c_a (triangle inequality), so only the others are measured, and none when even the nearest
- * centre to c_a is that far (most points, most rounds). All integer: the test is
- * |c_a - c_j|^2 > 4 |p - c_a|^2.
+ * c_a (triangle inequality), so only the others are measured: a's nearest centres in order until
+ * one is that far (most points stop at the first), and the rest of the row only when all NEAR are
+ * near enough. All integer: the test is |c_a - c_j|^2 > 4 |p - c_a|^2.
  */
 static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g, uint8_t k,
-                              uint8_t a, int64_t *best_d)
+                              uint8_t a)
 {
     int64_t da = dist2(p, &c[a]), bd = da, lim = 4 * da;
-    uint8_t j, best = a;
-    *best_d = da;
-    if (g->s[a] > lim)
-        return a;
-    for (j = 0; j < k; j++) {
-        int64_t d;
-        if (g->q[a][j] > lim)
-            continue;
-        d = dist2(p, &c[j]);
+    uint8_t j, t, best = a;
+    for (t = 0; t < g->cnt[a] && g->nq[a][t] <= lim; t++) {
+        int64_t d = dist2(p, &c[g->near[a][t]]);
+        j = g->near[a][t];
         if (d < bd || (d == bd && j < best)) {
             bd = d;
             best = j;
         }
     }
-    *best_d = bd;
+    if (t == NEAR)
+        for (j = 0; j < k; j++) {
+            int64_t d;
+            if (g->q[a][j] > lim)
+                continue;
+            d = dist2(p, &c[j]);
+            if (d < bd || (d == bd && j < best)) {
+                bd = d;
+                best = j;
+            }
+        }
     return best;
 }
 
-/* The nearest centre to p of label a's part (of all when a >= k: a free point's first round); *d its squared distance. */
+/* The nearest centre to p of label a's part (of all when a >= k: a free point's first round). */
 static uint8_t assign(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g, const uint8_t *part,
-                      uint8_t k, uint8_t a, int64_t *d)
+                      uint8_t k, uint8_t a)
 {
     if (a < k && g != NULL)
-        return nearest_pruned(p, c, g, k, a, d);
+        return nearest_pruned(p, c, g, k, a);
     if (a >= k || part == NULL)
-        return nearest(p, c, k, d);
-    return nearest_in(p, c, part, k, a, d);
+        return nearest(p, c, k, NULL);
+    return nearest_in(p, c, part, k, a);
 }
 
-/*
- * Which centres' points the next round must search (hot[a]): every centre that moved (moved[a]),
- * and every centre a that a moved centre j of its part may take points from. r[a] bounds
- * |p - c_a|^2 over a's points; a moved centre with |c_a - c_j| > 2 sqrt(r[a]) is strictly farther
- * from each of them than c_a (triangle inequality), and centres that stayed compare as before, so
- * a's points keep their labels. Without the gap table (g == NULL) any move makes its part hot.
- */
-static void mark_hot(uint8_t *hot, const uint8_t *moved, const int64_t *r, const struct gaps *g, const uint8_t *part,
-                     uint8_t k)
+/* The centres whose points the next round must search: those of every part where a centre moved. */
+static void mark_hot(uint8_t *hot, const uint8_t *moved, const uint8_t *part, uint8_t k)
 {
     uint8_t a, j;
     for (a = 0; a < k; a++) {
-        hot[a] = moved[a];
+        hot[a] = 0;
         for (j = 0; j < k && !hot[a]; j++)
-            if (moved[j])
-                hot[a] = g != NULL ? g->q[a][j] <= 4 * r[a] : part == NULL || part[j] == part[a];
+            hot[a] = moved[j] && (part == NULL || part[j] == part[a]);
     }
 }
 
@@ -209,13 +233,13 @@ static void mark_hot(uint8_t *hot, const uint8_t *moved, const int64_t *r, const
  * Two shortcuts give the plain rounds' labels, centres and round count exactly:
  *  - after the first round the centre sums are moved with the points that change centre
  *    (integer sums, so the same sums), and only centres whose sums changed are divided again;
- *  - a round searches only the points of hot centres (mark_hot); the others keep their labels.
- * Near convergence few centres move, so most points cost one label test a round.
+ *  - a round skips the points of parts where no centre moved: the search's answer (the nearest
+ *    centre of the part, lowest index on ties) depends only on the part's centres.
  */
 static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, struct sonar_xy *c,
                  const uint8_t *part, uint8_t k, uint8_t iterations)
 {
-    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K], r[SONAR_KMEANS_MAX_K];
+    int64_t sx[SONAR_KMEANS_MAX_K], sy[SONAR_KMEANS_MAX_K];
     uint64_t sw[SONAR_KMEANS_MAX_K];
     uint8_t dirty[SONAR_KMEANS_MAX_K], hot[SONAR_KMEANS_MAX_K];
     struct gaps gap;
@@ -229,27 +253,17 @@ static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, str
         if (g != NULL)
             gaps_build(&gap, c, part, k);
         if (it > 0)
-            mark_hot(hot, dirty, r, g, part, k); /* dirty holds which centres moved */
-        for (j = 0; j < k; j++)
-            if (hot[j])
-                r[j] = 0;
+            mark_hot(hot, dirty, part, k); /* dirty holds which centres moved */
         memset(dirty, 0, sizeof(dirty));
         for (i = 0; i < n; i++) {
             const struct sonar_point *p = &pts[i];
-            int64_t dl;
             uint8_t l, a = labels[i];
             if (p->w == 0 || (a < k && !hot[a]))
                 continue;
-            if (a < k && g != NULL) {
-                /* nearest_pruned's first test inline: most points stay, and cost one distance. */
-                dl = dist2(p, &c[a]);
-                if (g->s[a] > 4 * dl) {
-                    r[a] = dl > r[a] ? dl : r[a];
-                    continue;
-                }
-            }
-            l = assign(p, c, g, part, k, a, &dl);
-            r[l] = dl > r[l] ? dl : r[l];
+            /* nearest_pruned's first test, inline: most points stay, for one distance. */
+            if (a < k && g != NULL && dist2(p, &c[a]) <= g->stay[a])
+                continue;
+            l = assign(p, c, g, part, k, a);
             if (l == a)
                 continue;
             changed++;

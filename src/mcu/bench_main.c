@@ -305,6 +305,7 @@ int main(void)
             return 8;
     {
         struct sonar_xy c[SONAR_MAX_CLUSTERS], at;
+        struct sonar_det_cluster cl[SONAR_MAX_CLUSTERS];
         uint8_t part[SONAR_MAX_CLUSTERS], k, j;
         uint16_t groups;
         struct sonar_detection o;
@@ -317,8 +318,9 @@ int main(void)
         if (sonar_kmeans_lloyd_within(b.det.pts, b.det.nruns, b.det.labels, c, part, k, b.det.cfg.iterations) < 0)
             return 9;
         t4 = board_micros();
+        sonar_det_clusters(&b.det, k, cl);
         for (j = 0; j < k; j++)
-            (void)sonar_det_accept(&b.det, j, 1, &o, &at);
+            (void)sonar_det_accept(&b.det, j, &cl[j], 1, &o, &at);
         put_num("worst_insn_link", (uint64_t)(t2 - t1) * INSN_PER_US);
         put_num("worst_insn_seed_and_cut", (uint64_t)(t3 - t2) * INSN_PER_US);
         put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);
