@@ -112,19 +112,17 @@ static uint8_t nearest_in(const struct sonar_point *p, const struct sonar_xy *c,
     return best;
 }
 
-/* Centres up to this many get the gap table below (stack: about PRUNE_K^2 * 8 bytes); more use the plain search. */
+/* Centres up to this many get the gap table below (stack: PRUNE_K * (NEAR * 9 + 9) bytes); more use the plain search. */
 #define PRUNE_K 16
 #define NEAR 4 /* the nearest centres each centre lists, nearest first */
 
 /*
- * q[a][j] = |c_a - c_j|^2 for centres a point labelled a may move to (its part's, or all), else
- * INT64_MAX (so also for j == a); near[a] the NEAR smallest of row a in ascending order (nq their
- * values, cnt how many: fewer when the part has fewer other centres); stay[a] the largest
- * |p - c_a|^2 for which even a's nearest centre is beyond the pruning bound (nq > 4 |p - c_a|^2),
- * so that p stays with a.
+ * For each centre a, the NEAR centres a point labelled a may move to (its part's, or all) nearest
+ * to c_a, nearest first: near[a][t] at nq[a][t] = |c_a - c_near|^2 (cnt[a] of them: fewer when the
+ * part has fewer other centres); stay[a] the largest |p - c_a|^2 for which even the nearest is
+ * beyond the pruning bound (nq > 4 |p - c_a|^2), so that p stays with a.
  */
 struct gaps {
-    int64_t q[PRUNE_K][PRUNE_K];
     int64_t stay[PRUNE_K];
     int64_t nq[PRUNE_K][NEAR];
     uint8_t near[PRUNE_K][NEAR];
@@ -152,21 +150,16 @@ static void near_add(struct gaps *g, uint8_t a, uint8_t j, int64_t q)
 static void gaps_build(struct gaps *g, const struct sonar_xy *c, const uint8_t *part, uint8_t k)
 {
     uint8_t a, j;
-    for (a = 0; a < k; a++) {
-        g->q[a][a] = INT64_MAX;
-        g->cnt[a] = 0;
-    }
     for (a = 0; a < k; a++)
-        for (j = (uint8_t)(a + 1); j < k; j++) {
-            int64_t q = INT64_MAX;
+        g->cnt[a] = 0;
+    for (a = 0; a < k; a++)
+        for (j = (uint8_t)(a + 1); j < k; j++)
             if (part == NULL || part[j] == part[a]) {
                 int32_t dx = c[a].x - c[j].x, dy = c[a].y - c[j].y;
-                q = (int64_t)dx * dx + (int64_t)dy * dy;
+                int64_t q = (int64_t)dx * dx + (int64_t)dy * dy;
                 near_add(g, a, j, q);
                 near_add(g, j, a, q);
             }
-            g->q[a][j] = g->q[j][a] = q;
-        }
     for (a = 0; a < k; a++)
         /* nq > 4 d <=> d <= (nq - 1) / 4 for nq >= 1; a centre on c_a (nq = 0) keeps no point. */
         g->stay[a] = g->cnt[a] == 0 ? INT64_MAX : g->nq[a][0] == 0 ? -1 : (g->nq[a][0] - 1) / 4;
@@ -175,12 +168,12 @@ static void gaps_build(struct gaps *g, const struct sonar_xy *c, const uint8_t *
 /*
  * The nearest centre to p, lowest index on ties, for a point labelled a: the same answer as a full
  * search of a's part. A centre j with |c_a - c_j| > 2 |p - c_a| is strictly farther from p than
- * c_a (triangle inequality), so only the others are measured: a's nearest centres in order until
- * one is that far (most points stop at the first), and the rest of the row only when all NEAR are
- * near enough. All integer: the test is |c_a - c_j|^2 > 4 |p - c_a|^2.
+ * c_a (triangle inequality), so only a's nearest centres are measured, in order until one is that
+ * far (most points stop at the first); when all NEAR are near enough, the whole part is searched.
+ * All integer: the test is |c_a - c_j|^2 > 4 |p - c_a|^2.
  */
-static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g, uint8_t k,
-                              uint8_t a)
+static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy *c, const struct gaps *g,
+                              const uint8_t *part, uint8_t k, uint8_t a)
 {
     int64_t da = dist2(p, &c[a]), bd = da, lim = 4 * da;
     uint8_t j, t, best = a;
@@ -192,18 +185,9 @@ static uint8_t nearest_pruned(const struct sonar_point *p, const struct sonar_xy
             best = j;
         }
     }
-    if (t == NEAR)
-        for (j = 0; j < k; j++) {
-            int64_t d;
-            if (g->q[a][j] > lim)
-                continue;
-            d = dist2(p, &c[j]);
-            if (d < bd || (d == bd && j < best)) {
-                bd = d;
-                best = j;
-            }
-        }
-    return best;
+    if (t < NEAR)
+        return best;
+    return part == NULL ? nearest(p, c, k, NULL) : nearest_in(p, c, part, k, a);
 }
 
 /* The nearest centre to p of label a's part (of all when a >= k: a free point's first round). */
@@ -211,7 +195,7 @@ static uint8_t assign(const struct sonar_point *p, const struct sonar_xy *c, con
                       uint8_t k, uint8_t a)
 {
     if (a < k && g != NULL)
-        return nearest_pruned(p, c, g, k, a);
+        return nearest_pruned(p, c, g, part, k, a);
     if (a >= k || part == NULL)
         return nearest(p, c, k, NULL);
     return nearest_in(p, c, part, k, a);
@@ -258,11 +242,14 @@ static int lloyd(const struct sonar_point *pts, uint16_t n, uint8_t *labels, str
         for (i = 0; i < n; i++) {
             const struct sonar_point *p = &pts[i];
             uint8_t l, a = labels[i];
-            if (p->w == 0 || (a < k && !hot[a]))
+            /* A label below k is a weighted point's (weight-0 points keep SONAR_KMEANS_SKIP). */
+            if (a < k) {
+                /* nearest_pruned's first test, inline: most points stay, for one distance. */
+                if (!hot[a] || (g != NULL && dist2(p, &c[a]) <= g->stay[a]))
+                    continue;
+            } else if (p->w == 0) {
                 continue;
-            /* nearest_pruned's first test, inline: most points stay, for one distance. */
-            if (a < k && g != NULL && dist2(p, &c[a]) <= g->stay[a])
-                continue;
+            }
             l = assign(p, c, g, part, k, a);
             if (l == a)
                 continue;
