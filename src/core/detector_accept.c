@@ -111,7 +111,7 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
     uint16_t i, nw = 0, beam = 0xFFFFu;
     uint32_t lo = 0, hi = 0;
     int h, v;
-    double th, c = 1.0, sn = 0.0;
+    double c = 1.0, sn = 0.0;
     if (w == 0 || cl->beam == 0xFFFFu)
         return 0;
     at->x = (int32_t)(sx / (int64_t)w);
@@ -157,7 +157,7 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
             }
     }
     if (d->cfg.angle_offset != 0.0f) {
-        th = sonar_frame_rad((double)d->cfg.angle_offset);
+        double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);
         sn = sin(th);
     }
