@@ -23,7 +23,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/source_replay.c \
+HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/app_bg.c src/host/bgstore.c src/host/source_replay.c \
             src/host/posefile.c src/host/pvbin.c src/host/discover.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o) $(BUILD)/msg/view.o
 # The LCM mappings (host and firmware); view.c (the outputs' view, host only, no LCM) goes with the host objects.
@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain
+UNIT      = ping ping360 cpframe bgfile geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain
 UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
@@ -151,7 +151,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden live scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test live scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -219,6 +219,10 @@ golden: all
 ## golden-update: rewrite tests/golden.sha256 from this build (for a change meant to change the output; say why in its commit)
 golden-update: all
 	@sh tests/golden_check.sh $(BUILD) --update
+
+## bgfile-test: the recorded background (--background-save / --background-load): an empty pool recorded and loaded, damaged and mismatched files refused by name, a failed save leaving the old file whole
+bgfile-test: all
+	@sh tests/bgfile.sh $(BUILD)
 
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all

@@ -15,4 +15,15 @@ static inline void sonar_put_le16(uint8_t *p, uint16_t v)
     p[1] = (uint8_t)(v >> 8);
 }
 
+static inline uint32_t sonar_le32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+
+static inline void sonar_put_le32(uint8_t *p, uint32_t v)
+{
+    sonar_put_le16(p, (uint16_t)(v & 0xffffu));
+    sonar_put_le16(p + 2, (uint16_t)(v >> 16));
+}
+
 #endif

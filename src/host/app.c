@@ -192,6 +192,7 @@ int app_push(struct app *a, const struct sonar_record *b)
     a->cur.stage = SONAR_STAGE_RAW;
     beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
+    app_background_first_beam(a, b);
     if (b->gain >= 0) {
         if (a->last_gain >= 0 && b->gain != a->last_gain) {
             /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */

@@ -159,6 +159,20 @@ uint32_t app_rows_bad(const struct app *a);
 /* Seconds the last sweep took (0 before the second). */
 float app_last_sweep_s(const struct app *a);
 
+/*
+ * A recorded background (a bgfile.h image of len bytes, read by the caller) as the model to learn on
+ * from: checked whole, its mode and filters against the running configuration; its range, samples
+ * and gain against the first beam (a mismatch restarts the background there, said). Call before the
+ * first beam. Returns HOST_OK, or HOST_ERR_CONFIG with err naming what is wrong (nothing changed).
+ */
+HOST_CHECK int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen);
+
+/*
+ * The learnt model as a bgfile.h image into out (cap bytes). Returns its length, or < 0 with err
+ * saying why: SONAR_ERR_STATE (no beam yet, or the model is in the world frame), SONAR_ERR_SPACE.
+ */
+HOST_CHECK int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen);
+
 /* The pipeline, read-only (tools that inspect the background: sonar-wallfit). */
 const struct sonar_pipeline *app_pipeline(const struct app *a);
 

@@ -3,6 +3,7 @@
 #define SONARD_APP_INTERNAL_H
 
 #include "app.h"
+#include "sonar/bgfile.h"
 
 struct app {
     struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
@@ -19,6 +20,8 @@ struct app {
     uint32_t gain_refused;
     int32_t last_gain;          /* the gain of the beam before, -1: none yet */
     uint32_t bg_restarts;       /* backgrounds restarted for a change of the beams' gain */
+    struct sonar_bgfile_meta bg_file; /* a loaded background: what it is a model of (app_bg.c) ... */
+    int bg_pending;             /* ... still to be checked against the first beam */
     struct app_clock clock;
     app_log_fn log;
     void *log_user;
@@ -39,6 +42,9 @@ struct app {
     float sorted[APP_PROC_RING];
     unsigned long nproc;
 };
+
+/* app_bg.c: a loaded background checked against the first beam (its range, samples and gain); a mismatch restarts it, said. */
+void app_background_first_beam(struct app *a, const struct sonar_record *b);
 
 /* app_device.c: --gain auto's decision at the end of sweep number `sweep` (before the sinks see it). */
 void app_gain_sweep(struct app *a, uint32_t sweep);

@@ -254,6 +254,11 @@ static const struct opt_spec spec[] = {
      "grey levels the background moves per observation", NULL, NULL},
     {"bg-margin", "N", OPT_U8, 1, 1, B(margin), 0, SONAR_BG_MARGIN_MAX, "sixteenths of the background", "8",
      "a cell must exceed the background b by b*N/16; 0 = the study's\nplain subtraction", NULL, NULL},
+    {"background-load", "FILE", OPT_STR, 1, 0, F(bg_load), 0, 0, "file", NULL,
+     "start from a recorded background (an empty pool, a harbour at rest):\nper-angle or auto, same range, samples, gain and filters, else\nrefused by name and learnt afresh",
+     NULL, NULL},
+    {"background-save", "FILE", OPT_STR, 1, 0, F(bg_save), 0, 0, "file", NULL,
+     "at exit, write the learnt background there (atomically: the old file\nstays whole if the write fails); not for a moving vehicle", NULL, NULL},
     SECTION("detector (once per sweep)"),
     {"threshold-mode", "MODE", OPT_CHOICE, 1, 1, D(threshold_mode), 0, 0, "cfar or global",
      "cfar; global with --background range (the study's)",
@@ -400,6 +405,17 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     }
     if (o->mavlink != NULL && o->sonar == NULL) {
         snprintf(err, errlen, "--mavlink URL goes with --sonar: the obstacle map is made from a live sonar's beams");
+        return HOST_ERR_CONFIG;
+    }
+    if ((o->bg_load != NULL || o->bg_save != NULL) && o->coprocessor != NULL) {
+        snprintf(err, errlen, "--background-load and --background-save are for sonard's own pipeline: with --coprocessor "
+                              "the background is the firmware's");
+        return HOST_ERR_CONFIG;
+    }
+    if ((o->bg_load != NULL || o->bg_save != NULL) && o->pipeline.background.mode != SONAR_BACKGROUND_PER_ANGLE &&
+        o->pipeline.background.mode != SONAR_BACKGROUND_AUTO) {
+        snprintf(err, errlen, "--background-load and --background-save keep a per-angle model: they go with --background "
+                              "auto or per-angle");
         return HOST_ERR_CONFIG;
     }
     if (o->pose_file != NULL && o->replay == NULL) {

@@ -35,6 +35,8 @@ struct sonard_options {
     double discover_s;
     long discover_data_port;
     const char *csv_out;        /* export / recording file */
+    const char *bg_load;        /* a recorded background to start from (bgstore.h) */
+    const char *bg_save;        /* where the learnt background is written at exit */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */
     uint8_t stage;              /* enum sonar_stage exported to csv_out (replay) */

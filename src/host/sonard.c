@@ -1,6 +1,7 @@
 /* sonard.c -- the sonard front end: options, the app core with its sinks, then a source: --sonar (live.c's loop) or --replay; SIGHUP re-reads --config. */
 #include <errno.h>
 #include <inttypes.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 #include <unistd.h>
 
 #include "app.h"
+#include "bgstore.h"
 #include "discover.h"
 #include "live.h"
 #include "options.h"
@@ -216,6 +218,8 @@ int main(int argc, char **argv)
     char err[320];
     int rc;
     memset(&io, 0, sizeof(io));
+    /* A file grown past a size limit fails its write (said, the old file kept) instead of killing sonard. */
+    signal(SIGXFSZ, SIG_IGN);
     s.argc = argc;
     s.argv = argv;
     if ((rc = options_parse(argc, argv, &s.opt, err, sizeof(err))) != 0) {
@@ -272,6 +276,9 @@ int main(int argc, char **argv)
         return 2;
     }
     app_set_log(s.app, log_stderr, &s);
+    /* A file that cannot be used is said, and the background learns from scratch: nothing else changes. */
+    if (s.opt.bg_load != NULL && bgstore_load(s.app, s.opt.bg_load, err, sizeof(err)) != HOST_OK)
+        fprintf(stderr, "sonard: %s; the background learns afresh\n", err);
     if (s.opt.mavlink != NULL) {
         struct mav_config mc;
         mc.url = s.opt.mavlink;
@@ -306,6 +313,14 @@ int main(int argc, char **argv)
     if (s.opt.replay != NULL)
         app_set_link(s.app, s.opt.replay);
     rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);
+    if (s.opt.bg_save != NULL) {
+        if (bgstore_save(s.app, s.opt.bg_save, err, sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            rc = rc != 0 ? rc : 1;
+        } else if (!s.opt.quiet) {
+            fprintf(stderr, "sonard: background saved to %s\n", s.opt.bg_save);
+        }
+    }
     if (s.csv_out != NULL && fclose(s.csv_out) != 0)
         s.csv.sink.errors++;
     if (s.csv.sink.errors)

@@ -16,6 +16,7 @@ struct sim_opts {
     const char *scene, *out, *truth, *pose_out;
     long sweeps;
     unsigned long long seed;
+    int empty;
 };
 
 static int parse_seed(void *base, const char *v, char *err, size_t n)
@@ -49,13 +50,16 @@ static const struct opt_spec sim_spec[] = {
      "the vehicle's poses at 10 Hz, utime_us,north_m,east_m,yaw_deg (sonard --pose)", NULL, NULL},
     {"sweeps", "N", OPT_LONG, 0, 0, SO(sweeps), 1, 100000, "sweeps", "the scene's", "sweeps to write", NULL, NULL},
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "speckle random seed", NULL, parse_seed},
+    {"empty", NULL, OPT_FLAG, 0, 0, SO(empty), 0, 0, NULL, NULL,
+     "the scene without its objects (walls and water only): a recording of the empty pool, for --background-save",
+     NULL, NULL},
     {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
 };
 
 int main(int argc, char **argv)
 {
     const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim"};
-    struct sim_opts o = {"pool", NULL, NULL, NULL, -1, 0};
+    struct sim_opts o = {"pool", NULL, NULL, NULL, -1, 0, 0};
     const char *scene_name, *csv_path, *truth_path;
     struct scene s;
     struct scene_rng g = {0x9E3779B97F4A7C15ull};
@@ -70,7 +74,7 @@ int main(int argc, char **argv)
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
         fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces --out FILE.csv --truth FILE.json "
-                        "[--pose-out FILE.csv] [--sweeps N] [--seed S]\n");
+                        "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--empty]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
     }
@@ -89,6 +93,8 @@ int main(int argc, char **argv)
     }
     if (sweeps > 0)
         s.sweeps = sweeps;
+    if (o.empty)
+        s.nobj = 0;
     if ((csv = fopen(csv_path, "w")) == NULL || (truth = fopen(truth_path, "w")) == NULL) {
         perror("sonar_sim");
         return 2;
