@@ -277,7 +277,8 @@ def main():
             for h in d.get("tracks", []):
                 h["x_m"], h["y_m"] = h.get("north_m", nan), h.get("east_m", nan)
                 h["vx_mps"], h["vy_mps"] = h.get("vn_mps", nan), h.get("ve_mps", nan)
-        sweeps[d["sweep"]] = d["detections"]
+        # Structure (a track that never moved, a wall) is reported as such, not as an object: not scored as one.
+        sweeps[d["sweep"]] = [o for o in d["detections"] if o.get("kind", "object") != "structure"]
         lines[d["sweep"]] = d
     tp = fp = fn = 0
     errs = []

@@ -32,6 +32,10 @@ static double rayleigh(struct scene_rng *g)
  *   far:      faint targets at 8.5-12.5 m, two of them drifting, in open water.
  *   still:    one person standing from the first ping, and one who swims for 60 s and then floats
  *             still for three minutes.
+ *   lanes:    the sonar on a pool's side wall (the sector's edges look along it), a 25 x 14.6 m pool
+ *             with two swaying lane ropes and a ladder (structure, there from the first ping); two
+ *             swimmers doing lengths from 10 s and 20 s, and one who swims for 20 s and then rests
+ *             (40 passes).
  */
 static int pool_scene(struct scene *s, const char *name)
 {
@@ -44,13 +48,13 @@ static int pool_scene(struct scene *s, const char *name)
     s->stop = 300;
     if (strcmp(name, "occupied") == 0) {
         static const struct scene_object o[] = {
-            {"stand_a", -4.0, 2.4, 0.35, 0, 0, 160, 0, 0, {0}, {0}, {0}, 0},
-            {"stand_b", -5.9, 0.9, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0},
+            {"stand_a", -4.0, 2.4, 0.35, 0, 0, 160, 0, 0, {0}, {0}, {0}, 0, 0},
+            {"stand_b", -5.9, 0.9, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
             {"struggle", 0, 0, 0.35, 0, 0, 140, 0, 7, {0, 20, 40, 60, 80, 100, 200}, {-7.3, -7.0, -7.4, -7.1, -7.3, -7.0, -7.2},
-             {-1.0, -0.8, -1.2, -0.9, -1.1, -0.8, -1.0}, 0},
+             {-1.0, -0.8, -1.2, -0.9, -1.1, -0.8, -1.0}, 0, 0},
             {"swimmer", 0, 0, 0.35, 0, 0, 160, 0, 5, {0, 30, 60, 90, 200}, {-2.3, -2.0, -3.6, -2.4, -3.0},
-             {2.0, -2.5, -3.0, 3.0, 0.5}, 0},
-            {"far", 0, 0, 0.35, 0, 0, 100, 0, 3, {0, 100, 200}, {-9.5, -9.3, -9.7}, {-0.6, 2.4, 0.6}, 0},
+             {2.0, -2.5, -3.0, 3.0, 0.5}, 0, 0},
+            {"far", 0, 0, 0.35, 0, 0, 100, 0, 3, {0, 100, 200}, {-9.5, -9.3, -9.7}, {-0.6, 2.4, 0.6}, 0, 0},
         };
         s->wall[0] = wall;
         s->nwall = 1;
@@ -59,18 +63,36 @@ static int pool_scene(struct scene *s, const char *name)
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else if (strcmp(name, "far") == 0) {
         static const struct scene_object o[] = {
-            {"far_a", -8.5, 3.0, 0.35, 0, 0, 105, 0, 0, {0}, {0}, {0}, 0},
-            {"far_b", 0, 0, 0.35, 0, 0, 100, 0, 2, {0, 200}, {-10.5, -11.0}, {-2.0, 2.5}, 0},
-            {"far_c", -12.5, 0.5, 0.35, 0, 0, 100, 0, 0, {0}, {0}, {0}, 0},
-            {"far_d", 0, 0, 0.35, 0, 0, 95, 0, 2, {0, 200}, {-9.0, -8.0}, {-4.5, -6.0}, 0},
+            {"far_a", -8.5, 3.0, 0.35, 0, 0, 105, 0, 0, {0}, {0}, {0}, 0, 0},
+            {"far_b", 0, 0, 0.35, 0, 0, 100, 0, 2, {0, 200}, {-10.5, -11.0}, {-2.0, 2.5}, 0, 0},
+            {"far_c", -12.5, 0.5, 0.35, 0, 0, 100, 0, 0, {0}, {0}, {0}, 0, 0},
+            {"far_d", 0, 0, 0.35, 0, 0, 95, 0, 2, {0, 200}, {-9.0, -8.0}, {-4.5, -6.0}, 0, 0},
         };
         s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "lanes") == 0) {
+        static const struct scene_wall w[4] = {{0.1, -12.5, 0.1, 12.5}, {-14.5, -12.5, -14.5, 12.5},
+                                               {0.1, -12.5, -14.5, -12.5}, {0.1, 12.5, -14.5, 12.5}};
+        static const struct scene_rope r[2] = {{-4.5, -12.5, 12.5, 80, 0.15, 6.0}, {-9.5, -12.5, 12.5, 80, 0.15, 7.0}};
+        static const struct scene_object o[] = {
+            {"ladder", -0.45, 8.0, 0.15, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0, 1},
+            {"swim_a", 0, 0, 0.35, 0, 0, 150, 0, 4, {10, 47, 84, 121}, {-2.3, -2.3, -2.3, -2.3}, {-11, 11, -11, 11}, 0, 0},
+            {"swim_b", 0, 0, 0.35, 0, 0, 150, 0, 5, {20, 45, 70, 95, 120}, {-7.0, -7.0, -7.0, -7.0, -7.0},
+             {10, -10, 10, -10, 10}, 0, 0},
+            {"rester", 0, 0, 0.35, 0, 0, 140, 0, 3, {5, 25, 400}, {-12, -12, -12}, {-8, 2, 2}, 0, 0},
+        };
+        memcpy(s->wall, w, sizeof(w));
+        s->nwall = 4;
+        memcpy(s->rope, r, sizeof(r));
+        s->nrope = 2;
+        s->sweeps = 40;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else {
         static const struct scene_object o[] = {
-            {"stand", -4.5, 1.5, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0},
-            {"floater", 0, 0, 0.35, 0, 0, 140, 0, 4, {0, 30, 60, 400}, {-3.0, -6.0, -6.5, -6.5}, {-3.0, -1.0, 1.0, 1.0}, 0},
+            {"stand", -4.5, 1.5, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
+            {"floater", 0, 0, 0.35, 0, 0, 140, 0, 4, {0, 30, 60, 400}, {-3.0, -6.0, -6.5, -6.5}, {-3.0, -1.0, 1.0, 1.0}, 0, 0},
         };
         s->wall[0] = wall;
         s->nwall = 1;
@@ -94,16 +116,16 @@ int scene_make(struct scene *s, const char *name)
         memcpy(s->wall, w, sizeof(w));
         s->nwall = 4;
         s->sweeps = 7;
-        s->obj[0] = (struct scene_object){"gate_post_left", 5.0, 2.0, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0};
-        s->obj[1] = (struct scene_object){"gate_post_right", 5.0, 3.6, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0};
-        s->obj[2] = (struct scene_object){"buoy", -3.0, -2.0, 0.25, 0.35, 0.1, 190, 3, 0, {0}, {0}, {0}, 0};
+        s->obj[0] = (struct scene_object){"gate_post_left", 5.0, 2.0, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[1] = (struct scene_object){"gate_post_right", 5.0, 3.6, 0.10, 0, 0, 170, 2, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[2] = (struct scene_object){"buoy", -3.0, -2.0, 0.25, 0.35, 0.1, 190, 3, 0, {0}, {0}, {0}, 0, 0};
         s->nobj = 3;
     } else if (strcmp(name, "open") == 0) {
         /* Open water: no walls, objects there from the first ping. */
         s->sweeps = 4;
-        s->obj[0] = (struct scene_object){"gate_post", 4.0, 1.0, 0.10, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0};
-        s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0, 0, {0}, {0}, {0}, 0};
-        s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0, 0, {0}, {0}, {0}, 0};
+        s->obj[0] = (struct scene_object){"gate_post", 4.0, 1.0, 0.10, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0, 0, {0}, {0}, {0}, 0, 0};
         s->nobj = 3;
     } else if (strcmp(name, "faces") == 0) {
         /*
@@ -112,8 +134,8 @@ int scene_make(struct scene *s, const char *name)
          */
         s->range_m = 8.0;
         s->sweeps = 4;
-        s->obj[0] = (struct scene_object){"near_post", 2.954, 0.521, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0};
-        s->obj[1] = (struct scene_object){"far_post", 5.909, -1.042, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0};
+        s->obj[0] = (struct scene_object){"near_post", 2.954, 0.521, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[1] = (struct scene_object){"far_post", 5.909, -1.042, 0.15, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
         s->nobj = 2;
     } else if (strcmp(name, "moving") == 0) {
         /*
@@ -124,15 +146,15 @@ int scene_make(struct scene *s, const char *name)
          * at 1 m/s who arrives, turns and leaves. The first two turns are the background's warm-up.
          */
         static const struct scene_object o[] = {
-            {"swimmer_a", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {-9, 9, -9, 9}, {6.25, 6.25, 6.25, 6.25}, 0},
-            {"swimmer_b", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {9, -9, 9, -9}, {5.75, 5.75, 5.75, 5.75}, 0},
-            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 6, {18, 38, 50, 64, 76, 82}, {4, 4, -8, -8, 4, 4}, {-10, 10, 10, -4, -4, -10}, 0},
+            {"swimmer_a", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {-9, 9, -9, 9}, {6.25, 6.25, 6.25, 6.25}, 0, 0},
+            {"swimmer_b", 0, 0, 0.25, 0, 0, 160, 0, 4, {16, 52, 88, 124}, {9, -9, 9, -9}, {5.75, 5.75, 5.75, 5.75}, 0, 0},
+            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 6, {18, 38, 50, 64, 76, 82}, {4, 4, -8, -8, 4, 4}, {-10, 10, 10, -4, -4, -10}, 0, 0},
             {"fast", 0, 0, 0.25, 0, 0, 170, 0, 17,
              {22.0, 27.61, 33.23, 38.84, 44.45, 50.06, 55.68, 61.29, 66.9, 72.51, 78.13, 83.74, 89.35, 94.96, 100.58, 106.19, 111.8},
              {0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0},
-             {-11.0, -7.78, 0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0}, 0},
-            {"buoy", 0, 0, 0.25, 0, 0, 190, 0, 2, {20, 152}, {-5, -2.5}, {-5, -6.5}, (1ull << 10) | (1ull << 11) | (1ull << 18)},
-            {"late", 0, 0, 0.25, 0, 0, 160, 0, 4, {100, 114, 124, 136}, {11, 0, -9, -9}, {-3, -11, -8, 0}, 0},
+             {-11.0, -7.78, 0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0, -7.78, -0.0, 7.78, 11.0, 7.78, 0.0, -7.78, -11.0}, 0, 0},
+            {"buoy", 0, 0, 0.25, 0, 0, 190, 0, 2, {20, 152}, {-5, -2.5}, {-5, -6.5}, (1ull << 10) | (1ull << 11) | (1ull << 18), 0},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 4, {100, 114, 124, 136}, {11, 0, -9, -9}, {-3, -11, -8, 0}, 0, 0},
         };
         s->range_m = 15.0;
         s->samples = 600;
@@ -148,11 +170,11 @@ int scene_make(struct scene *s, const char *name)
          * crossing the far side; the first two passes are the background's warm-up.
          */
         static const struct scene_object o[] = {
-            {"walker_a", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4, -4, -4}, {-9, 9, -3}, 0},
-            {"walker_b", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4.5, -4.5, -4.5}, {9, -9, 3}, 0},
-            {"leaver", 0, 0, 0.25, 0, 0, 170, 0, 2, {14, 31}, {-8, 5}, {-3, -7}, 0},
-            {"late", 0, 0, 0.25, 0, 0, 160, 0, 3, {36, 72, 104}, {-10, -2, -10}, {4, 4, -2}, 0},
-            {"runner", 0, 0, 0.25, 0, 0, 170, 0, 2, {64, 78.8}, {-13, 2}, {3, 12.5}, 0},
+            {"walker_a", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4, -4, -4}, {-9, 9, -3}, 0, 0},
+            {"walker_b", 0, 0, 0.25, 0, 0, 160, 0, 3, {12, 72, 112}, {-4.5, -4.5, -4.5}, {9, -9, 3}, 0, 0},
+            {"leaver", 0, 0, 0.25, 0, 0, 170, 0, 2, {14, 31}, {-8, 5}, {-3, -7}, 0, 0},
+            {"late", 0, 0, 0.25, 0, 0, 160, 0, 3, {36, 72, 104}, {-10, -2, -10}, {4, 4, -2}, 0, 0},
+            {"runner", 0, 0, 0.25, 0, 0, 170, 0, 2, {64, 78.8}, {-13, 2}, {3, 12.5}, 0, 0},
         };
         s->range_m = 15.0;
         s->samples = 600;
@@ -171,10 +193,10 @@ int scene_make(struct scene *s, const char *name)
          */
         static const struct scene_wall w[4] = {{-15, -8, 15, -8}, {15, -8, 15, 8}, {15, 8, -15, 8}, {-15, 8, -15, -8}};
         static const struct scene_object o[] = {
-            {"post_a", 4.0, 5.0, 0.20, 0, 0, 170, 3, 0, {0}, {0}, {0}, 0},
-            {"post_b", -5.0, -6.0, 0.20, 0, 0, 170, 5, 0, {0}, {0}, {0}, 0},
-            {"buoy", 0.5, 5.5, 0.25, 0, 0, 190, 2, 0, {0}, {0}, {0}, 0},
-            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 4, {20, 60, 82, 100}, {10, -10, -10, 0}, {-6, -6, 5, 5}, 0},
+            {"post_a", 4.0, 5.0, 0.20, 0, 0, 170, 3, 0, {0}, {0}, {0}, 0, 0},
+            {"post_b", -5.0, -6.0, 0.20, 0, 0, 170, 5, 0, {0}, {0}, {0}, 0, 0},
+            {"buoy", 0.5, 5.5, 0.25, 0, 0, 190, 2, 0, {0}, {0}, {0}, 0, 0},
+            {"diver", 0, 0, 0.30, 0, 0, 150, 0, 4, {20, 60, 82, 100}, {10, -10, -10, 0}, {-6, -6, 5, 5}, 0, 0},
         };
         static const struct scene_vehicle v = {6, {0, 32, 40, 72, 80, 120}, {-8, 8, 8, -8, -8, 8}, {-3, -3, 1, 1, -3, -3},
                                                0.0, 30.0, 6.0};
@@ -187,7 +209,8 @@ int scene_make(struct scene *s, const char *name)
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
         s->veh = v;
-    } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0) {
+    } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0 ||
+               strcmp(name, "lanes") == 0) {
         return pool_scene(s, name);
     } else {
         return -1;
@@ -467,6 +490,27 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
             shadow[i] = 0.3;
         }
     }
+    for (k = 0; k < s->nrope; k++) {
+        /* Where the beam's axis crosses the rope (swayed at the crossing's y), and its return there. */
+        const struct scene_rope *rp = &s->rope[k];
+        double ux = cos(th), uy = sin(th), x, d, y;
+        if (fabs(ux) < 1e-6)
+            continue;
+        d = (rp->x0 - vn) / ux;
+        y = ve + d * uy;
+        x = rp->x0 + rp->sway_m * sin(2.0 * PI * t / rp->period_s + 0.4 * y);
+        d = (x - vn) / ux;
+        y = ve + d * uy;
+        if (d <= 0.0 || y < rp->y0 || y > rp->y1)
+            continue;
+        for (i = 0; i < n; i++) {
+            double r = (i + 0.5) * range_m / n;
+            if (r >= d - 0.05 && r <= d + 0.08) {
+                double a = rp->strength * rayleigh_unit(g);
+                pw[i] += a * a;
+            }
+        }
+    }
     for (k = 0; k < s->nobj; k++) {
         const struct scene_object *o = &s->obj[k];
         double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
@@ -582,7 +626,7 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
         fprintf(f, "%s{\"sweep\":%d,\"objects\":[", sweep ? "," : "", sweep);
         for (k = 0; k < s->nobj; k++) {
             const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
-            if (!v->visible)
+            if (!v->visible || s->obj[k].structure)
                 continue;
             fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"radius\":%.3f,\"t_us\":%lld,\"vx\":%.3f,\"vy\":%.3f",
                     first ? "" : ",", s->obj[k].id, v->x, v->y, s->obj[k].r, t0_us + (long long)floor(v->t * 1e6 + 0.5),
@@ -597,7 +641,7 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
         first = 1;
         for (k = 0; k < s->nobj; k++) {
             const struct scene_seen *v = &seen[sweep * SCENE_MAX_OBJ + k];
-            if (!v->present || v->visible || hypot(v->bx, v->by) > s->range_m)
+            if (!v->present || v->visible || s->obj[k].structure || hypot(v->bx, v->by) > s->range_m)
                 continue;
             fprintf(f, "%s{\"id\":\"%s\",\"x\":%.3f,\"y\":%.3f,\"t_us\":%lld", first ? "" : ",", s->obj[k].id, v->x,
                     v->y, t0_us + (long long)floor(v->t * 1e6 + 0.5));

@@ -22,6 +22,17 @@ struct scene_object {
     int nwp;
     double wp_t[SCENE_MAX_WP], wp_x[SCENE_MAX_WP], wp_y[SCENE_MAX_WP];
     unsigned long long fade; /* bit k: no echo at all in sweep k */
+    int structure;           /* part of the place (a ladder, a mooring): echoes, but is not in the truth's objects */
+};
+
+/*
+ * A lane rope (SCENE_SPECKLE_POOL): a line of floats along x = x0 from y0 to y1 that the beam passes
+ * through (no shadow), each crossing a short Rayleigh return; it sways across by sway_m with a
+ * period, the phase travelling along it, so the background never learns it exactly.
+ */
+#define SCENE_MAX_ROPE 4
+struct scene_rope {
+    double x0, y0, y1, strength, sway_m, period_s;
 };
 
 struct scene_wall {
@@ -63,6 +74,8 @@ struct scene {
     int nwall;
     struct scene_object obj[SCENE_MAX_OBJ];
     int nobj;
+    struct scene_rope rope[SCENE_MAX_ROPE];
+    int nrope;
     int start, stop; /* a sector scanned back and forth, gradians; start == stop: full turns */
     struct scene_vehicle veh;
 };
@@ -78,7 +91,7 @@ struct scene_rng {
     uint64_t s;
 };
 
-/* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far" or "still"; returns 0, or -1 for an unknown name. */
+/* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far", "still", "faces" or "lanes"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);
 
 /*
@@ -111,7 +124,8 @@ struct scene_seen {
  * [{"id","x","y","radius","t_us","vx","vy"[,"bx","by"]}],"hidden":[{"id","x","y","t_us"}]}]}: x, y, vx,
  * vy in the scene's frame (the world when the vehicle moves, with bx, by in the sonar's); "objects" are the
  * visible ones (what a detector can find); "hidden" are in range but unseen that sweep (faded, or
- * no beam crossed them), which tracking scores as don't-care. seen[sweep * SCENE_MAX_OBJ + k];
+ * no beam crossed them), which tracking scores as don't-care. Structure objects (a ladder) are in
+ * neither: a detection on one is a false object. seen[sweep * SCENE_MAX_OBJ + k];
  * t0_us: the first beam's time.
  */
 int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct scene_seen *seen, long long t0_us);
