@@ -395,6 +395,42 @@ static void test_auto_keeps_tracked_objects_out_of_the_model(void **state)
     assert_int_equal(sonar_background_apply_keep(&bg, 50, s, fg, 100, &keep, 1), SONAR_OK);
 }
 
+/*
+ * Structure learnt at once (sonar_background_apply_spans): a bright echo a seeded row did not learn
+ * stands out; under a learn span the row rises to it first, so the look has no foreground there and
+ * neither has the next, while the rest of the beam is as it was. learnt() after the warm-up only.
+ */
+static void test_learn_spans_raise_the_row(void **state)
+{
+    struct sonar_background_config c = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+    struct sonar_bg_span learn = {10, 20}, bad = {5, 4};
+    uint8_t x[64], fg[64], plain[64];
+    int k;
+    (void)state;
+    assert_int_equal(sonar_background_init(&bg, &c), SONAR_OK);
+    memset(x, 20, sizeof(x));
+    for (k = 0; k < 2; k++) {
+        assert_int_equal(sonar_background_learnt(&bg, 8), 0);
+        assert_int_equal(sonar_background_apply(&bg, 8, x, fg, 64), SONAR_OK);
+    }
+    assert_int_equal(sonar_background_learnt(&bg, 8), 0); /* just seeded */
+    assert_int_equal(sonar_background_apply(&bg, 8, x, fg, 64), SONAR_OK);
+    assert_int_equal(sonar_background_learnt(&bg, 8), 1);
+    assert_int_equal(sonar_background_learnt(&bg, 9), 0); /* another row */
+    memset(x + 10, 150, 10);
+    x[40] = 150; /* outside the span: stands out as before */
+    memcpy(plain, x, sizeof(x));
+    assert_int_equal(sonar_background_apply_spans(&bg, 8, x, fg, 64, NULL, 0, &learn, 1), SONAR_OK);
+    assert_int_equal(sum_fg(fg, 10, 20), 0);
+    assert_true(fg[40] > 0);
+    for (k = 10; k < 20; k++)
+        assert_true(bg.cell[8][k] >= 149);
+    assert_int_equal(sonar_background_apply(&bg, 8, plain, fg, 64), SONAR_OK);
+    assert_int_equal(sum_fg(fg, 10, 20), 0);
+    assert_int_equal(sonar_background_apply_spans(&bg, 8, x, fg, 64, NULL, 0, &bad, 1), SONAR_ERR_ARG);
+    assert_int_equal(sonar_background_apply_spans(&bg, 8, x, fg, 64, NULL, 0, NULL, 1), SONAR_ERR_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -410,6 +446,7 @@ int main(void)
         cmocka_unit_test(test_auto_starts_from_the_across_beam_model),
         cmocka_unit_test(test_auto_keeps_tracked_objects_out_of_the_model),
         cmocka_unit_test(test_world_grid),
+        cmocka_unit_test(test_learn_spans_raise_the_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -189,8 +189,12 @@ static void test_min_beams_and_max_extent(void **state)
     c.min_beams = 2;
     assert_int_equal(run_sweep(&c), 2);
     c.max_extent_m = 3.0f;
-    assert_int_equal(run_sweep(&c), 1);
+    /* The arc is wider than any object: reported after the objects, as structure. */
+    assert_int_equal(run_sweep(&c), 2);
     assert_int_equal(out.det[0].points, 100);
+    assert_int_equal(out.det[0].kind, SONAR_DET_OBJECT);
+    assert_int_equal(out.det[1].points, 31 * 4);
+    assert_int_equal(out.det[1].kind, SONAR_DET_STRUCTURE);
     c.max_extent_m = -1.0f;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
@@ -236,11 +240,13 @@ static void test_split_cuts_wide_group(void **state)
     blob(145, 149, 300, 319, 200);
     blob(105, 144, 310, 310, 60);
     c.max_extent_m = 3.0f;
-    assert_int_equal(run_sweep(&c), 0); /* one group 4.2 m wide: structure */
+    assert_int_equal(run_sweep(&c), 1); /* one group 4.2 m wide: structure, not an object */
+    assert_int_equal(out.det[0].kind, SONAR_DET_STRUCTURE);
     assert_int_equal(out.groups, 1);
     c.split_points = 60;
     assert_int_equal(run_sweep(&c), 2); /* cut in three; the bridge's middle piece is too small */
     for (i = 0; i < 2; i++) {
+        assert_int_equal(out.det[i].kind, SONAR_DET_OBJECT);
         assert_true(out.det[i].points >= 100 && out.det[i].points < 130);
         assert_true(out.det[i].area_m2 < 0.5f);
     }
@@ -252,6 +258,72 @@ static void test_split_cuts_wide_group(void **state)
     c.max_extent_m = 0.0f; /* no width limit: nothing to cut, the group stays whole */
     assert_int_equal(run_sweep(&c), 1);
     assert_int_equal(out.det[0].points, 2 * 100 + 40);
+}
+
+/* Walls and ropes: a thin line wider than max_extent_m is never cut into object-sized pieces, a line with an object on it is. */
+static void test_lines_are_not_cut(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int i;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    blob(100, 160, 300, 305, 120); /* a wall: 61 beams at 6 m (~5.7 m), 6 samples (0.12 m) deep */
+    c.max_extent_m = 3.0f;
+    c.split_points = 60;
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].kind, SONAR_DET_STRUCTURE);
+    assert_int_equal(out.det[0].points, 61 * 6);
+    /* A person against it: 8 beams 30 samples (0.6 m) deep, a bulge on an eighth of the wall's beams. */
+    blob(126, 133, 276, 305, 160);
+    assert_int_equal(run_sweep(&c), 4); /* the person, and the wall's pieces as structure */
+    assert_int_equal(out.det[0].kind, SONAR_DET_OBJECT);
+    for (i = 1; i < 4; i++)
+        assert_int_equal(out.det[i].kind, SONAR_DET_STRUCTURE);
+    assert_true(out.det[0].bearing_deg > 90.0f * 126.0f / 100.0f - 2.0f && out.det[0].bearing_deg < 90.0f * 133.0f / 100.0f + 2.0f);
+    /* Without the cut, the whole of it is structure. */
+    c.split_points = 0;
+    assert_int_equal(run_sweep(&c), 1);
+    assert_int_equal(out.det[0].kind, SONAR_DET_STRUCTURE);
+}
+
+/* Structure never takes an object's place: objects first (max_clusters of them), structure in the room left. */
+static void test_structure_after_objects(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    int a, i;
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    c.max_extent_m = 2.0f;
+    c.max_clusters = SONAR_MAX_CLUSTERS;
+    for (a = 0; a < 6; a++) /* six walls: 21 beams at 9 m (~3 m), larger than any object */
+        blob(a * 60, a * 60 + 20, 450, 453, 100);
+    for (a = 0; a < 10; a++) /* ten objects */
+        blob(a * 39 + 25, a * 39 + 27, 200, 209, (uint8_t)(150 + a));
+    assert_int_equal(run_sweep(&c), SONAR_MAX_CLUSTERS);
+    for (i = 0; i < SONAR_MAX_CLUSTERS; i++)
+        assert_int_equal(out.det[i].kind, i < 10 ? SONAR_DET_OBJECT : SONAR_DET_STRUCTURE);
+    /* Fewer object slots: the objects still come first, and structure takes what is left. */
+    c.max_clusters = 4;
+    assert_int_equal(run_sweep(&c), 4); /* the four largest groups are walls: seeded first, all structure */
+    assert_int_equal(out.det[0].kind, SONAR_DET_STRUCTURE);
+}
+
+/* The cells' area in square metres: the same object is the same area at 1200 or 600 samples. */
+static void test_min_area(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    memset(fg, 0, sizeof(fg));
+    /* 5 beams of 1 gradian x 20 samples of 2 cm at 6.2 m: 100 x 0.0157 rad x 6.2 m x 0.02 m = 0.195 m^2 */
+    blob(100, 104, 300, 319, 200);
+    c.min_area_m2 = 0.19f;
+    assert_int_equal(run_sweep(&c), 1);
+    c.min_area_m2 = 0.2f;
+    assert_int_equal(run_sweep(&c), 0);
+    c.min_area_m2 = -0.1f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+    c.min_area_m2 = (float)SONAR_DET_AREA_MAX + 1.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
 
 static void test_min_range_and_aspect(void **state)
@@ -488,6 +560,9 @@ int main(void)
         cmocka_unit_test(test_min_beams_and_max_extent),
         cmocka_unit_test(test_kmeans_stays_inside_groups),
         cmocka_unit_test(test_split_cuts_wide_group),
+        cmocka_unit_test(test_lines_are_not_cut),
+        cmocka_unit_test(test_structure_after_objects),
+        cmocka_unit_test(test_min_area),
         cmocka_unit_test(test_min_range_and_aspect),
         cmocka_unit_test(test_tracking_confirms_with_fewer_cells),
         cmocka_unit_test(test_linking_matches_brute_force),

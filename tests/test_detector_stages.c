@@ -172,6 +172,26 @@ static int64_t ref_d2(struct sonar_xy a, int32_t x, int32_t y)
     return dx * dx + dy * dy;
 }
 
+/* Is group j a line (detector.h): each beam's first to last cell of it, deeper than SONAR_DET_LINE_M on at most 2/16 of its beams? */
+static int ref_line(const struct sonar_detector *d, uint8_t j)
+{
+    uint16_t b, i, beams = 0, thick = 0;
+    uint32_t line = (uint32_t)((double)SONAR_DET_LINE_M * (double)d->n / (double)d->range_m) + 1u;
+    for (b = 0; b < d->beams; b++) {
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (i = 0; i < d->nruns; i++)
+            if (d->pts[i].w > 0 && d->labels[i] == j && d->runs[i].beam == b) {
+                lo = d->runs[i].start < lo ? d->runs[i].start : lo;
+                hi = d->runs[i].start + d->pts[i].w - 1u > hi ? d->runs[i].start + d->pts[i].w - 1u : hi;
+            }
+        if (lo == UINT32_MAX)
+            continue;
+        beams++;
+        thick = (uint16_t)(thick + (hi - lo + 1u > line));
+    }
+    return 8u * thick <= beams;
+}
+
 static uint8_t ref_cut(struct sonar_detector *d, struct sonar_xy *c, uint8_t *part, uint8_t k)
 {
     uint8_t ng = k, j;
@@ -195,7 +215,7 @@ static uint8_t ref_cut(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
             }
         }
         width = x1 - x0 > y1 - y0 ? x1 - x0 : y1 - y0;
-        if (width <= lim)
+        if (width <= lim || ref_line(d, j))
             continue;
         want = (width + piece - 1) / piece;
         for (i = 0; i < d->nruns; i++)
@@ -320,8 +340,9 @@ static void test_emit_rules_and_detection(void **state)
     det.cfg.min_beams = 6;
     assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
     det.cfg.min_beams = 0;
-    det.cfg.max_extent_m = 0.5f; /* ~1.1 m along the diagonal */
-    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
+    det.cfg.max_extent_m = 0.5f; /* ~1.1 m along the diagonal: structure, not an object */
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 2);
+    assert_int_equal(o.kind, SONAR_DET_STRUCTURE);
     det.cfg.max_extent_m = 0.0f;
     det.cfg.max_aspect = 0.5f;   /* 1 m along, ~0.28 m across */
     assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 0);
@@ -329,6 +350,13 @@ static void test_emit_rules_and_detection(void **state)
     det.cfg.split_points = 60;
     assert_int_equal(sonar_det_accept(&det, 0, &cl, 1, &o, &at), 0); /* a cut piece needs split_points cells */
     assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 1); /* a whole group does not */
+    assert_int_equal(o.kind, SONAR_DET_OBJECT);
+    /* Its beams' depth: 10 cells of 10 cm, not a line at 0.3 m; a cut piece that is a line is a piece of wall. */
+    assert_int_equal(cl.thick, 5);
+    det.cfg.split_points = 0;
+    cl.thick = 0;
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 1, &o, &at), 2);
+    assert_int_equal(sonar_det_accept(&det, 0, &cl, 0, &o, &at), 1);
 }
 
 int main(void)

@@ -133,6 +133,11 @@ static void status_round_trip(void **state)
     s.scan.surveil_pings = 141;
     s.scan.late_looks = 142;
     s.scan.targets_dropped = 143;
+    s.structure.places = 144;
+    s.structure.learnt = 145;
+    s.structure.promoted = 146;
+    s.structure.detections = 147;
+    s.structure.restarts = 148;
     msg_status(&s, &m);
     n = sonar_status_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_true(n > 0);
@@ -206,6 +211,8 @@ static void odd_config(struct sonar_ping360_config *d, struct sonar_pipeline_con
     p->detector.iterations = 9;
     p->detector.link_beams = 3;
     p->detector.min_points = 21;
+    p->detector.min_area_m2 = 0.125f;
+    p->structure_s = 45.0f;
     p->detector.link_m = 0.7f;
     p->detector.angle_offset = 100.0f;
     p->detector.min_beams = 2;
@@ -308,6 +315,7 @@ static void detections_round_trip(void **state)
         o->area_m2 = 0.5f + (float)i;
         o->points = 40 + i;
         o->mean_intensity = 100.0f + (float)i;
+        o->kind = (uint8_t)(i == 1 ? SONAR_DET_STRUCTURE : SONAR_DET_OBJECT);
         o->hull_count = (uint8_t)(3 + i);
         for (v = 0; v < o->hull_count; v++) {
             o->hull_x[v] = (float)(i * 10 + v);
@@ -347,6 +355,7 @@ static void tracks_carry_the_tracker(void **state)
     tk.t[0].hits = 8;
     tk.t[0].misses = 1;
     tk.t[0].det = 2;
+    tk.t[0].kind = SONAR_TRACK_RESTING;
     tk.t[1].id = 4000000000u; /* beyond int32: held at its largest */
     tk.t[1].det = -1;
     msg_tracks(&tk, &d, NULL, t, &m);
@@ -364,6 +373,8 @@ static void tracks_carry_the_tracker(void **state)
     assert_int_equal(in.tracks[0].hits, 8);
     assert_int_equal(in.tracks[0].misses, 1);
     assert_int_equal(in.tracks[0].detection, 2);
+    assert_int_equal(in.tracks[0].kind, SONAR_TRACK_RESTING);
+    assert_int_equal(in.tracks[1].kind, SONAR_TRACK_MOVING);
     assert_int_equal(in.tracks[1].id, 2147483647);
     assert_int_equal(in.tracks[1].detection, -1);
     sonar_tracks_t_decode_cleanup(&in);

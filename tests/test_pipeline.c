@@ -23,6 +23,7 @@ struct log {
     uint8_t world[16], det_world[16];
     float north[16], east[16], speed[16]; /* the first detection in the world; the fastest confirmed track */
     uint8_t confirmed[16];
+    uint8_t objects[16], structure[16]; /* detections of each kind */
 };
 
 static struct sonar_pipeline pipe_;
@@ -42,6 +43,11 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct log *l = user;
     if (l->sweeps < 16) {
+        uint8_t i;
+        for (i = 0; i < d->count; i++) {
+            l->objects[l->sweeps] = (uint8_t)(l->objects[l->sweeps] + (d->det[i].kind == SONAR_DET_OBJECT));
+            l->structure[l->sweeps] = (uint8_t)(l->structure[l->sweeps] + (d->det[i].kind == SONAR_DET_STRUCTURE));
+        }
         l->last_count[l->sweeps] = d->count;
         l->x[l->sweeps] = d->count ? d->det[0].x_m : 0.0f;
         l->y[l->sweeps] = d->count ? d->det[0].y_m : 0.0f;
@@ -74,15 +80,20 @@ static void cfg_init(struct sonar_pipeline_config *c)
     c->user = &lg;
 }
 
-static void push(uint16_t angle, const uint8_t *s, uint16_t n, float range)
+static void push_at(uint16_t angle, const uint8_t *s, uint16_t n, float range, int64_t utime)
 {
     struct sonar_beam b;
-    b.utime = 1000;
+    b.utime = utime;
     b.angle = angle;
     b.n = n;
     b.range_m = range;
     b.samples = s;
     assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+}
+
+static void push(uint16_t angle, const uint8_t *s, uint16_t n, float range)
+{
+    push_at(angle, s, n, range, 1000);
 }
 
 static void test_stage_order_and_sweeps(void **state)
@@ -251,16 +262,10 @@ static void run_vehicle(int with_poses, int bare_rules)
         for (a = 0; a < 400; a++) {
             double t = (turn * 400 + a) * 0.05;
             struct sonar_pose p;
-            struct sonar_beam b;
             vehicle(t, &p);
             assert_int_equal(sonar_pose_push(&ring_, &p), SONAR_OK);
             world_beam(&p, (uint16_t)a, turn >= 3, s);
-            b.utime = p.utime;
-            b.angle = (uint16_t)a;
-            b.n = N;
-            b.range_m = 10.0f;
-            b.samples = s;
-            assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+            push_at((uint16_t)a, s, N, 10.0f, p.utime);
         }
     assert_int_equal(sonar_pipeline_finish(&pipe_), SONAR_OK);
     assert_int_equal(lg.sweeps, 6);
@@ -329,6 +334,7 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     cfg_init(&c);
     c.track = 0;
     c.detector.max_aspect = 0.0f; /* a one-beam speck is also a radial streak: that rule is not the one tested */
+    c.detector.min_area_m2 = 0.0f; /* nor is its area (0.03 m^2) */
     assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
     for (turn = 0; turn < 4; turn++)
         for (a = 0; a < 400; a++) {
@@ -354,9 +360,78 @@ static void test_cfar_across_beams_one_beam_late(void **state)
     assert_int_equal(lg.last_count[3], 2);
 }
 
+/*
+ * Turn t of the structure scene at 4-gradian steps: speckle; a "ladder" there from the first beam
+ * (gradians 100..112, samples 150..169); from turn 4 a "diver" who came in and stands (gradians
+ * 300..312, samples 100..119). Both speckled as an echo is.
+ */
+static void structure_beam(uint8_t *s, int turn, int a)
+{
+    int i;
+    for (i = 0; i < N; i++)
+        s[i] = (uint8_t)(10 + (i * 31 + a * 17 + turn * 7) % 9);
+    if (a >= 100 && a <= 112)
+        for (i = 150; i < 170; i++)
+            s[i] = (uint8_t)(110 + (i * 7 + turn * 13 + a) % 40);
+    if (turn >= 4 && a >= 300 && a <= 312)
+        for (i = 100; i < 120; i++)
+            s[i] = (uint8_t)(110 + (i * 11 + turn * 5 + a) % 40);
+}
+
+/*
+ * Structure learnt as structure (structure.h): what stood there from the first look is an object
+ * until structure_s has passed, then structure (flagged, not tracked), then learnt into the
+ * background; what came in later stands as long as it likes and stays an object. Turns of 10 s.
+ */
+static void test_structure_learnt(void **state)
+{
+    struct sonar_pipeline_config c;
+    uint8_t s[N];
+    int turn, a, first = -1, k;
+    (void)state;
+    memset(&lg, 0, sizeof(lg));
+    cfg_init(&c);
+    c.structure_s = 35.0f;
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
+    for (turn = 0; turn < 14; turn++)
+        for (a = 0; a < 400; a += 4) {
+            structure_beam(s, turn, a);
+            push_at((uint16_t)a, s, N, 10.0f, (int64_t)turn * 10000000 + (int64_t)a * 25000);
+        }
+    assert_int_equal(sonar_pipeline_finish(&pipe_), SONAR_OK);
+    assert_int_equal(lg.sweeps, 14);
+    for (k = 0; k < 14; k++) {
+        if (first < 0 && lg.structure[k] > 0)
+            first = k;
+        /* The diver is an object in every turn from its first on. */
+        if (k >= 4)
+            assert_true(lg.objects[k] >= 1);
+    }
+    /* The ladder: an object while structure_s runs (turns 0-3), then structure at 40 s. */
+    assert_int_equal(first, 4);
+    for (k = 0; k < first; k++)
+        assert_int_equal(lg.objects[k], 1);
+    for (k = first; k < 14; k++)
+        assert_int_equal(lg.objects[k], 1); /* the diver alone */
+    assert_int_equal(sonar_structure_count(&pipe_.st), 1);
+    assert_int_equal(pipe_.st.promoted, 1);
+    /* Learnt at once: from the next turn on it no longer stands out at all. */
+    for (k = first + 1; k < 14; k++)
+        assert_int_equal(lg.structure[k], 0);
+    /* Not tracked: the one confirmed track is the diver's. */
+    for (k = 0; k < pipe_.trk.n; k++)
+        if (pipe_.trk.t[k].state != SONAR_TRACK_TENTATIVE)
+            assert_true(atan2f(pipe_.trk.t[k].py, pipe_.trk.t[k].px) < -1.0f);
+    /* A new range restarts the background and forgets what it had learnt as structure. */
+    push(0, s, N, 12.0f);
+    assert_int_equal(pipe_.st.n, 0);
+    assert_int_equal(pipe_.st.restarts, 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_structure_learnt),
         cmocka_unit_test(test_stage_order_and_sweeps),
         cmocka_unit_test(test_2d_median_flushes_each_sweep),
         cmocka_unit_test(test_geometry_change_cuts_and_resets),

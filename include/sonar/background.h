@@ -141,6 +141,26 @@ SONAR_CHECK int sonar_background_apply_keep(struct sonar_background *bg, uint16_
                                             uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep);
 
 /*
+ * Whether the model has learnt the row of angle (gradians 0..399) past its warm-up, so that what
+ * stands out there now came in after the first looks: 1 once its row has been compared with itself
+ * (per-angle and auto mode, body frame); 0 while it is seeding or was just seeded, and in other
+ * modes and the world grid (no per-angle rows).
+ */
+int sonar_background_learnt(const struct sonar_background *bg, uint16_t angle);
+
+/*
+ * sonar_background_apply_keep with spans to learn at once as well (nlearn of them, learn may be NULL
+ * when 0): in per-angle and auto mode, a seeded row's cells under them first rise to the observation
+ * where it is brighter (so this look has no foreground there), then the row observes it as usual:
+ * structure (a track that never moved, tracker.h) stops standing out at once instead of after a
+ * hundred one-level steps. Other modes and seeding rows ignore them.
+ * Same returns (SONAR_ERR_ARG also for a learn span with lo > hi).
+ */
+SONAR_CHECK int sonar_background_apply_spans(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
+                                             uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep,
+                                             const struct sonar_bg_span *learn, uint8_t nlearn);
+
+/*
  * The world-frame form of sonar_background_apply for per-angle mode (other modes: as
  * sonar_background_apply, the ray's angle being unused): fg[i] from the grid cell under sample i
  * (0 while that cell was never seen, and inside near_m), then the beam's footprint updates the

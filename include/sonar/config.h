@@ -65,7 +65,15 @@
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: 64 bytes each (2 048 B at 32); an update's
+ * Places the structure rule keeps (structure.h): where detections stand, to learn what stood there
+ * since the first look. RAM: 48 bytes each (1 536 B at 32) in struct sonar_pipeline.
+ */
+#ifndef SONAR_MAX_PLACES
+#define SONAR_MAX_PLACES 32
+#endif
+
+/*
+ * Tracks the tracker keeps (tracker.h). RAM: 80 bytes each (2 560 B at 32); an update's
  * SONAR_MAX_CLUSTERS x SONAR_MAX_TRACKS float cost matrix is on the stack (2 048 B).
  */
 #ifndef SONAR_MAX_TRACKS
@@ -105,6 +113,7 @@ SONAR_STATIC_ASSERT(SONAR_MAX_CLUSTERS >= 1 && SONAR_MAX_CLUSTERS <= 64, cluster
 SONAR_STATIC_ASSERT(SONAR_MAX_HULL >= 3, hull_at_least_triangle);
 SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_hull);
 SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
+SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 255, places_1_255);
 SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);
 SONAR_STATIC_ASSERT(SONAR_MAX_SWEEP_BEAMS >= 8 && SONAR_MAX_SWEEP_BEAMS < 65535, sweep_beams);
 

@@ -17,12 +17,16 @@
  * on) are noise and dropped. Each remaining group (at most max_clusters, the largest first) seeds
  * one k-means centre at its centroid; a group wider than max_extent_m, when split_points is set,
  * seeds one centre per max_extent_m / 2 of its width (farthest-point), so that k-means can cut
- * objects joined by a faint bridge or lying on a wall. Lloyd's iterations stay inside each group
+ * objects joined by a faint bridge or lying on a wall, unless the group is a line (below: a wall or a
+ * rope, never cut). Lloyd's iterations stay inside each group
  * (a wall's centre cannot take an object's runs). Each cluster becomes a detection when it has
- * >= min_points cells (>= track_points within track_m of a detection of the previous sweep),
+ * >= min_points cells (>= track_points within track_m of a detection of the previous sweep) covering
+ * >= min_area_m2 square metres,
  * spans >= min_beams beams, lies at >= min_range_m, is no longer along the beam than max_aspect
- * times its width across, is no wider than max_extent_m, and, when cut from a wider group, has
- * >= split_points cells. At most max_clusters detections, the largest first.
+ * times its width across, and, when cut from a wider group, has >= split_points cells. At most
+ * max_clusters detections, the largest first. A cluster that passes every rule but is wider than
+ * max_extent_m is structure (a wall, a rope): reported after the objects, kind SONAR_DET_STRUCTURE,
+ * in the room they leave in the array (SONAR_MAX_CLUSTERS), and never an object.
  *
  * Threshold, SONAR_DET_GLOBAL: a cell is foreground when its value > T, T = max(min_threshold,
  * floor(mean + k std)) over the foreground cells of the previous sweep (the study's rule, one
@@ -48,6 +52,15 @@ enum sonar_det_threshold {
 #define SONAR_DET_ASPECT_MIN 0.1      /* max_aspect: 0 (off) or 0.1..100 */
 #define SONAR_DET_ASPECT_MAX 100
 #define SONAR_DET_TRACK_M_MAX 100     /* metres */
+#define SONAR_DET_AREA_MAX 100        /* min_area_m2: 0..100 square metres */
+/*
+ * A line (a wall, a lane rope, a dock's edge): a group whose extent along each beam is at most
+ * SONAR_DET_LINE_M on all but SONAR_DET_LINE_THICK_16 sixteenths of its beams (a person is 0.5-1 m
+ * deep along the beam; a wall's return is the pulse and its roughness). A line wider than
+ * max_extent_m is never cut by split_points: it is reported whole, as structure.
+ */
+#define SONAR_DET_LINE_M 0.3f
+#define SONAR_DET_LINE_THICK_16 2
 
 struct sonar_detector_config {
     uint8_t threshold_mode; /* enum sonar_det_threshold */
@@ -68,6 +81,14 @@ struct sonar_detector_config {
     float max_aspect;      /* length along the beam / width across, 0 or 0.1..100; 0 = no limit */
     float track_m;         /* gate to the previous sweep's detections, metres, 0..100; 0 = no tracking */
     uint16_t track_points; /* cells a cluster inside the gate needs (used when < min_points) */
+    float min_area_m2;     /* square metres its cells must cover (each r x step x range/n at its range: the
+                              same at every range, unlike a cell count), 0..100; 0 = no such rule */
+};
+
+/* What a detection is: an object, or structure (a track that never moved, tracker.h; a wall or rope). */
+enum sonar_det_kind {
+    SONAR_DET_OBJECT = 0,
+    SONAR_DET_STRUCTURE = 1
 };
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */
@@ -79,6 +100,7 @@ struct sonar_detection {
     float area_m2;          /* area of the hull */
     float mean_intensity;   /* mean foreground level of its cells, 0..255 */
     uint32_t points;        /* cells */
+    uint8_t kind;           /* enum sonar_det_kind */
     uint8_t hull_count;     /* vertices, counter-clockwise; longer hulls are thinned evenly */
     float hull_x[SONAR_MAX_HULL];
     float hull_y[SONAR_MAX_HULL];

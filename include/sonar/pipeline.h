@@ -10,6 +10,7 @@
 #include "sonar/err.h"
 #include "sonar/median.h"
 #include "sonar/scan.h"
+#include "sonar/structure.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
 
@@ -34,6 +35,8 @@ struct sonar_pipeline_config {
     uint16_t max_step; /* gradians; a larger angle move starts a new sweep (1..200) */
     struct sonar_background_config background;
     struct sonar_detector_config detector;
+    float structure_s; /* an echo there from the first look that stands this long is structure, learnt into
+                          the background and reported as such (structure.h), seconds; 0: never */
     uint8_t track; /* 1: track detections across sweeps (tracker below), 0: off */
     struct sonar_tracker_config tracker;
     /* Optional callbacks (NULL to skip), called from inside push/finish. on_sweep comes after the
@@ -56,6 +59,7 @@ struct sonar_pipeline_config {
  */
 #define SONAR_PIPE_ACROSS_GAP 3
 #define SONAR_PIPE_KEEP_MIN_M 0.3f /* auto background: the least radius about a track the per-angle model never learns, metres */
+#define SONAR_PIPE_LEARN_MAX 16     /* structure places a beam learns at once, at most (spans on the stack: 4 B each) */
 
 struct sonar_pipeline {
     const struct sonar_pipeline_config *cfg;
@@ -65,6 +69,7 @@ struct sonar_pipeline {
     struct sonar_background *bg; /* the caller's (sonar_pipeline_init): the one large block, placed where it fits */
     struct sonar_detector det;
     struct sonar_tracker trk; /* used when cfg->track */
+    struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
     struct sonar_detections out;
     /*
      * Beam buffers: the median writes buf[cur] and the background works on it in place. With the
@@ -120,7 +125,7 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg);
  * The detector's rules that go with the range background (the study's median across scans) when
  * nothing else is asked for: the study's mean + k std threshold, 20 cells, no width or aspect
  * limit, sonard's defaults before the CFAR; so the study's configuration replays as it always has.
- * Sets d's threshold_mode, min_points, max_extent_m and max_aspect.
+ * Sets d's threshold_mode, min_points, max_extent_m, max_aspect and min_area_m2 (0: the study has no such rule).
  */
 void sonar_pipeline_study_rules(struct sonar_detector_config *d);
 
@@ -132,6 +137,12 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d);
  * changed).
  */
 SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b);
+
+/*
+ * Restarts the background at every angle (the beams' gain changed, or a recorded background did not
+ * fit them) and forgets the structure learnt with it. p must be initialised.
+ */
+void sonar_pipeline_restart_background(struct sonar_pipeline *p);
 
 /*
  * Schedules cfg (kept by pointer: it must outlive p) to take over when the next sweep starts,

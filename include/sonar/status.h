@@ -61,6 +61,10 @@ struct sonar_status {
         uint32_t interleave;               /* follow: a grid angle every this many passes */
         uint32_t target_pings, surveil_pings, late_looks, targets_dropped; /* struct sonar_scan_counters */
     } scan;                                /* all 0 in sweep mode */
+    struct {
+        uint32_t places, learnt;           /* places seen now (structure.h) and those learnt as structure */
+        uint32_t promoted, detections, restarts; /* its counters since the start */
+    } structure;                           /* all 0 with --structure-s 0 */
 };
 
 /*

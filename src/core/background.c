@@ -393,17 +393,43 @@ static void apply_auto(struct sonar_background *bg, unsigned row, const uint8_t 
     lesser(fg, fga, n);
 }
 
+/* Spans well formed: lo <= hi (those beyond n are clipped where used). */
+static int spans_ok(const struct sonar_bg_span *sp, uint8_t nsp)
+{
+    uint8_t k;
+    if (nsp > 0 && sp == NULL)
+        return 0;
+    for (k = 0; k < nsp; k++)
+        if (sp[k].lo > sp[k].hi)
+            return 0;
+    return 1;
+}
+
+/* The learn spans' cells of the row raised to the observation x where it is brighter: structure's echo learnt at once. */
+static void raise_spans(uint8_t *row, const uint8_t *x, uint16_t n, const struct sonar_bg_span *sp, uint8_t nsp)
+{
+    uint8_t k;
+    for (k = 0; k < nsp; k++) {
+        uint16_t i, hi = sp[k].hi < n ? sp[k].hi : n;
+        for (i = sp[k].lo; i < hi; i++)
+            row[i] = x[i] > row[i] ? x[i] : row[i];
+    }
+}
+
 int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
                                 uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep)
 {
+    return sonar_background_apply_spans(bg, angle, in, fg, n, keep, nkeep, NULL, 0);
+}
+
+int sonar_background_apply_spans(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg,
+                                 uint16_t n, const struct sonar_bg_span *keep, uint8_t nkeep,
+                                 const struct sonar_bg_span *learn, uint8_t nlearn)
+{
     unsigned row;
-    uint8_t k;
     if (bg == NULL || in == NULL || fg == NULL || angle > SONAR_GRAD_MAX || n == 0 || n > SONAR_MAX_SAMPLES ||
-        (nkeep > 0 && keep == NULL))
+        !spans_ok(keep, nkeep) || !spans_ok(learn, nlearn))
         return SONAR_ERR_ARG;
-    for (k = 0; k < nkeep; k++)
-        if (keep[k].lo > keep[k].hi)
-            return SONAR_ERR_ARG;
     if (bg->mode == SONAR_BACKGROUND_OFF) {
         if (fg != in)
             memcpy(fg, in, n);
@@ -419,6 +445,9 @@ int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, con
         bg->n = n;
     }
     row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
+    /* Before the observation, so this look already compares with what it raised (no copy of in needed). */
+    if ((bg->mode == SONAR_BACKGROUND_AUTO || bg->mode == SONAR_BACKGROUND_PER_ANGLE) && bg->visits[row] >= bg->warmup)
+        raise_spans(bg->cell[row], in, n, learn, nlearn);
     if (bg->mode == SONAR_BACKGROUND_AUTO)
         apply_auto(bg, row, in, fg, n, keep, nkeep);
     else
@@ -426,12 +455,24 @@ int sonar_background_apply_keep(struct sonar_background *bg, uint16_t angle, con
     return SONAR_OK;
 }
 
-int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle)
+/* Observations of angle's row, or -1 where there are no per-angle rows (other modes, the world grid). */
+static int row_visits(const struct sonar_background *bg, uint16_t angle)
 {
     if (bg == NULL || bg->world || angle > SONAR_GRAD_MAX ||
         (bg->mode != SONAR_BACKGROUND_PER_ANGLE && bg->mode != SONAR_BACKGROUND_AUTO))
-        return 0;
-    return bg->visits[(unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN] < bg->warmup;
+        return -1;
+    return bg->visits[(unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN];
+}
+
+int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle)
+{
+    int v = row_visits(bg, angle);
+    return v >= 0 && v < (int)bg->warmup;
+}
+
+int sonar_background_learnt(const struct sonar_background *bg, uint16_t angle)
+{
+    return row_visits(bg, angle) > (int)bg->warmup;
 }
 
 int sonar_background_apply(struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n)

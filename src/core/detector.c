@@ -30,6 +30,8 @@ const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
         return "link_m: 0.." SONAR_STR(SONAR_DET_LINK_M_MAX) " metres";
     if (!(c->angle_offset >= -(float)SONAR_DET_ANGLE_OFFSET_MAX && c->angle_offset <= (float)SONAR_DET_ANGLE_OFFSET_MAX))
         return "angle_offset: -" SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) ".." SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) " gradians";
+    if (!(c->min_area_m2 >= 0.0f && c->min_area_m2 <= (float)SONAR_DET_AREA_MAX))
+        return "min_area_m2: 0.." SONAR_STR(SONAR_DET_AREA_MAX) " square metres";
     if (!(c->max_extent_m >= 0.0f && c->max_extent_m <= (float)SONAR_DET_DISTANCE_MAX))
         return "max_extent_m: 0.." SONAR_STR(SONAR_DET_DISTANCE_MAX) " metres";
     if (!(c->min_range_m >= 0.0f && c->min_range_m <= (float)SONAR_DET_DISTANCE_MAX))
@@ -89,7 +91,8 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
 {
     struct sonar_xy c[SONAR_MAX_CLUSTERS], at[SONAR_MAX_CLUSTERS];
     uint8_t part[SONAR_MAX_CLUSTERS];
-    uint8_t k = 0, j, q;
+    uint8_t k = 0, j, q, ns = 0;
+    int r;
     if (d == NULL || out == NULL)
         return SONAR_ERR_ARG;
     out->sweep = d->sweep;
@@ -115,8 +118,14 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
             int cut = 0;
             for (q = 0; q < k; q++)
                 cut |= q != j && part[q] == part[j];
-            if (!sonar_det_accept(d, j, &cl[j], cut, &o, &a))
+            if ((r = sonar_det_accept(d, j, &cl[j], cut, &o, &a)) == 0)
                 continue;
+            if (r == 2) {
+                /* Structure fills the array from its end, in the room objects leave. */
+                if (out->count + ns < SONAR_MAX_CLUSTERS)
+                    out->det[SONAR_MAX_CLUSTERS - 1 - ns++] = o;
+                continue;
+            }
             /* Largest first, at most max_clusters; equal sizes keep cluster order. */
             for (pos = out->count; pos > 0 && out->det[pos - 1].points < o.points; pos--)
                 ;
@@ -124,6 +133,8 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
                 continue;
             if (out->count == d->cfg.max_clusters)
                 out->count--;
+            else if (out->count + ns == SONAR_MAX_CLUSTERS)
+                ns--; /* an object before structure */
             memmove(&out->det[pos + 1], &out->det[pos], (size_t)(out->count - pos) * sizeof(o));
             memmove(&at[pos + 1], &at[pos], (size_t)(out->count - pos) * sizeof(a));
             out->det[pos] = o;
@@ -134,6 +145,9 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
     /* This sweep's objects are the next sweep's tracks. */
     d->ntracks = out->count;
     memcpy(d->tracks, at, (size_t)out->count * sizeof(at[0]));
+    /* Structure after the objects (last found first). */
+    memmove(&out->det[out->count], &out->det[SONAR_MAX_CLUSTERS - ns], (size_t)ns * sizeof(out->det[0]));
+    out->count = (uint8_t)(out->count + ns);
     /* A sweep with no foreground at all (background still seeding, or empty) has no statistics to lend. */
     d->have_prev = 0;
     if (d->cells > 0 && d->sum > 0) {

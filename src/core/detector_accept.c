@@ -46,24 +46,38 @@ static int tracked(const struct sonar_detector *d, int32_t x, int32_t y)
     return 0;
 }
 
-/*
- * Is a cluster of w cells over nbeams beams and samples [rlo, rhi], centroid (x, y) mm, an object?
- * Every rule but the hull's diameter; `cut` = the cluster is a piece of a wider group.
- */
-static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, uint32_t rlo, uint32_t rhi, int32_t x,
-                  int32_t y, int cut)
+/* The sweep's step between beams, gradians (1 for a sweep of one beam). */
+static uint16_t sweep_step(const struct sonar_detector *d)
 {
-    uint64_t need = d->cfg.min_points;
+    uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
+    return step ? step : 1u;
+}
+
+/*
+ * Is cluster cl, centroid (x, y) mm, an object? Every rule but the hull's diameter; `cut` = the
+ * cluster is a piece of a wider group.
+ */
+static int passes(const struct sonar_detector *d, const struct sonar_det_cluster *cl, int32_t x, int32_t y, int cut)
+{
+    uint64_t need = d->cfg.min_points, w = cl->w;
     double rc = sqrt((double)x * x + (double)y * y) / 1000.0;
     if (d->cfg.track_m > 0.0f && d->cfg.track_points < need && tracked(d, x, y))
         need = d->cfg.track_points;
-    if (w < need || nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
+    if (w < need || cl->nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
         return 0;
+    if (d->cfg.min_area_m2 > 0.0f) {
+        /* Each cell is range/n deep and r x step wide at its range r = (sample + 1/2) range/n. */
+        double dr = (double)d->range_m / (double)d->n;
+        if ((double)cl->rw * 0.5 * dr * dr * sonar_frame_rad((double)sweep_step(d)) < (double)d->cfg.min_area_m2)
+            return 0;
+    }
     if (d->cfg.max_aspect > 0.0f) {
         /* Along: the cells' range span. Across: its beams times the sweep's step, at the centroid's range. */
-        uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
+        uint16_t step = sweep_step(d);
+        uint32_t rlo = cl->rlo, rhi = cl->rhi;
+        uint16_t nbeams = cl->nbeams;
         double along = (double)(rhi - rlo + 1u) * (double)d->range_m / (double)d->n;
-        double across = sonar_frame_rad((double)nbeams * (double)(step ? step : 1u)) * rc;
+        double across = sonar_frame_rad((double)nbeams * (double)step) * rc;
         if (along > (double)d->cfg.max_aspect * across)
             return 0;
     }
@@ -72,6 +86,7 @@ static int passes(const struct sonar_detector *d, uint64_t w, uint16_t nbeams, u
 
 void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl)
 {
+    const uint32_t line = sonar_det_line_samples(d);
     uint16_t i;
     uint8_t j;
     for (j = 0; j < k; j++) {
@@ -87,6 +102,7 @@ void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_
             continue;
         q = &cl[d->labels[i]];
         q->w += d->pts[i].w;
+        q->rw += (uint64_t)d->pts[i].w * (2u * (uint32_t)r->start + d->pts[i].w);
         q->sx += (int64_t)d->pts[i].x * d->pts[i].w;
         q->sy += (int64_t)d->pts[i].y * d->pts[i].w;
         end = (uint32_t)r->start + d->pts[i].w - 1u;
@@ -96,10 +112,20 @@ void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_
             q->first = i;
         q->last = i;
         if (r->beam != q->beam) {
+            if (q->beam != 0xFFFFu)
+                q->thick = (uint16_t)(q->thick + ((uint32_t)(q->bhi - q->blo) + 1u > line));
             q->beam = r->beam;
             q->nbeams++;
+            q->blo = r->start;
+            q->bhi = (uint16_t)end;
+        } else {
+            q->blo = r->start < q->blo ? r->start : q->blo;
+            q->bhi = end > q->bhi ? (uint16_t)end : q->bhi;
         }
     }
+    for (j = 0; j < k; j++)
+        if (cl[j].beam != 0xFFFFu)
+            cl[j].thick = (uint16_t)(cl[j].thick + ((uint32_t)(cl[j].bhi - cl[j].blo) + 1u > line));
 }
 
 int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
@@ -110,13 +136,13 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
     int64_t sx = cl->sx, sy = cl->sy;
     uint16_t i, nw = 0, beam = 0xFFFFu;
     uint32_t lo = 0, hi = 0;
-    int h, v;
+    int h, v, wide = 0;
     double c = 1.0, sn = 0.0;
     if (w == 0 || cl->beam == 0xFFFFu)
         return 0;
     at->x = (int32_t)(sx / (int64_t)w);
     at->y = (int32_t)(sy / (int64_t)w);
-    if (!passes(d, w, cl->nbeams, cl->rlo, cl->rhi, at->x, at->y, cut))
+    if (!passes(d, cl, at->x, at->y, cut))
         return 0;
     for (i = cl->first; i <= cl->last; i++) {
         const struct sonar_detector_run *r = &d->runs[i];
@@ -149,13 +175,17 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
         /* hull diameter: the widest pair of vertices (h <= 2 * SONAR_HULL_WORK, once per cluster) */
         int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), lim2 = lim * lim;
         int a, b;
-        for (a = 0; a < h; a++)
+        for (a = 0; a < h && !wide; a++)
             for (b = a + 1; b < h; b++) {
                 int64_t dx = (int64_t)hs.hull[a].x - hs.hull[b].x, dy = (int64_t)hs.hull[a].y - hs.hull[b].y;
-                if (dx * dx + dy * dy > lim2)
-                    return 0;
+                if (dx * dx + dy * dy > lim2) {
+                    wide = 1; /* wider than any object: a wall, a rope, a dock's edge */
+                    break;
+                }
             }
     }
+    /* A piece cut from a wider group that is itself a line is a piece of a wall, not an object. */
+    wide |= cut && sonar_det_thin(cl->thick, cl->nbeams);
     if (d->cfg.angle_offset != 0.0f) {
         double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);
@@ -182,6 +212,7 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
     o->bearing_deg = (float)(o->x_m == 0.0f && o->y_m == 0.0f ? 0.0 : sonar_frame_deg(atan2((double)o->y_m, (double)o->x_m)));
     if (o->bearing_deg < 0.0f)
         o->bearing_deg += 360.0f;
-    return 1;
+    o->kind = wide ? SONAR_DET_STRUCTURE : SONAR_DET_OBJECT;
+    return wide ? 2 : 1;
 }
 

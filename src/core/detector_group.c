@@ -30,17 +30,20 @@ static void box_add(const struct sonar_detector *d, int32_t *b, uint16_t beam, u
  * and r sin a of a monotone r), so only a group's nearest and farthest end cells on a beam can be
  * on the box: the runs come beam by beam, and a group converts two cells a beam, not two a run.
  */
-static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *width)
+static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *width, uint8_t *thin)
 {
     int32_t box[SONAR_MAX_CLUSTERS][4];
     uint16_t beam[SONAR_MAX_CLUSTERS], lo[SONAR_MAX_CLUSTERS], hi[SONAR_MAX_CLUSTERS];
+    uint16_t nb[SONAR_MAX_CLUSTERS], thick[SONAR_MAX_CLUSTERS];
     uint8_t open[SONAR_MAX_CLUSTERS];
+    const uint32_t line = sonar_det_line_samples(d);
     uint16_t i;
     uint8_t j;
     for (j = 0; j < k; j++) {
         box[j][0] = box[j][2] = INT32_MAX;
         box[j][1] = box[j][3] = INT32_MIN;
         open[j] = 0;
+        nb[j] = thick[j] = 0;
     }
     for (i = 0; i < d->nruns; i++) {
         const struct sonar_detector_run *r = &d->runs[i];
@@ -54,17 +57,24 @@ static void group_widths(const struct sonar_detector *d, uint8_t k, int32_t *wid
             hi[j] = end > hi[j] ? end : hi[j];
             continue;
         }
-        if (open[j])
+        if (open[j]) {
             box_add(d, box[j], beam[j], lo[j], hi[j]);
+            nb[j]++;
+            thick[j] = (uint16_t)(thick[j] + ((uint32_t)(hi[j] - lo[j]) + 1u > line));
+        }
         open[j] = 1;
         beam[j] = r->beam;
         lo[j] = r->start;
         hi[j] = end;
     }
     for (j = 0; j < k; j++) {
-        if (open[j])
+        if (open[j]) {
             box_add(d, box[j], beam[j], lo[j], hi[j]);
+            nb[j]++;
+            thick[j] = (uint16_t)(thick[j] + ((uint32_t)(hi[j] - lo[j]) + 1u > line));
+        }
         width[j] = box[j][1] - box[j][0] > box[j][3] - box[j][2] ? box[j][1] - box[j][0] : box[j][3] - box[j][2];
+        thin[j] = (uint8_t)sonar_det_thin(thick[j], nb[j]);
     }
 }
 
@@ -168,6 +178,7 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
 {
     uint16_t root[SONAR_MAX_CLUSTERS];
     int32_t width[SONAR_MAX_CLUSTERS];
+    uint8_t thin[SONAR_MAX_CLUSTERS];
     int64_t sx[SONAR_MAX_CLUSTERS], sy[SONAR_MAX_CLUSTERS];
     uint64_t sw[SONAR_MAX_CLUSTERS];
     uint8_t k = 0, ng, j;
@@ -224,11 +235,12 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
     if (d->cfg.split_points == 0 || !(d->cfg.max_extent_m > 0.0f))
         return k;
     /* Wide groups, largest first, get a centre per half max_extent_m while centres remain. */
-    group_widths(d, k, width);
+    group_widths(d, k, width, thin);
     ng = k;
     for (j = 0; j < ng; j++) {
         int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), piece = lim / 2 > 0 ? lim / 2 : 1;
-        if (width[j] > lim)
+        /* A wall or a rope is never cut into object-sized pieces: it stays whole, and is structure. */
+        if (width[j] > lim && !thin[j])
             k = cut_group(d, c, part, k, j, (width[j] + piece - 1) / piece);
     }
     return k;

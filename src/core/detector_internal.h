@@ -24,10 +24,25 @@ uint8_t sonar_det_seed(struct sonar_detector *d, struct sonar_xy *c, uint8_t *pa
 struct sonar_det_cluster {
     uint64_t w;
     int64_t sx, sy;
+    uint64_t rw;      /* sum over its runs of cells x (2 start + cells): twice its cells' range sum, samples */
     uint32_t rlo, rhi;
     uint16_t nbeams, beam; /* beam: its last run's, 0xFFFF for none */
+    uint16_t blo, bhi;     /* its cells' first and last sample on that beam */
+    uint16_t thick;        /* beams on which it is deeper than SONAR_DET_LINE_M (detector.h) */
     uint16_t first, last;  /* its runs' lowest and highest index */
 };
+
+/* A line's depth along a beam at most (SONAR_DET_LINE_M), in samples of this sweep. */
+static inline uint32_t sonar_det_line_samples(const struct sonar_detector *d)
+{
+    return (uint32_t)((double)SONAR_DET_LINE_M * (double)d->n / (double)d->range_m) + 1u;
+}
+
+/* A line: thin on all but SONAR_DET_LINE_THICK_16 sixteenths of its beams (an object on it is a bulge). */
+static inline int sonar_det_thin(uint32_t thick, uint32_t beams)
+{
+    return 16u * thick <= (uint32_t)SONAR_DET_LINE_THICK_16 * beams;
+}
 
 /* Stage 4, detector_accept.c: cl[j] for the k clusters (labels 0..k-1), in one pass over the runs. */
 void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl);
@@ -35,7 +50,8 @@ void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_
 /*
  * Stage 4: cluster j (cl from sonar_det_clusters) -> detection *o and its device-frame centroid
  * *at (mm), when it passes every rule (cut: it is a piece of a wider group); only then are its runs
- * read again, for the hull and the detection. Returns 1, or 0 when not an object.
+ * read again, for the hull and the detection. Returns 1 (an object), 2 (it passes every rule but is
+ * wider than max_extent_m: structure, o->kind says so), or 0.
  */
 int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
                      struct sonar_detection *o, struct sonar_xy *at);

@@ -32,6 +32,12 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.iterations = 10;
     cfg->detector.link_beams = 2;
     cfg->detector.min_points = 12;
+    /*
+     * Half the cells' area of the smallest object in the scenes (a 0.1 m post through the 2-degree beam
+     * covers 0.08-0.1 m^2 at any range and setting): a noise floor that means the same at 1200 samples
+     * and 1-gradian steps as at 500 and 3, where 12 cells is ten times the area (docs/results.md).
+     */
+    cfg->detector.min_area_m2 = 0.05f;
     cfg->detector.link_m = 0.15f;
     cfg->detector.max_extent_m = 3.5f;
     cfg->detector.max_aspect = 2.0f;
@@ -47,6 +53,7 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d)
     d->min_points = 20;
     d->max_extent_m = 0.0f;
     d->max_aspect = 0.0f;
+    d->min_area_m2 = 0.0f;
 }
 
 const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
@@ -65,6 +72,8 @@ const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
         return "track: 0 (off) or 1 (on)";
     if (cfg->track && (why = sonar_tracker_config_check(&cfg->tracker)) != NULL)
         return why;
+    if (!(cfg->structure_s == 0.0f || (cfg->structure_s >= 1.0f && cfg->structure_s <= (float)SONAR_STRUCTURE_S_MAX)))
+        return "structure_s: 0 (never) or 1.." SONAR_STR(SONAR_STRUCTURE_S_MAX) " seconds";
     return sonar_detector_config_check(&cfg->detector);
 }
 
@@ -85,7 +94,15 @@ int sonar_pipeline_init(struct sonar_pipeline *p, struct sonar_background *bg, c
         return r;
     if (cfg->track && (r = sonar_tracker_init(&p->trk, &cfg->tracker)) != SONAR_OK)
         return r;
+    if ((r = sonar_structure_init(&p->st, cfg->structure_s)) != SONAR_OK)
+        return r;
     return sonar_detector_init(&p->det, &cfg->detector);
+}
+
+void sonar_pipeline_restart_background(struct sonar_pipeline *p)
+{
+    sonar_background_reset(p->bg);
+    sonar_structure_restart(&p->st);
 }
 
 static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
@@ -159,40 +176,59 @@ static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t an
 }
 
 /*
- * The auto background's keep spans for a beam at angle (body frame only): the samples within the
- * disc about each confirmed or coasting track, where it was last seen, of its last detection's
- * radius (at least SONAR_PIPE_KEEP_MIN_M), when the beam's axis crosses that disc. Computed here
- * per beam from the tracks (a cosine and a sine, then a few products a track), so nothing is
- * stored for it.
+ * The samples of a beam at angle whose axis crosses the disc of radius rad about (x, y) (metres,
+ * output frame; c, s the axis's cosine and sine, per_m samples a metre), as a span; 0 if none.
  */
-static uint8_t keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp)
+static int disc_span(const struct sonar_pipeline *p, double c, double s, double per_m, double x, double y, double rad,
+                     struct sonar_bg_span *sp)
+{
+    double along = x * c + y * s, perp = fabs(y * c - x * s), r, lo, hi;
+    if (!(along > 0.0) || !(perp <= rad))
+        return 0;
+    r = sqrt(x * x + y * y);
+    lo = (r - rad) * per_m;
+    hi = (r + rad) * per_m + 1.0;
+    if (hi <= 0.0 || lo >= (double)p->n)
+        return 0;
+    sp->lo = (uint16_t)(lo > 0.0 ? lo : 0.0);
+    sp->hi = (uint16_t)(hi < (double)p->n ? hi : (double)p->n);
+    return 1;
+}
+
+/*
+ * The background's spans for a beam at angle (body frame only). Keep (auto mode, never learnt): the
+ * samples within the disc about each confirmed or coasting track, where it was last seen, of its last
+ * detection's radius (at least SONAR_PIPE_KEEP_MIN_M). Learn (per-angle and auto mode, learnt at
+ * once): the disc of each structure place (structure.h). Computed here per beam (a cosine and a
+ * sine, then a few products a disc), so nothing is stored for it. Returns the keep spans' count;
+ * *nlearn the learn spans'.
+ */
+static uint8_t keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp,
+                          struct sonar_bg_span *learn, uint8_t *nlearn)
 {
     double th, c, s, per_m;
     uint8_t k, m = 0;
-    if (p->cfg->background.mode != SONAR_BACKGROUND_AUTO || !p->cfg->track || p->trk.world)
+    const int auto_mode = p->cfg->background.mode == SONAR_BACKGROUND_AUTO;
+    *nlearn = 0;
+    if ((!auto_mode && p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE) || p->trk.world)
         return 0;
     th = sonar_frame_rad((double)angle + (double)p->cfg->detector.angle_offset);
     c = cos(th);
     s = sin(th);
     per_m = (double)p->n / (double)p->range_m;
-    for (k = 0; k < p->trk.n && m < SONAR_MAX_TRACKS; k++) {
+    for (k = 0; auto_mode && p->cfg->track && k < p->trk.n && m < SONAR_MAX_TRACKS; k++) {
         const struct sonar_track *t = &p->trk.t[k];
-        double rad = (double)t->size_dm * 0.1, along, perp, r, lo, hi;
+        double rad = (double)t->size_dm * 0.1;
         if (t->state == SONAR_TRACK_TENTATIVE)
             continue;
         rad = rad > (double)SONAR_PIPE_KEEP_MIN_M ? rad : (double)SONAR_PIPE_KEEP_MIN_M;
-        along = (double)t->px * c + (double)t->py * s;
-        perp = fabs((double)t->py * c - (double)t->px * s);
-        if (!(along > 0.0) || !(perp <= rad))
-            continue;
-        r = sqrt((double)t->px * t->px + (double)t->py * t->py);
-        lo = (r - rad) * per_m;
-        hi = (r + rad) * per_m + 1.0;
-        if (hi <= 0.0 || lo >= (double)p->n)
-            continue;
-        sp[m].lo = (uint16_t)(lo > 0.0 ? lo : 0.0);
-        sp[m].hi = (uint16_t)(hi < (double)p->n ? hi : (double)p->n);
-        m++;
+        m = (uint8_t)(m + disc_span(p, c, s, per_m, (double)t->px, (double)t->py, rad, &sp[m]));
+    }
+    for (k = 0; k < p->st.n && *nlearn < SONAR_PIPE_LEARN_MAX; k++) {
+        const struct sonar_place *q = &p->st.p[k];
+        double rad = (double)q->radius > (double)SONAR_PIPE_KEEP_MIN_M ? (double)q->radius : (double)SONAR_PIPE_KEEP_MIN_M;
+        if (q->structure)
+            *nlearn = (uint8_t)(*nlearn + disc_span(p, c, s, per_m, (double)q->x, (double)q->y, rad, &learn[*nlearn]));
     }
     return m;
 }
@@ -222,6 +258,17 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
                                  : NULL;
     if (next != NULL && sonar_frame_gap(next_angle, p->wait_angle) > SONAR_PIPE_ACROSS_GAP)
         next = NULL;
+    /*
+     * A beam with one neighbour (a sector's end, where the head turns back; a sweep's first or last
+     * beam) takes that neighbour for the missing one too: a window over two beams instead of three
+     * is noisier (a speck in the edge beam, or the beam that looks along the wall the sonar is
+     * mounted on, is diluted by one neighbour instead of two) and passed more often than the same
+     * echo inside the sector.
+     */
+    if (before == NULL && next != NULL)
+        before = next;
+    else if (next == NULL && before != NULL)
+        next = before;
     r = sonar_cfar_blocks_sums(&p->cfg->detector.cfar, alone ? NULL : before, p->wait_sums, alone ? NULL : next, p->n, on,
                                NULL);
     if (r < 0)
@@ -238,15 +285,18 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
 /* Median output (in buf[cur]) -> background, in place -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
-    struct sonar_bg_span sp[SONAR_MAX_TRACKS];
+    struct sonar_bg_span sp[SONAR_MAX_TRACKS], learn[SONAR_PIPE_LEARN_MAX];
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
-    uint8_t *b = p->buf[p->cur];
+    uint8_t *b = p->buf[p->cur], nkeep, nlearn;
     int r, done, seeding = sonar_background_seeding(p->bg, angle);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
-    if (!done && (r = sonar_background_apply_keep(p->bg, angle, b, b, p->n, sp, keep_spans(p, angle, sp))) != SONAR_OK)
-        return r;
+    if (!done) {
+        nkeep = keep_spans(p, angle, sp, learn, &nlearn);
+        if ((r = sonar_background_apply_spans(p->bg, angle, b, b, p->n, sp, nkeep, learn, nlearn)) != SONAR_OK)
+            return r;
+    }
     tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
@@ -280,8 +330,11 @@ static int switch_config(struct sonar_pipeline *p)
     if (c->track && (r = old->track ? sonar_tracker_tune(&p->trk, &c->tracker)
                                     : sonar_tracker_init(&p->trk, &c->tracker)) != SONAR_OK)
         return r;
+    if ((r = sonar_structure_tune(&p->st, c->structure_s)) != SONAR_OK)
+        return r;
     if (!fresh)
         return sonar_background_tune(p->bg, &c->background);
+    sonar_structure_restart(&p->st);
     /* The filtered values the model learned no longer match: relearn from the next beam. */
     if ((r = sonar_sweep_init(&p->sweep, c->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
         return r;
@@ -345,7 +398,7 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         if ((r = end_sweep(p)) != SONAR_OK)
             return r;
         p->geometry_changes++;
-        sonar_background_reset(p->bg);
+        sonar_pipeline_restart_background(p);
         if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
             return r;
     }

@@ -106,6 +106,25 @@ static float det_radius(const struct sonar_detection *d)
     return best;
 }
 
+/*
+ * Whether a detection lies where the background had not learnt the place when the sweep ended: the
+ * row of the sweep's beam nearest its bearing (a sector scanned back and forth at 3 gradians visits
+ * a row every other pass, and some rows never) still seeding or just seeded.
+ */
+static int first_look(const struct sonar_pipeline *p, const struct sonar_detection *d)
+{
+    const uint16_t *a = sonar_detector_angles(&p->det);
+    double g = (double)d->bearing_deg / SONAR_DEG_PER_GRAD - (double)p->cfg->detector.angle_offset;
+    int at = sonar_frame_wrap((int)floor(g + 0.5)), best = SONAR_GRAD_TURN, e;
+    uint16_t i, row = (uint16_t)at;
+    for (i = 0; i < p->out.beams; i++)
+        if ((e = sonar_frame_gap(a[i], (uint16_t)at)) < best) {
+            best = e;
+            row = a[i];
+        }
+    return !sonar_background_learnt(p->bg, row);
+}
+
 /* Where a sweep's detections were in the world, when the poses say. */
 struct located {
     uint8_t world;                 /* every detection and the sweep's last beam have a pose */
@@ -177,7 +196,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
 {
     struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
     struct sonar_tracker_sweep sw;
-    uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0;
+    uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0, no = 0, map[SONAR_MAX_CLUSTERS];
     float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS];
     const int world = w->world;
     int64_t ahead;
@@ -191,11 +210,16 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
         sonar_tracker_reframe(&p->trk, &p->last_pose, 0);
         p->body_sweeps++;
     }
+    /* Objects only: structure is not tracked (no track, so no keep, can hold it out of the background). */
     for (i = 0; i < p->out.count; i++) {
-        obs[i].x_m = world ? w->north[i] : p->out.det[i].x_m;
-        obs[i].y_m = world ? w->east[i] : p->out.det[i].y_m;
-        obs[i].utime = p->out.det[i].utime;
-        obs[i].size_m = det_radius(&p->out.det[i]);
+        if (p->out.det[i].kind != SONAR_DET_OBJECT)
+            continue;
+        map[no] = i;
+        obs[no].x_m = world ? w->north[i] : p->out.det[i].x_m;
+        obs[no].y_m = world ? w->east[i] : p->out.det[i].y_m;
+        obs[no].utime = p->out.det[i].utime;
+        obs[no].size_m = det_radius(&p->out.det[i]);
+        no++;
     }
     if (have_cover && world)
         world_cover(p, cover);
@@ -208,8 +232,11 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     sw.max_range_m = have_cover ? p->range_m : (float)SONAR_PIPE_MAX_RANGE_M;
     sw.origin_x = world ? w->pose.north_m : 0.0f;
     sw.origin_y = world ? w->pose.east_m : 0.0f;
-    if ((r = sonar_tracker_update(&p->trk, obs, p->out.count, &sw)) != SONAR_OK)
+    if ((r = sonar_tracker_update(&p->trk, obs, no, &sw)) != SONAR_OK)
         return r;
+    for (i = 0; i < p->trk.n; i++)
+        if (p->trk.t[i].det >= 0)
+            p->trk.t[i].det = (int8_t)map[p->trk.t[i].det]; /* back to the sweep's own numbering */
     if (!(p->cfg->detector.track_m > 0.0f) || world || !have_cover)
         return SONAR_OK;
     ahead = p->out.utime + (p->out.utime - sonar_detector_t0(&p->det));
@@ -223,11 +250,46 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     return sonar_detector_set_tracks(&p->det, gx, gy, n);
 }
 
+/*
+ * The sweep's structure (structure.h), in the body frame (the world grid learns what stands still
+ * there as it is): each detection joins its place, and those at structure places become structure.
+ */
+static int structure(struct sonar_pipeline *p, const struct located *w)
+{
+    struct sonar_structure_obs o[SONAR_MAX_CLUSTERS];
+    uint8_t is[SONAR_MAX_CLUSTERS], i;
+    int r;
+    uint8_t n = 0, map[SONAR_MAX_CLUSTERS];
+    if (w->world || p->cfg->structure_s <= 0.0f)
+        return SONAR_OK;
+    /* Objects only: what the detector called structure (wider than any object) is already that. */
+    for (i = 0; i < p->out.count; i++) {
+        if (p->out.det[i].kind != SONAR_DET_OBJECT)
+            continue;
+        map[n] = i;
+        o[n].x_m = p->out.det[i].x_m;
+        o[n].y_m = p->out.det[i].y_m;
+        o[n].radius_m = det_radius(&p->out.det[i]);
+        o[n].utime = p->out.det[i].utime;
+        o[n].first_look = (uint8_t)first_look(p, &p->out.det[i]);
+        n++;
+    }
+    if ((r = sonar_structure_sweep(&p->st, o, n, p->out.utime, is)) < 0)
+        return r;
+    for (i = 0; i < n; i++)
+        if (is[i])
+            p->out.det[map[i]].kind = SONAR_DET_STRUCTURE;
+    return SONAR_OK;
+}
+
 int sonar_pipe_finish_sweep(struct sonar_pipeline *p, int have_cover)
 {
     struct located w;
+    int r;
     locate(p, &p->out, &w);
     drop_repeats(p, &p->out, &w);
+    if ((r = structure(p, &w)) != SONAR_OK)
+        return r;
     p->out.world = (uint8_t)(w.world && p->cfg->track);
     return p->cfg->track ? track(p, &w, have_cover) : SONAR_OK;
 }

@@ -17,6 +17,11 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
         s->tracker.clock_back = p->trk.clock_back;
         s->tracker.overflow = p->trk.overflow;
     }
+    s->structure.places = p->st.n;
+    s->structure.learnt = sonar_structure_count(&p->st);
+    s->structure.promoted = p->st.promoted;
+    s->structure.detections = p->st.detections;
+    s->structure.restarts = p->st.restarts;
     s->pose.world_sweeps = p->world_sweeps;
     s->pose.body_sweeps = p->body_sweeps;
 }

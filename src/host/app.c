@@ -77,6 +77,13 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
     app_gain_sweep(a, d->sweep);
+    if (a->pipe.st.promoted != a->structure_said) {
+        a->structure_said = a->pipe.st.promoted;
+        app_say(a, "structure: %u place%s learnt as structure at sweep %u (there since the first look and still for "
+                   "%.0f s): learnt into the background, reported as structure, not objects",
+                sonar_structure_count(&a->pipe.st), sonar_structure_count(&a->pipe.st) == 1 ? "" : "s", (unsigned)d->sweep,
+                (double)a->pipe.cfg->structure_s);
+    }
     to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
 }
 
@@ -196,10 +203,10 @@ int app_push(struct app *a, const struct sonar_record *b)
     if (b->gain >= 0) {
         if (a->last_gain >= 0 && b->gain != a->last_gain) {
             /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
-            sonar_background_reset(a->pipe.bg);
+            sonar_pipeline_restart_background(&a->pipe);
             a->bg_restarts++;
             app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
-                    "afresh over its warm-up", (int)b->gain, (double)b->utime * 1e-6, (int)a->last_gain);
+                    "afresh over its warm-up (structure too)", (int)b->gain, (double)b->utime * 1e-6, (int)a->last_gain);
         }
         a->last_gain = b->gain;
     }
@@ -219,7 +226,7 @@ int app_push(struct app *a, const struct sonar_record *b)
         }
         if (a->pipe.geometry_changes != changes)
             app_say(a, "range: %u samples over %.2f m from the beam at %.3f s (was %u over %.2f m): the sweep was cut "
-                    "there and the background starts afresh",
+                    "there and the background (and its structure) starts afresh",
                     pb.n, (double)pb.range_m, (double)pb.utime * 1e-6, was_n, (double)was_m);
     }
     a->proc_us[a->nproc++ % APP_PROC_RING] = (float)((double)(a->clock.mono_ns(a->clock.user) - t0) * 1e-3);

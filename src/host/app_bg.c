@@ -43,7 +43,7 @@ void app_background_first_beam(struct app *a, const struct sonar_record *b)
     /* The range is the sample period times the speed of sound: 1 mm covers rounding, not another setting. */
     if (b->n == m->n && fabs(range_mm - (double)m->range_mm) <= 1.0 && !gain_off)
         return;
-    sonar_background_reset(a->pipe.bg);
+    sonar_pipeline_restart_background(&a->pipe);
     a->bg_restarts++;
     app_say(a, "background: the loaded file was recorded at %u samples over %.3f m, gain %d; the sonar gives %u over "
                "%.3f m, gain %d: refused, the background learns afresh",

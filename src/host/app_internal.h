@@ -22,6 +22,7 @@ struct app {
     uint32_t bg_restarts;       /* backgrounds restarted for a change of the beams' gain */
     struct sonar_bgfile_meta bg_file; /* a loaded background: what it is a model of (app_bg.c) ... */
     int bg_pending;             /* ... still to be checked against the first beam */
+    uint32_t structure_said;    /* places promoted to structure when it was last said */
     struct app_clock clock;
     app_log_fn log;
     void *log_user;

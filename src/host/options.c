@@ -285,6 +285,9 @@ static const struct opt_spec spec[] = {
      "cells must exceed at least T", NULL, NULL},
     {"clusters", "MAX", OPT_U8, 1, 1, D(max_clusters), 1, SONAR_MAX_CLUSTERS, "clusters", "8", "most detections per sweep", NULL, NULL},
     {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "12; 20 with --background range", "cells a detection needs", NULL, NULL},
+    {"min-area", "M2", OPT_F32, 1, 1, D(min_area_m2), 0, SONAR_DET_AREA_MAX, "square metres (0 = no rule)",
+     "0.05; 0 with --background range",
+     "square metres a detection's cells must cover (the same at every range and\nsetting, unlike --min-points: a cell is range/samples deep and r x step wide)", NULL, NULL},
     {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams (0 or 1: any)", "0", "beams a detection must span", NULL, NULL},
     {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "3.5; 0 with --background range",
      "drop detections wider than M (structure: walls, lane ropes)", NULL, NULL},
@@ -323,6 +326,8 @@ static const struct opt_spec spec[] = {
      "visible sweeps --track-confirm counts over", NULL, NULL},
     {"track-misses", "N", OPT_U8, 1, 1, T(max_misses), 1, 127, "sweeps", "2",
      "visible sweeps in a row without a detection that end a confirmed track\n(twice as many without one, in view or not, also do)", NULL, NULL},
+    {"structure-s", "S", OPT_F32, 1, 1, P(structure_s), 0, SONAR_STRUCTURE_S_MAX, "seconds (0 = never)", "0",
+     "an echo there from the first look (before the background knew the place)\nthat stays within 1 m for S seconds is structure: learnt into the\nbackground, reported as structure, not tracked. A person motionless from\nthe first ping is the same to it: see docs/configuration.md", NULL, NULL},
     SECTION("output"),
     {"json", NULL, OPT_FLAG, 1, 0, F(json), 0, 0, NULL, "off", "one JSON line per sweep on stdout", NULL, NULL},
     {"quiet", NULL, OPT_FLAG, 1, 0, F(quiet), 0, 0, NULL, "off", "no per-sweep text and no summary", NULL, NULL},
@@ -398,6 +403,8 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
             o->pipeline.detector.max_extent_m = d.detector.max_extent_m;
         if (!given(o, "max-aspect"))
             o->pipeline.detector.max_aspect = d.detector.max_aspect;
+        if (!given(o, "min-area"))
+            o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
     }
     if (o->pose_lcm != NULL && o->replay != NULL) {
         snprintf(err, errlen, "--pose-lcm URL is for a live sonar; a replay takes --pose FILE.csv");

@@ -29,6 +29,8 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         fputs("]", f);
         if (v != NULL && v->det_world[i])
             fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f", (double)v->det_north[i], (double)v->det_east[i]);
+        if (o->kind == SONAR_DET_STRUCTURE) /* objects carry no kind: their lines are as they always were */
+            fputs(",\"kind\":\"structure\"", f);
         fputs("}", f);
     }
     fputs("]", f);
@@ -49,6 +51,8 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,
                         (double)t->py, (double)t->vx, (double)t->vy);
+            if (t->kind != SONAR_TRACK_MOVING) /* moving tracks' lines are as they always were */
+                fprintf(f, ",\"kind\":\"%s\"", sonar_track_kind_str(t->kind));
             fputs("}", f);
         }
         fputs("]", f);
@@ -67,9 +71,9 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                 (double)v->pose.north_m, (double)v->pose.east_m, (double)v->pose.yaw_deg, v->world ? "world" : "body");
     for (i = 0; i < d->count; i++) {
         const struct sonar_detection *o = &d->det[i];
-        fprintf(f, "  #%u  x %7.2f m  y %7.2f m  range %6.2f m  bearing %6.1f deg  area %6.3f m2  %5" PRIu32 " cells  mean %5.1f\n",
+        fprintf(f, "  #%u  x %7.2f m  y %7.2f m  range %6.2f m  bearing %6.1f deg  area %6.3f m2  %5" PRIu32 " cells  mean %5.1f%s\n",
                 i + 1, (double)o->x_m, (double)o->y_m, (double)o->range_m, (double)o->bearing_deg, (double)o->area_m2,
-                o->points, (double)o->mean_intensity);
+                o->points, (double)o->mean_intensity, o->kind == SONAR_DET_STRUCTURE ? "  structure" : "");
     }
     for (i = 0; tk != NULL && i < tk->n; i++) {
         const struct sonar_track *t = &tk->t[i];
@@ -80,6 +84,8 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         if (v != NULL && v->world)
             fprintf(f, "  N %8.2f E %8.2f m  vN %6.2f vE %6.2f m/s", (double)t->px, (double)t->py, (double)t->vx,
                     (double)t->vy);
+        if (t->kind != SONAR_TRACK_MOVING)
+            fprintf(f, "  %s", sonar_track_kind_str(t->kind));
         fputs(t->det >= 0 ? "\n" : "  (no detection)\n", f);
     }
     return ferror(f) ? -1 : 0;

@@ -20,6 +20,7 @@ void msg_detections(const struct sonar_detections *d, const struct msg_view *v, 
         det[i].world = (int8_t)(v != NULL && v->det_world[i]);
         det[i].north_m = det[i].world ? v->det_north[i] : 0.0f;
         det[i].east_m = det[i].world ? v->det_east[i] : 0.0f;
+        det[i].kind = (int8_t)o->kind;
         det[i].hull_count = o->hull_count;
         det[i].hull_x = (float *)(uintptr_t)o->hull_x; /* encode only reads them */
         det[i].hull_y = (float *)(uintptr_t)o->hull_y;
@@ -61,6 +62,7 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
         t->area_m2 = o->area_m2;
         t->points = o->points < 0 ? 0u : (uint32_t)o->points;
         t->mean_intensity = o->mean_intensity;
+        t->kind = o->kind == SONAR_DET_STRUCTURE ? SONAR_DET_STRUCTURE : SONAR_DET_OBJECT;
         t->hull_count = (uint8_t)(o->hull_count < 0 ? 0 : o->hull_count > SONAR_MAX_HULL ? SONAR_MAX_HULL : o->hull_count);
         for (v = 0; v < t->hull_count; v++) {
             t->hull_x[v] = o->hull_x[v];
@@ -101,6 +103,7 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].misses = to_i16(s->misses);
         t[i].detection = s->det;
         t[i].still_s = sonar_track_still_s(s, d->utime);
+        t[i].kind = (int8_t)s->kind;
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;

@@ -60,6 +60,8 @@ void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipelin
     c->track_max_misses = (int16_t)p->tracker.max_misses;
     c->track_max_dt_s = p->tracker.max_dt_s;
     c->beam_every = (int16_t)(beam_every > 32767u ? 32767u : beam_every);
+    c->min_area_m2 = p->detector.min_area_m2;
+    c->structure_s = p->structure_s;
 }
 
 /* A wire integer into a narrower field; one that does not fit becomes `bad`, which the core's checks refuse by name. */
@@ -131,4 +133,6 @@ void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_
     p->tracker.max_misses = to_u8(c->track_max_misses, 0);
     p->tracker.max_dt_s = c->track_max_dt_s;
     *beam_every = (uint16_t)(c->beam_every < 0 ? 0 : c->beam_every);
+    p->detector.min_area_m2 = c->min_area_m2;
+    p->structure_s = c->structure_s;
 }

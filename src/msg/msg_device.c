@@ -111,6 +111,11 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->scan_surveil_pings = s->scan.surveil_pings;
     m->scan_late_looks = s->scan.late_looks;
     m->scan_targets_dropped = s->scan.targets_dropped;
+    m->structure_places = (int16_t)(s->structure.places > 32767u ? 32767u : s->structure.places);
+    m->structure_learnt = (int16_t)(s->structure.learnt > 32767u ? 32767u : s->structure.learnt);
+    m->structure_promoted = s->structure.promoted;
+    m->structure_detections = s->structure.detections;
+    m->structure_restarts = s->structure.restarts;
 }
 
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
@@ -178,6 +183,11 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->scan.surveil_pings = to_u32(m->scan_surveil_pings);
     s->scan.late_looks = to_u32(m->scan_late_looks);
     s->scan.targets_dropped = to_u32(m->scan_targets_dropped);
+    s->structure.places = m->structure_places < 0 ? 0u : (uint32_t)m->structure_places;
+    s->structure.learnt = m->structure_learnt < 0 ? 0u : (uint32_t)m->structure_learnt;
+    s->structure.promoted = to_u32(m->structure_promoted);
+    s->structure.detections = to_u32(m->structure_detections);
+    s->structure.restarts = to_u32(m->structure_restarts);
 }
 
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)

@@ -54,7 +54,7 @@ static const struct opt_spec sim_spec[] = {
     {"sweeps", "N", OPT_LONG, 0, 0, SO(sweeps), 1, 100000, "sweeps", "the scene's", "sweeps to write", NULL, NULL},
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "speckle random seed", NULL, parse_seed},
     {"empty", NULL, OPT_FLAG, 0, 0, SO(empty), 0, 0, NULL, NULL,
-     "the scene without its objects (walls and water only): a recording of the empty pool, for --background-save",
+     "the scene without its objects (walls, ropes, structure and water only): a recording of the empty pool, for\n--background-save",
      NULL, NULL},
     {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
 };
@@ -96,8 +96,14 @@ int main(int argc, char **argv)
     }
     if (sweeps > 0)
         s.sweeps = sweeps;
-    if (o.empty)
-        s.nobj = 0;
+    if (o.empty) {
+        /* The place as it is with nobody in it: its structure (a ladder) stays. */
+        int k, m = 0;
+        for (k = 0; k < s.nobj; k++)
+            if (s.obj[k].structure)
+                s.obj[m++] = s.obj[k];
+        s.nobj = m;
+    }
     if ((csv = fopen(csv_path, "w")) == NULL || (truth = fopen(truth_path, "w")) == NULL) {
         perror("sonar_sim");
         return 2;

@@ -117,12 +117,13 @@ def lcm_setup(url, hub, types_dir):
     def on_det(data):
         m = detections_t.decode(data)
         hub.text({"kind": "detections", "sweep": m.sweep, "utime": m.utime, "detections": [
-            {"x": d.x_m, "y": d.y_m, "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]} for d in m.detections]})
+            {"x": d.x_m, "y": d.y_m, "structure": d.kind == 1, "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]}
+            for d in m.detections]})
 
     def on_trk(data):
         m = tracks_t.decode(data)
         hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
-            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
+            {"id": k.id, "state": k.state, "resting": k.kind == 1, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
 
     def on_status(data):
         m = status_t.decode(data)

@@ -89,13 +89,16 @@ function rings() {
 
 function shapes() {
   octx.lineWidth = 2;
-  octx.strokeStyle = "#ff5c5c";
   for (const d of view.detections) {
     if (!d.hull.length) continue;
+    // objects in red; structure (walls, ropes, what stood still since the first look) dashed grey
+    octx.strokeStyle = d.structure ? "rgba(190,190,190,0.7)" : "#ff5c5c";
+    octx.setLineDash(d.structure ? [5, 4] : []);
     octx.beginPath();
     d.hull.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
     octx.closePath(); octx.stroke();
   }
+  octx.setLineDash([]);
   octx.font = "bold 13px system-ui";
   for (const t of view.tracks) {
     const trail = view.trails.get(t.id) || [];
@@ -106,7 +109,7 @@ function shapes() {
     const [u, v] = view.toPixel(t.x, t.y);
     octx.fillStyle = t.state === 1 ? "#5ac8ff" : "#9aa5b1";
     octx.beginPath(); octx.arc(u, v, 4, 0, 2 * Math.PI); octx.fill();
-    octx.fillText("#" + t.id, u + 6, v - 6);
+    octx.fillText("#" + t.id + (t.resting ? " resting" : ""), u + 6, v - 6);
   }
 }
 

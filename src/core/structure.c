@@ -1,0 +1,127 @@
+/* structure.c -- places where detections stand, promoted to structure (structure.h); O(detections x places) a sweep, no heap. */
+#include "sonar/structure.h"
+
+#include <math.h>
+#include <string.h>
+
+static int valid_s(float structure_s)
+{
+    return structure_s == 0.0f || (structure_s >= 1.0f && structure_s <= (float)SONAR_STRUCTURE_S_MAX);
+}
+
+int sonar_structure_init(struct sonar_structure *s, float structure_s)
+{
+    if (s == NULL || !valid_s(structure_s))
+        return SONAR_ERR_ARG;
+    memset(s, 0, sizeof(*s));
+    s->structure_s = structure_s;
+    return SONAR_OK;
+}
+
+int sonar_structure_tune(struct sonar_structure *s, float structure_s)
+{
+    if (s == NULL || !valid_s(structure_s))
+        return SONAR_ERR_ARG;
+    s->structure_s = structure_s;
+    return SONAR_OK;
+}
+
+void sonar_structure_restart(struct sonar_structure *s)
+{
+    s->n = 0;
+    s->restarts++;
+}
+
+unsigned sonar_structure_count(const struct sonar_structure *s)
+{
+    unsigned k, c = 0;
+    for (k = 0; k < s->n; k++)
+        c += s->p[k].structure;
+    return c;
+}
+
+/* The nearest place within SONAR_PLACE_M of (x, y), or -1. */
+static int nearest(const struct sonar_structure *s, float x, float y)
+{
+    float best = SONAR_PLACE_M * SONAR_PLACE_M;
+    int k, at = -1;
+    for (k = 0; k < (int)s->n; k++) {
+        float dx = s->p[k].x - x, dy = s->p[k].y - y, d = dx * dx + dy * dy;
+        if (d <= best) {
+            best = d;
+            at = k;
+        }
+    }
+    return at;
+}
+
+/* A slot for a new place: a free one, else the one seen longest ago that is not structure (evicted), else -1. */
+static int slot(struct sonar_structure *s)
+{
+    int k, old = -1;
+    if (s->n < SONAR_MAX_PLACES)
+        return s->n++;
+    for (k = 0; k < SONAR_MAX_PLACES; k++)
+        if (!s->p[k].structure && (old < 0 || s->p[k].last_us < s->p[old].last_us))
+            old = k;
+    if (old >= 0)
+        s->evicted++;
+    return old;
+}
+
+int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structure_obs *obs, uint8_t n, int64_t utime,
+                          uint8_t *is_structure)
+{
+    uint8_t i, k, j;
+    int count = 0;
+    if (s == NULL || is_structure == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
+        return SONAR_ERR_ARG;
+    for (i = 0; i < n; i++)
+        if (!isfinite(obs[i].x_m) || !isfinite(obs[i].y_m) || !isfinite(obs[i].radius_m))
+            return SONAR_ERR_ARG;
+    for (i = 0; i < n; i++) {
+        const struct sonar_structure_obs *o = &obs[i];
+        float rad = o->radius_m < SONAR_PLACE_MAX_RADIUS_M ? o->radius_m : SONAR_PLACE_MAX_RADIUS_M;
+        int at = nearest(s, o->x_m, o->y_m);
+        struct sonar_place *q;
+        if (at < 0 && (at = slot(s)) >= 0) {
+            q = &s->p[at];
+            memset(q, 0, sizeof(*q));
+            q->x = o->x_m;
+            q->y = o->y_m;
+            q->first_us = o->utime;
+            q->last_us = o->utime - 1; /* seen below */
+            q->first_look = o->first_look;
+            q->first_sweep = s->sweeps + 1u;
+        }
+        is_structure[i] = 0;
+        if (at < 0)
+            continue;
+        q = &s->p[at];
+        if (q->sweep != s->sweeps + 1u && q->seen < UINT16_MAX)
+            q->seen++; /* once a sweep, however many of its detections are here */
+        q->sweep = s->sweeps + 1u;
+        q->last_us = o->utime > q->last_us ? o->utime : q->last_us;
+        q->radius = rad > q->radius ? rad : q->radius;
+        if (!q->structure && s->structure_s > 0.0f && q->first_look && q->seen >= SONAR_PLACE_MIN_SEEN &&
+            4u * (uint32_t)q->seen >= 3u * (s->sweeps + 2u - q->first_sweep) &&
+            (double)(o->utime - q->first_us) >= (double)s->structure_s * 1e6) {
+            q->structure = 1;
+            s->promoted++;
+        }
+        is_structure[i] = q->structure;
+        count += q->structure;
+    }
+    /* Forget what has not been seen for a while (not structure: its echo is learnt, so it is seldom seen). */
+    for (k = 0, j = 0; k < s->n; k++) {
+        if (!s->p[k].structure && utime - s->p[k].last_us > (int64_t)SONAR_PLACE_FORGET_S * 1000000)
+            continue;
+        if (j != k)
+            s->p[j] = s->p[k];
+        j++;
+    }
+    s->n = j;
+    s->sweeps++;
+    s->detections += (uint32_t)count;
+    return count;
+}
