@@ -32,6 +32,8 @@ static double rayleigh(struct scene_rng *g)
  *   far:      faint targets at 8.5-12.5 m, two of them drifting, in open water.
  *   still:    one person standing from the first ping, and one who swims for 60 s and then floats
  *             still for three minutes.
+ *   faint:    three targets barely above the clutter at 12-14 m (rms 80-85, where the water is
+ *             spikiest), drifting at 0.01-0.03 m/s, in open water (30 passes).
  *   lanes:    the sonar on a pool's side wall (the sector's edges look along it), a 25 x 14.6 m pool
  *             with two swaying lane ropes and a ladder (structure, there from the first ping); two
  *             swimmers doing lengths from 10 s and 20 s, and one who swims for 20 s and then rests
@@ -67,6 +69,15 @@ static int pool_scene(struct scene *s, const char *name)
             {"far_b", 0, 0, 0.35, 0, 0, 100, 0, 2, {0, 200}, {-10.5, -11.0}, {-2.0, 2.5}, 0, 0},
             {"far_c", -12.5, 0.5, 0.35, 0, 0, 100, 0, 0, {0}, {0}, {0}, 0, 0},
             {"far_d", 0, 0, 0.35, 0, 0, 95, 0, 2, {0, 200}, {-9.0, -8.0}, {-4.5, -6.0}, 0, 0},
+        };
+        s->sweeps = 30;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "faint") == 0) {
+        static const struct scene_object o[] = {
+            {"faint_a", 0, 0, 0.35, 0, 0, 85, 0, 2, {0, 200}, {-12.0, -11.0}, {1.0, 2.5}, 0, 0},
+            {"faint_b", 0, 0, 0.35, 0, 0, 80, 0, 2, {0, 200}, {-13.0, -12.5}, {-3.5, 3.0}, 0, 0},
+            {"faint_c", 0, 0, 0.35, 0, 0, 80, 0, 2, {0, 200}, {-13.5, -12.0}, {3.5, 6.5}, 0, 0},
         };
         s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
@@ -210,7 +221,7 @@ int scene_make(struct scene *s, const char *name)
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
         s->veh = v;
     } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0 ||
-               strcmp(name, "lanes") == 0) {
+               strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0) {
         return pool_scene(s, name);
     } else {
         return -1;
