@@ -4,6 +4,8 @@
 
 #include <stdint.h>
 
+#include <stddef.h>
+
 #include "sonar/background.h"
 #include "sonar/config.h"
 #include "sonar/detector.h"
@@ -70,6 +72,7 @@ struct sonar_pipeline {
     struct sonar_detector det;
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
+    uint32_t bg_sweeps;        /* sweeps since the background (re)started or was loaded */
     struct sonar_detections out;
     /*
      * Beam buffers: the median writes buf[cur] and the background works on it in place. With the
@@ -137,6 +140,14 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d);
  * changed).
  */
 SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b);
+
+/*
+ * Starts the background from a recorded model (a bgfile.h image of len bytes, checked whole; see
+ * sonar_bgfile_load), forgetting the structure learnt before: what stands out in the first sweeps
+ * after it is there from the first look, as after a restart. Returns SONAR_OK, or < 0 with *why
+ * naming what is wrong (why may be NULL; nothing changed).
+ */
+SONAR_CHECK int sonar_pipeline_load_background(struct sonar_pipeline *p, const uint8_t *img, size_t len, const char **why);
 
 /*
  * Restarts the background at every angle (the beams' gain changed, or a recorded background did not

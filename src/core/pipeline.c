@@ -1,5 +1,6 @@
 /* pipeline.c -- glue of the per-beam stages (median, background, in the world grid with a pose, CFAR one beam late) and the per-sweep detector; adds O(1) work per beam, no heap. The sweep's tracking is pipeline_tracks.c. */
 #include "sonar/pipeline.h"
+#include "sonar/bgfile.h"
 
 #include <math.h>
 #include <string.h>
@@ -103,6 +104,19 @@ void sonar_pipeline_restart_background(struct sonar_pipeline *p)
 {
     sonar_background_reset(p->bg);
     sonar_structure_restart(&p->st);
+    p->bg_sweeps = 0;
+}
+
+int sonar_pipeline_load_background(struct sonar_pipeline *p, const uint8_t *img, size_t len, const char **why)
+{
+    int r;
+    if (p == NULL || p->cfg == NULL)
+        return SONAR_ERR_ARG;
+    if ((r = sonar_bgfile_load(p->bg, img, len, why)) != SONAR_OK)
+        return r;
+    sonar_structure_restart(&p->st);
+    p->bg_sweeps = 0;
+    return SONAR_OK;
 }
 
 static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
@@ -380,6 +394,7 @@ static int end_sweep(struct sonar_pipeline *p)
         return r;
     p->open = 0;
     p->sweeps++;
+    p->bg_sweeps++;
     if (p->cfg->on_sweep != NULL)
         p->cfg->on_sweep(p->cfg->user, &p->out);
     return p->next != NULL ? switch_config(p) : SONAR_OK;

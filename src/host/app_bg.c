@@ -20,7 +20,7 @@ int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err
                  m.median2d, c->median2d ? 1u : c->median, c->median2d);
         return HOST_ERR_CONFIG;
     }
-    if (sonar_bgfile_load(a->pipe.bg, img, len, &why) != SONAR_OK) {
+    if (sonar_pipeline_load_background(&a->pipe, img, len, &why) != SONAR_OK) {
         snprintf(err, errlen, "%s", why);
         return HOST_ERR_CONFIG;
     }

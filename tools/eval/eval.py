@@ -30,6 +30,7 @@ import pandas as pd
 from scipy.ndimage import median_filter
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import eval_structure  # noqa: E402
 import figures  # noqa: E402
 import study_pipeline  # noqa: E402
 
@@ -747,6 +748,7 @@ def main():
         L.append(f"The planner's worst call (follow, 1 gradian a step, 16 targets at their widest windows): "
                  f"{float(cost['scan_call_us']):.2f} µs on this host" +
                  (f", {m7['insn_scan_call']} instructions on the Cortex-M7" if m7.get("insn_scan_call") else "") + ".\n")
+    L += eval_structure.section(sh, score, fmt, B, W, have_real)
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:
