@@ -13,8 +13,9 @@ int sonar_pipe_world_gates(struct sonar_pipeline *p);
 
 /*
  * The last steps of a sweep in p->out, the pipeline's own or a co-processor's: locate, drop
- * repeats, track (have_cover: the sweep's beams say which gradians were scanned). Returns
- * SONAR_OK or the tracker's error.
+ * repeats, structure, track (have_cover: the sweep's beams went through this pipeline, so they say
+ * which gradians were scanned and its background is theirs; a co-processor's sweep learns its
+ * structure there). Returns SONAR_OK or the structure rule's or the tracker's error.
  */
 int sonar_pipe_finish_sweep(struct sonar_pipeline *p, int have_cover);
 

@@ -291,7 +291,8 @@ int sonar_pipe_finish_sweep(struct sonar_pipeline *p, int have_cover)
     int r;
     locate(p, &p->out, &w);
     drop_repeats(p, &p->out, &w);
-    if ((r = structure(p, &w)) != SONAR_OK)
+    /* Structure is learnt where the beams were: a co-processor's sweep (no cover) has its own. */
+    if (have_cover && (r = structure(p, &w)) != SONAR_OK)
         return r;
     p->out.world = (uint8_t)(w.world && p->cfg->track);
     return p->cfg->track ? track(p, &w, have_cover) : SONAR_OK;
