@@ -414,6 +414,11 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
         snprintf(err, errlen, "--mavlink URL goes with --sonar: the obstacle map is made from a live sonar's beams");
         return HOST_ERR_CONFIG;
     }
+    if (o->pipeline.structure_s > 0.0f && o->pipeline.structure_s < 1.0f) {
+        snprintf(err, errlen, "--structure-s: '%g' is not 0 (never) or 1.." SONAR_STR(SONAR_STRUCTURE_S_MAX) " seconds",
+                 (double)o->pipeline.structure_s);
+        return HOST_ERR_CONFIG;
+    }
     if ((o->bg_load != NULL || o->bg_save != NULL) && o->coprocessor != NULL) {
         snprintf(err, errlen, "--background-load and --background-save are for sonard's own pipeline: with --coprocessor "
                               "the background is the firmware's");
