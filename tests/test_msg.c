@@ -355,7 +355,6 @@ static void tracks_carry_the_tracker(void **state)
     tk.t[0].hits = 8;
     tk.t[0].misses = 1;
     tk.t[0].det = 2;
-    tk.t[0].kind = SONAR_TRACK_RESTING;
     tk.t[1].id = 4000000000u; /* beyond int32: held at its largest */
     tk.t[1].det = -1;
     msg_tracks(&tk, &d, NULL, t, &m);
@@ -373,8 +372,6 @@ static void tracks_carry_the_tracker(void **state)
     assert_int_equal(in.tracks[0].hits, 8);
     assert_int_equal(in.tracks[0].misses, 1);
     assert_int_equal(in.tracks[0].detection, 2);
-    assert_int_equal(in.tracks[0].kind, SONAR_TRACK_RESTING);
-    assert_int_equal(in.tracks[1].kind, SONAR_TRACK_MOVING);
     assert_int_equal(in.tracks[1].id, 2147483647);
     assert_int_equal(in.tracks[1].detection, -1);
     sonar_tracks_t_decode_cleanup(&in);

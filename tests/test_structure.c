@@ -62,6 +62,7 @@ static void test_what_came_in_later_is_never_structure(void **state)
         assert_int_equal(sweep(&o, 1, k, is), 0);
     }
     assert_int_equal(sonar_structure_count(&s), 0);
+    assert_int_equal(s.n, 0); /* not even a place: nothing that came in later is kept */
 }
 
 static void test_comes_and_goes_is_never_structure(void **state)
@@ -116,7 +117,7 @@ static void test_forgotten_evicted_restarted(void **state)
     assert_int_equal(sweep(o, 1, 200, is), 1);
     /* A full table evicts the place seen longest ago that is not structure, never the structure. */
     for (k = 0; k < SONAR_MAX_PLACES + 4; k++) {
-        o[0] = at(-20.0f + 2.0f * (float)(k / 8), 2.0f * (float)(k % 8), 0, 201);
+        o[0] = at(-20.0f + 2.0f * (float)(k / 8), 2.0f * (float)(k % 8), 1, 201);
         o[0].utime += k;
         assert_true(sonar_structure_sweep(&s, o, 1, (int64_t)201 * SWEEP_US + k, is) >= 0);
     }

@@ -41,12 +41,13 @@
 
 /*
  * Foreground runs (contiguous above-threshold samples of one beam) kept per sweep; more are
- * counted as dropped. RAM: 25 bytes each (25 000 B at 1000). The most any recording or scene gives
+ * counted as dropped. RAM: 25 bytes each (24 250 B at 970). The most any recording or scene gives
  * is 904 (AquaScan sonar4 with the per-angle background and global threshold; 422 under the
- * defaults); 1000 rather than 1024 leaves room for the CFAR's beam of block sums in 512 KB.
+ * defaults); 970 rather than 1024 leaves room in 512 KB for the CFAR's beam of block sums and the
+ * structure rule's places.
  */
 #ifndef SONAR_MAX_RUNS
-#define SONAR_MAX_RUNS 1000
+#define SONAR_MAX_RUNS 970
 #endif
 
 /* Clusters k-means may use per sweep, and detections reported. RAM: 24 + SONAR_MAX_HULL * 8 + 48 bytes each. */
@@ -65,15 +66,15 @@
 #endif
 
 /*
- * Places the structure rule keeps (structure.h): where detections stand, to learn what stood there
- * since the first look. RAM: 48 bytes each (1 536 B at 32) in struct sonar_pipeline.
+ * Places the structure rule keeps (structure.h): where detections at a first look stand, to learn
+ * what stood there since. RAM: 32 bytes each (512 B at 16) in struct sonar_pipeline; at most 32.
  */
 #ifndef SONAR_MAX_PLACES
-#define SONAR_MAX_PLACES 32
+#define SONAR_MAX_PLACES 16
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: 80 bytes each (2 560 B at 32); an update's
+ * Tracks the tracker keeps (tracker.h). RAM: 64 bytes each (2 048 B at 32); an update's
  * SONAR_MAX_CLUSTERS x SONAR_MAX_TRACKS float cost matrix is on the stack (2 048 B).
  */
 #ifndef SONAR_MAX_TRACKS
@@ -113,7 +114,7 @@ SONAR_STATIC_ASSERT(SONAR_MAX_CLUSTERS >= 1 && SONAR_MAX_CLUSTERS <= 64, cluster
 SONAR_STATIC_ASSERT(SONAR_MAX_HULL >= 3, hull_at_least_triangle);
 SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_hull);
 SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
-SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 255, places_1_255);
+SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 32, places_1_32);
 SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);
 SONAR_STATIC_ASSERT(SONAR_MAX_SWEEP_BEAMS >= 8 && SONAR_MAX_SWEEP_BEAMS < 65535, sweep_beams);
 

@@ -1,4 +1,4 @@
-/* structure.h -- static echoes learnt as structure: places where detections stand still since the first look, promoted after structure_s; RAM: struct sonar_structure, 48 B a place (SONAR_MAX_PLACES; docs/sizes.md). */
+/* structure.h -- static echoes learnt as structure: places where detections stand still since the first look, promoted after structure_s; RAM: struct sonar_structure, 32 B a place (SONAR_MAX_PLACES; docs/sizes.md). */
 #ifndef SONAR_STRUCTURE_H
 #define SONAR_STRUCTURE_H
 
@@ -9,10 +9,11 @@
 
 /*
  * A place is where detections stand: each detection of a sweep (body frame) joins the nearest place
- * within SONAR_PLACE_M of where that place was first seen, or starts one. A place started by a
- * detection at a first look (where the background had not yet learnt the water: the echo was there
- * before the model was) that has stood there since (seen in at least 3 of every 4 sweeps since it
- * was first seen, and SONAR_PLACE_MIN_SEEN times) for structure_s becomes structure: its detections are reported as structure rather than objects and kept
+ * within SONAR_PLACE_M of where that place was first seen; a detection at a first look (where the
+ * background had not yet learnt the water: the echo was there before the model was) that joins none
+ * starts one. Only such places are kept: nothing that came in later can become structure. A place
+ * that has stood there since (seen in at least 3 of every 4 sweeps since it was first seen, and
+ * SONAR_PLACE_MIN_SEEN times) for structure_s becomes structure: its detections are reported as structure rather than objects and kept
  * from the tracker, and the background learns its echo at once (sonar_background_apply_spans). A
  * place first seen after the background had learnt the water came in: it is never structure,
  * however still it stands.
@@ -23,7 +24,8 @@
  *
  * Places not seen for SONAR_PLACE_FORGET_S are forgotten, except structure, which is kept until the
  * background restarts (its echo learnt, it is seldom seen, and if it comes back it is still
- * structure). A full table evicts the place seen longest ago that is not structure.
+ * structure). A full table evicts the place seen longest ago that is not structure; when all are
+ * structure the new one is not kept (counted in evicted).
  */
 #define SONAR_PLACE_M 1.0f        /* metres within which a detection is at a place */
 #define SONAR_PLACE_MIN_SEEN 3    /* sweeps a place is seen before it can be structure */
@@ -32,15 +34,13 @@
 #define SONAR_PLACE_MAX_RADIUS_M 3.0f /* a place's radius (its detections' largest) is clipped to this */
 
 struct sonar_place {
-    float x, y;        /* where it was first seen, metres, body frame */
-    float radius;      /* its detections' largest radius, metres */
-    int64_t first_us;  /* when it was first seen, us since the epoch */
-    int64_t last_us;   /* when it was last seen */
-    uint32_t sweep;    /* the sweep (sonar_structure.sweeps + 1) it was last seen in */
-    uint32_t first_sweep; /* ... and first seen in */
-    uint16_t seen;     /* sweeps it was seen in (saturating) */
-    uint8_t first_look; /* started by a detection at a first look */
-    uint8_t structure; /* promoted */
+    float x, y;           /* where it was first seen, metres, body frame */
+    float radius;         /* its detections' largest radius, metres */
+    int64_t first_us;     /* when it was first seen, us since the epoch */
+    uint32_t last_ms;     /* when it was last seen, ms after first_us (saturating) */
+    uint32_t first_sweep; /* the sweep (sonar_structure.sweeps + 1) it was first seen in */
+    uint16_t seen;        /* sweeps it was seen in (saturating) */
+    uint8_t structure;    /* promoted */
 };
 
 /* One detection as the rule sees it. */
@@ -48,7 +48,7 @@ struct sonar_structure_obs {
     float x_m, y_m;     /* body frame, metres */
     float radius_m;     /* centroid to farthest hull vertex, metres */
     int64_t utime;      /* when it was seen, us since the epoch */
-    uint8_t first_look; /* its place was not yet learnt by the background (sonar_background_learnt) */
+    uint8_t first_look; /* its place was not yet learnt by the background (it may start a place) */
 };
 
 struct sonar_structure {

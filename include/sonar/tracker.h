@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker, 80 B a track (SONAR_MAX_TRACKS; docs/sizes.md); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker, 64 B a track (SONAR_MAX_TRACKS; docs/sizes.md); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -32,21 +32,9 @@ enum sonar_track_state {
 /* The manoeuvre pass pairs a track only with a detection it reaches at 3 x its speed + 0.3 m/s (+ 3 meas_m). */
 #define SONAR_TRK_TURN_SPEEDUP 3.0f
 #define SONAR_TRK_TURN_FROM_REST 0.3f
-/* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres. */
+/* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres.
+   (Structure, an echo there from the first look that never moved, is not tracked: structure.h.) */
 #define SONAR_TRK_STILL_M 0.3f
-/*
- * What a track is (sonar_track.kind), from how it moved:
- *   moving:  the default, and every track that has not stood still long enough to be resting;
- *   resting: it moved since it was first seen (left SONAR_TRK_STRUCT_M of that place) and has stood
- *            still (SONAR_TRK_STILL_M) for SONAR_TRK_REST_S: the pool watcher's person who stopped.
- * Structure (an echo there from the first look that never moved) is not tracked: structure.h.
- */
-enum sonar_track_kind {
-    SONAR_TRACK_MOVING = 0,
-    SONAR_TRACK_RESTING = 1
-};
-#define SONAR_TRK_STRUCT_M 1.0f /* metres from where it was first seen that count as having moved */
-#define SONAR_TRK_REST_S 10     /* seconds still after moving that make a track resting */
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
@@ -79,9 +67,6 @@ struct sonar_track {
     float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
     float ax, ay;        /* where it last moved: its filtered position then (same frame as px, py) */
     uint32_t still_ms;   /* ms it had stood still at utime: since it last moved more than SONAR_TRK_STILL_M, or was born */
-    float bx, by;        /* where it was first seen (same frame as px, py) */
-    uint8_t moved;       /* it has left SONAR_TRK_STRUCT_M of (bx, by) */
-    uint8_t kind;        /* enum sonar_track_kind */
 };
 
 /* One detection handed to the tracker. */
@@ -153,9 +138,6 @@ SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sona
  * on a person who stopped moving reads this.
  */
 float sonar_track_still_s(const struct sonar_track *t, int64_t utime);
-
-/* "moving" or "resting" for an enum sonar_track_kind; "?" for anything else. */
-const char *sonar_track_kind_str(int kind);
 
 /* Position of t predicted to utime (us; earlier than t->utime gives t's own), metres. */
 void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_m, float *y_m);

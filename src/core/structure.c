@@ -55,6 +55,12 @@ static int nearest(const struct sonar_structure *s, float x, float y)
     return at;
 }
 
+/* When place q was last seen, us since the epoch. */
+static int64_t last_us(const struct sonar_place *q)
+{
+    return q->first_us + (int64_t)q->last_ms * 1000;
+}
+
 /* A slot for a new place: a free one, else the one seen longest ago that is not structure (evicted), else -1. */
 static int slot(struct sonar_structure *s)
 {
@@ -62,16 +68,16 @@ static int slot(struct sonar_structure *s)
     if (s->n < SONAR_MAX_PLACES)
         return s->n++;
     for (k = 0; k < SONAR_MAX_PLACES; k++)
-        if (!s->p[k].structure && (old < 0 || s->p[k].last_us < s->p[old].last_us))
+        if (!s->p[k].structure && (old < 0 || last_us(&s->p[k]) < last_us(&s->p[old])))
             old = k;
-    if (old >= 0)
-        s->evicted++;
+    s->evicted++;
     return old;
 }
 
 int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structure_obs *obs, uint8_t n, int64_t utime,
                           uint8_t *is_structure)
 {
+    uint32_t hit = 0; /* places seen this sweep: each counts once, however many detections are there */
     uint8_t i, k, j;
     int count = 0;
     if (s == NULL || is_structure == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
@@ -84,26 +90,29 @@ int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structur
         float rad = o->radius_m < SONAR_PLACE_MAX_RADIUS_M ? o->radius_m : SONAR_PLACE_MAX_RADIUS_M;
         int at = nearest(s, o->x_m, o->y_m);
         struct sonar_place *q;
-        if (at < 0 && (at = slot(s)) >= 0) {
+        int64_t ms;
+        is_structure[i] = 0;
+        /* Only what was there at the first look starts a place: nothing else can become structure. */
+        if (at < 0 && o->first_look && (at = slot(s)) >= 0) {
             q = &s->p[at];
             memset(q, 0, sizeof(*q));
             q->x = o->x_m;
             q->y = o->y_m;
             q->first_us = o->utime;
-            q->last_us = o->utime - 1; /* seen below */
-            q->first_look = o->first_look;
             q->first_sweep = s->sweeps + 1u;
+            hit &= ~(1u << at); /* a slot taken over this sweep starts unseen */
         }
-        is_structure[i] = 0;
         if (at < 0)
             continue;
         q = &s->p[at];
-        if (q->sweep != s->sweeps + 1u && q->seen < UINT16_MAX)
-            q->seen++; /* once a sweep, however many of its detections are here */
-        q->sweep = s->sweeps + 1u;
-        q->last_us = o->utime > q->last_us ? o->utime : q->last_us;
+        ms = (o->utime - q->first_us) / 1000;
+        if (ms > (int64_t)q->last_ms)
+            q->last_ms = ms > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)ms;
         q->radius = rad > q->radius ? rad : q->radius;
-        if (!q->structure && s->structure_s > 0.0f && q->first_look && q->seen >= SONAR_PLACE_MIN_SEEN &&
+        if (!(hit & (1u << at)) && q->seen < UINT16_MAX)
+            q->seen++;
+        hit |= 1u << at;
+        if (!q->structure && s->structure_s > 0.0f && q->seen >= SONAR_PLACE_MIN_SEEN &&
             4u * (uint32_t)q->seen >= 3u * (s->sweeps + 2u - q->first_sweep) &&
             (double)(o->utime - q->first_us) >= (double)s->structure_s * 1e6) {
             q->structure = 1;
@@ -114,7 +123,7 @@ int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structur
     }
     /* Forget what has not been seen for a while (not structure: its echo is learnt, so it is seldom seen). */
     for (k = 0, j = 0; k < s->n; k++) {
-        if (!s->p[k].structure && utime - s->p[k].last_us > (int64_t)SONAR_PLACE_FORGET_S * 1000000)
+        if (!s->p[k].structure && utime - last_us(&s->p[k]) > (int64_t)SONAR_PLACE_FORGET_S * 1000000)
             continue;
         if (j != k)
             s->p[j] = s->p[k];

@@ -75,16 +75,14 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
     for (k = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
         float x = t->px, y = t->py, vx = t->vx, vy = t->vy;
-        float ax = t->ax, ay = t->ay, bx = t->bx, by = t->by;
+        float ax = t->ax, ay = t->ay;
         if (to_world) {
             sonar_pose_to_world(p, x, y, &t->px, &t->py);
             sonar_pose_to_world(p, ax, ay, &t->ax, &t->ay);
-            sonar_pose_to_world(p, bx, by, &t->bx, &t->by);
             sonar_pose_rotate(p->yaw_deg, vx, vy, &t->vx, &t->vy);
         } else {
             sonar_pose_to_body(p, x, y, &t->px, &t->py);
             sonar_pose_to_body(p, ax, ay, &t->ax, &t->ay);
-            sonar_pose_to_body(p, bx, by, &t->bx, &t->by);
             sonar_pose_rotate(-p->yaw_deg, vx, vy, &t->vx, &t->vy);
         }
     }
@@ -201,23 +199,6 @@ float sonar_track_still_s(const struct sonar_track *t, int64_t utime)
 {
     double s = (double)t->still_ms * 1e-3 + (double)(utime - t->utime) * 1e-6;
     return s > 0.0 ? (float)s : 0.0f;
-}
-
-const char *sonar_track_kind_str(int kind)
-{
-    return kind == SONAR_TRACK_MOVING ? "moving" : kind == SONAR_TRACK_RESTING ? "resting" : "?";
-}
-
-/*
- * What t is after this sweep (tracker.h): it moved once it left SONAR_TRK_STRUCT_M of where it was
- * first seen; then resting after SONAR_TRK_REST_S still, else moving.
- */
-static void classify(struct sonar_track *t)
-{
-    float dx = t->px - t->bx, dy = t->py - t->by;
-    if (!t->moved && dx * dx + dy * dy > SONAR_TRK_STRUCT_M * SONAR_TRK_STRUCT_M)
-        t->moved = 1;
-    t->kind = t->moved && t->still_ms >= (uint32_t)SONAR_TRK_REST_S * 1000u ? SONAR_TRACK_RESTING : SONAR_TRACK_MOVING;
 }
 
 /* A radius in decimetres: 0 for nonsense, 255 beyond 25.5 m. */
@@ -377,7 +358,6 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             tk->deleted++;
             continue;
         }
-        classify(t);
         if (j != k)
             tk->t[j] = *t;
         j++;
@@ -413,8 +393,6 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             t->py = o->y_m;
             t->ax = o->x_m;
             t->ay = o->y_m;
-            t->bx = o->x_m;
-            t->by = o->y_m;
             t->size_dm = size_dm(o->size_m);
             t->pa = r2;
             t->pc = tk->cfg.speed0_mps * tk->cfg.speed0_mps;

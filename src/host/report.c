@@ -51,8 +51,6 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,
                         (double)t->py, (double)t->vx, (double)t->vy);
-            if (t->kind != SONAR_TRACK_MOVING) /* moving tracks' lines are as they always were */
-                fprintf(f, ",\"kind\":\"%s\"", sonar_track_kind_str(t->kind));
             fputs("}", f);
         }
         fputs("]", f);
@@ -84,8 +82,6 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         if (v != NULL && v->world)
             fprintf(f, "  N %8.2f E %8.2f m  vN %6.2f vE %6.2f m/s", (double)t->px, (double)t->py, (double)t->vx,
                     (double)t->vy);
-        if (t->kind != SONAR_TRACK_MOVING)
-            fprintf(f, "  %s", sonar_track_kind_str(t->kind));
         fputs(t->det >= 0 ? "\n" : "  (no detection)\n", f);
     }
     return ferror(f) ? -1 : 0;

@@ -103,7 +103,6 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].misses = to_i16(s->misses);
         t[i].detection = s->det;
         t[i].still_s = sonar_track_still_s(s, d->utime);
-        t[i].kind = (int8_t)s->kind;
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;

@@ -123,7 +123,7 @@ def lcm_setup(url, hub, types_dir):
     def on_trk(data):
         m = tracks_t.decode(data)
         hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
-            {"id": k.id, "state": k.state, "resting": k.kind == 1, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
+            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
 
     def on_status(data):
         m = status_t.decode(data)

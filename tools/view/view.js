@@ -109,7 +109,7 @@ function shapes() {
     const [u, v] = view.toPixel(t.x, t.y);
     octx.fillStyle = t.state === 1 ? "#5ac8ff" : "#9aa5b1";
     octx.beginPath(); octx.arc(u, v, 4, 0, 2 * Math.PI); octx.fill();
-    octx.fillText("#" + t.id + (t.resting ? " resting" : ""), u + 6, v - 6);
+    octx.fillText("#" + t.id, u + 6, v - 6);
   }
 }
 
