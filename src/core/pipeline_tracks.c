@@ -107,7 +107,7 @@ static float det_radius(const struct sonar_detection *d)
 }
 
 /*
- * Whether a detection is at a first look: in the background's first warm-up + 1 sweeps since it
+ * Whether a detection is at a first look: in the background's first warm-up sweeps since it
  * (re)started or was loaded, or where it had not learnt the place when the sweep ended: the row of
  * the sweep's beam nearest its bearing (a sector scanned back and forth at 3 gradians visits a row
  * every other pass, and some rows never) still seeding or just seeded.
@@ -118,7 +118,7 @@ static int first_look(const struct sonar_pipeline *p, const struct sonar_detecti
     double g = (double)d->bearing_deg / SONAR_DEG_PER_GRAD - (double)p->cfg->detector.angle_offset;
     int at = sonar_frame_wrap((int)floor(g + 0.5)), best = SONAR_GRAD_TURN, e;
     uint16_t i, row = (uint16_t)at;
-    if (p->bg_sweeps <= p->cfg->background.warmup)
+    if (p->bg_sweeps < p->cfg->background.warmup)
         return 1;
     for (i = 0; i < p->out.beams; i++)
         if ((e = sonar_frame_gap(a[i], (uint16_t)at)) < best) {
