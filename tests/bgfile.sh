@@ -11,7 +11,7 @@ trap 'rm -rf "$T"' EXIT
 # The occupied pool (five people in the water from the first ping) and the same pool empty, another speckle seed.
 "$B/sonar-sim" --scene occupied --out "$T/occ.csv" --truth "$T/occ.json" > /dev/null
 "$B/sonar-sim" --scene occupied --empty --seed 5 --sweeps 10 --out "$T/empty.csv" --truth "$T/empty.json" > /dev/null
-"$B/sonard" --replay "$T/empty.csv" --quiet --background per-angle --background-save "$T/pa.bg"; rc=$?
+"$B/sonard" --replay "$T/empty.csv" --quiet --log-level warn --background per-angle --background-save "$T/pa.bg"; rc=$?
 check "record the empty pool (per-angle): exit 0, a file" sh -c "test $rc -eq 0 && test -s '$T/pa.bg'"
 "$B/sonard" --replay "$T/empty.csv" --background-save "$T/auto.bg" 2> "$T/err" > /dev/null
 check "record the empty pool (auto): said" grep -q "background saved to $T/auto.bg" "$T/err"

@@ -13,25 +13,25 @@ for cfg in "default:" "m55:--median 5x5" "study:--background range --bg-margin 0
     name=${cfg%%:*}; args=${cfg#*:}
     for s in pool open; do
         # shellcheck disable=SC2086
-        "$B/sonard" --replay "$O/$s.csv" --json --quiet $args > "$O/$s.$name.jsonl"
+        "$B/sonard" --replay "$O/$s.csv" --json --quiet --log-level warn $args > "$O/$s.$name.jsonl"
     done
 done
 # The other scenes under the default, and as the evaluation runs the tracking ones.
 for s in moving sector occupied far still; do
     "$B/sonar-sim" --scene $s --out "$O/$s.csv" --truth "$O/$s.json" >/dev/null
-    "$B/sonard" --replay "$O/$s.csv" --json --quiet > "$O/$s.default.jsonl"
+    "$B/sonard" --replay "$O/$s.csv" --json --quiet --log-level warn > "$O/$s.default.jsonl"
 done
 for s in moving sector; do
-    "$B/sonard" --replay "$O/$s.csv" --json --quiet --min-points 8 > "$O/$s.mp8.jsonl"
+    "$B/sonard" --replay "$O/$s.csv" --json --quiet --log-level warn --min-points 8 > "$O/$s.mp8.jsonl"
 done
 "$B/sonar-sim" --scene vehicle --out "$O/vehicle.csv" --truth "$O/vehicle.json" --pose-out "$O/vehicle.pose.csv" >/dev/null
-"$B/sonard" --replay "$O/vehicle.csv" --json --quiet --pose "$O/vehicle.pose.csv" > "$O/vehicle.pose.jsonl"
-"$B/sonard" --replay "$O/vehicle.csv" --json --quiet > "$O/vehicle.body.jsonl"
+"$B/sonard" --replay "$O/vehicle.csv" --json --quiet --log-level warn --pose "$O/vehicle.pose.csv" > "$O/vehicle.pose.jsonl"
+"$B/sonard" --replay "$O/vehicle.csv" --json --quiet --log-level warn > "$O/vehicle.body.jsonl"
 if [ -d "$R/aquascan" ]; then
     python3 tools/data/aquascan2csv.py "$R/aquascan" --out "$O/aq" --range 15 >/dev/null
     for s in sonar4 sonar11; do
-        "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet > "$O/$s.default.jsonl"
-        "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet --config docs/presets/occupied-pool.conf > "$O/$s.preset.jsonl"
+        "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet --log-level warn > "$O/$s.default.jsonl"
+        "$B/sonard" --replay "$O/aq/$s.csv" --json --quiet --log-level warn --config docs/presets/occupied-pool.conf > "$O/$s.preset.jsonl"
     done
 else
     echo "golden: AquaScan skipped: $R is absent"

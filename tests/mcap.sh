@@ -154,7 +154,7 @@ if unshare -rn true 2> /dev/null; then
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
 $L2M --live 'udpm://239.255.76.67:7667?ttl=0' "$T/live.mcap" --seconds 7 > "$T/live.out" 2>&1 & P=\$!
 sleep 1
-"$B/sonard" --replay "$T/mv.csv" --min-points 8 --json --quiet --replay-speed 40 --lcm 'udpm://239.255.76.67:7667?ttl=0' > "$T/live.jsonl"
+"$B/sonard" --replay "$T/mv.csv" --min-points 8 --json --quiet --log-level warn --replay-speed 40 --lcm 'udpm://239.255.76.67:7667?ttl=0' > "$T/live.jsonl"
 wait \$P
 echo \$? > "$T/live.rc"
 EOF

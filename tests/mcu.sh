@@ -51,7 +51,7 @@ run() {
 
 cmp_replay() {
     # shellcheck disable=SC2086
-    "$B/sonard" --replay "$T/$1.csv" $OPTS --json --quiet > "$T/$1.replay.jsonl"
+    "$B/sonard" --replay "$T/$1.csv" $OPTS --json --quiet --log-level warn > "$T/$1.replay.jsonl"
     python3 - "$T/$1.jsonl" "$T/$1.replay.jsonl" <<'PY'
 import json, sys
 co = [json.loads(l) for l in open(sys.argv[1])]

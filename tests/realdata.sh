@@ -54,7 +54,7 @@ assert len(lines) == 1 and lines[0]["beams"] == 101, lines
 assert abs(lines[0]["utime"] - 100 * 28067) < 1000, lines[0]["utime"]
 print("1 sweep of", lines[0]["beams"], "beams, last at", lines[0]["utime"] / 1e6, "s")
 PY
-    "$B/sonard" --replay "$J" --json --no-lcm --quiet --beam-ms 50 > "$T/jun50.jsonl"
+    "$B/sonard" --replay "$J" --json --no-lcm --quiet --log-level warn --beam-ms 50 > "$T/jun50.jsonl"
     check "brping capture with --beam-ms 50: the sweep ends at 5 s" \
         python3 -c "import json,sys; l=[json.loads(x) for x in open(sys.argv[1])]; assert l[0]['utime']==5000000, l[0]['utime']" "$T/jun50.jsonl"
 else
@@ -65,7 +65,7 @@ fi
 python3 tools/data/aquascan2csv.py "$R/aquascan" --out "$T/aq" --range 15 > "$T/aq.out"
 check "AquaScan -> CSV: 51 sweeps and 237 labelled people (2 sweeps have no label file)" sh -c "grep -q 'sonar4: 30 sweeps (0 without labels, not scored), 146' '$T/aq.out' && grep -q 'sonar11: 21 sweeps (2 without labels, not scored), 91' '$T/aq.out'"
 for s in sonar4 sonar11; do
-    "$B/sonard" --replay "$T/aq/$s.csv" --json --quiet > "$T/$s.jsonl"
+    "$B/sonard" --replay "$T/aq/$s.csv" --json --quiet --log-level warn > "$T/$s.jsonl"
     check "AquaScan $s replays with one sonard sweep per recorded sweep" \
         test "$(wc -l < "$T/$s.jsonl")" -eq "$(python3 -c "import json;print(len(json.load(open('$T/aq/$s.truth.json'))['sweeps']))")"
 done
@@ -76,7 +76,7 @@ done
 PRESET=docs/presets/occupied-pool.conf
 for s in sonar4:0.85 sonar11:0.80; do
     n=${s%%:*}; f=${s#*:}
-    "$B/sonard" --replay "$T/aq/$n.csv" --json --quiet --config $PRESET > "$T/$n.preset.jsonl"
+    "$B/sonard" --replay "$T/aq/$n.csv" --json --quiet --log-level warn --config $PRESET > "$T/$n.preset.jsonl"
     check "AquaScan $n, occupied-pool preset: F1 >= $f" \
         python3 tools/eval/score.py "$T/aq/$n.truth.json" "$T/$n.preset.jsonl" --min-f1 "$f" --label "$n: "
     sed 's/^/    /' "$T/out"
@@ -104,7 +104,7 @@ for s in sonar4:15:0.70:5:0.55 sonar4:13:0.65:5:0.55 sonar11:15:0.60:10:0.60 son
     n=$(echo "$s" | cut -d: -f1); rng=$(echo "$s" | cut -d: -f2); f=$(echo "$s" | cut -d: -f3)
     who=$(echo "$s" | cut -d: -f4); share=$(echo "$s" | cut -d: -f5)
     d=$T/aq; [ "$rng" = 13 ] && d=$T/aq13
-    "$B/sonard" --replay "$d/$n.csv" --json --quiet > "$T/$n.default$rng.jsonl"
+    "$B/sonard" --replay "$d/$n.csv" --json --quiet --log-level warn > "$T/$n.default$rng.jsonl"
     check "AquaScan $n at $rng m, default configuration: F1 >= $f, person $who found in >= $share of their sweeps" \
         python3 tools/eval/score.py "$d/$n.truth.json" "$T/$n.default$rng.jsonl" --min-f1 "$f" --object "$who" \
         --min-found "$share" --label "$n@$rng m: "
@@ -123,7 +123,7 @@ sleep 0.3
 timeout 60 "$B/sonard" --sonar tcp:127.0.0.1:$port --no-lcm --range 15 --samples 500 --sector 100:300 --step 3 \
     --sweeps 30 --json --quiet --config $PRESET --track off > "$T/live4.jsonl" 2> "$T/live4.err"
 wait $fpid 2>/dev/null
-"$B/sonard" --replay "$T/aq/sonar4.csv" --json --quiet --config $PRESET --track off > "$T/sonar4.off.jsonl"
+"$B/sonard" --replay "$T/aq/sonar4.csv" --json --quiet --log-level warn --config $PRESET --track off > "$T/sonar4.off.jsonl"
 check "AquaScan sonar4 live through sonar-feed (TCP, sector 100:300, step 3): the replay's detections" python3 - "$T/live4.jsonl" "$T/sonar4.off.jsonl" <<'PY'
 import json, sys
 a = [json.loads(l) for l in open(sys.argv[1])]

@@ -11,7 +11,7 @@ trap 'rm -rf "$T"' EXIT
 
 "$B/sonar-sim" --scene lanes --out "$T/lanes.csv" --truth "$T/lanes.json" > /dev/null
 fa() { python3 tools/eval/score.py "$T/lanes.json" "$1" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p' | head -1; }
-"$B/sonard" --replay "$T/lanes.csv" --json --quiet > "$T/default.jsonl"
+"$B/sonard" --replay "$T/lanes.csv" --json --quiet --log-level warn > "$T/default.jsonl"
 "$B/sonard" --replay "$T/lanes.csv" --json --structure-s 15 > "$T/s15.jsonl" 2> "$T/s15.err"
 d=$(fa "$T/default.jsonl"); s=$(fa "$T/s15.jsonl")
 echo "  lanes: false alarms a sweep, default $d, --structure-s 15 $s"
@@ -43,9 +43,9 @@ sys.exit(0 if n >= 30 else f"only {n} sweeps")
 EOF
 # A recorded empty pool (the ladder and walls in it), and the rule on top of it.
 "$B/sonar-sim" --scene lanes --empty --seed 5 --sweeps 10 --out "$T/empty.csv" --truth "$T/empty.json" > /dev/null
-"$B/sonard" --replay "$T/empty.csv" --quiet --background-save "$T/lanes.bg"
-"$B/sonard" --replay "$T/lanes.csv" --json --quiet --background-load "$T/lanes.bg" > "$T/rec.jsonl"
-"$B/sonard" --replay "$T/lanes.csv" --json --quiet --background-load "$T/lanes.bg" --structure-s 15 > "$T/rec15.jsonl"
+"$B/sonard" --replay "$T/empty.csv" --quiet --log-level warn --background-save "$T/lanes.bg"
+"$B/sonard" --replay "$T/lanes.csv" --json --quiet --log-level warn --background-load "$T/lanes.bg" > "$T/rec.jsonl"
+"$B/sonard" --replay "$T/lanes.csv" --json --quiet --log-level warn --background-load "$T/lanes.bg" --structure-s 15 > "$T/rec15.jsonl"
 r=$(fa "$T/rec.jsonl"); r15=$(fa "$T/rec15.jsonl")
 echo "  lanes: from the recorded empty pool $r, and with --structure-s 15 $r15"
 check "lanes from a recorded empty pool: fewer false alarms than the default ($r against $d), recall >= 0.95" \
@@ -54,7 +54,7 @@ check "... and with --structure-s 15 on it: at most the recording's ($r15 agains
 
 # Walls wider than --max-extent are reported as structure, and the tracker never sees them.
 "$B/sonar-sim" --scene vehicle --sweeps 6 --out "$T/veh.csv" --truth "$T/veh.json" > /dev/null
-"$B/sonard" --replay "$T/veh.csv" --json --quiet > "$T/veh.jsonl"
+"$B/sonard" --replay "$T/veh.csv" --json --quiet --log-level warn > "$T/veh.jsonl"
 check "walls (the vehicle scene without its pose): reported as structure, no track on any" python3 - "$T/veh.jsonl" <<'EOF'
 import json, sys
 walls = tracked = 0

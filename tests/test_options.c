@@ -327,6 +327,49 @@ static void test_markdown_has_every_row(void **state)
     assert_non_null(strstr(buf, "| `link-beams` | 1..8 beams | 2 | yes |"));
 }
 
+/*
+ * The example configuration the package installs as /etc/sonard/sonard.conf runs what the tests score:
+ * read as shipped, every setting but the sonar's address is sonard's default (issue 34: it used to
+ * set another background, min-points and a channel prefix while saying "defaults shown").
+ */
+static void test_example_config_is_the_defaults(void **state)
+{
+    static struct sonard_options want;
+    const char *a[] = {"sonard", "--sonar", "udp:192.168.2.2:12345"};
+    const char *b[] = {"sonard", "--config", "docs/sonard.conf.example"};
+    (void)state;
+    if (access("docs/sonard.conf.example", R_OK) != 0)
+        skip(); /* run from the source tree (make unit) */
+    assert_int_equal(parse(3, a), 0);
+    want = o;
+    assert_int_equal(parse(3, b), 0);
+    assert_string_equal(o.sonar, want.sonar);
+    assert_memory_equal(&o.pipeline, &want.pipeline, sizeof(o.pipeline));
+    assert_memory_equal(&o.device, &want.device, sizeof(o.device));
+    assert_true(o.channel_prefix == want.channel_prefix || strcmp(o.channel_prefix, want.channel_prefix) == 0);
+    assert_int_equal(o.log_level, want.log_level);
+    assert_int_equal(o.publish_filtered, want.publish_filtered);
+    assert_null(o.bg_load);
+    assert_null(o.csv_out);
+}
+
+/* --log-level is the diagnostics' and --quiet the per-sweep report's: one does not set the other. */
+static void test_log_level_and_quiet(void **state)
+{
+    const char *a[] = {"sonard", "--replay", "x.csv", "--quiet"};
+    const char *b[] = {"sonard", "--replay", "x.csv", "--log-level", "warn"};
+    const char *c[] = {"sonard", "--replay", "x.csv", "--log-level", "chatty"};
+    (void)state;
+    assert_int_equal(parse(4, a), 0);
+    assert_int_equal(o.quiet, 1);
+    assert_int_equal(o.log_level, 2); /* info */
+    assert_int_equal(parse(5, b), 0);
+    assert_int_equal(o.quiet, 0);
+    assert_int_equal(o.log_level, 1);
+    assert_true(parse(5, c) < 0);
+    assert_non_null(strstr(err, "--log-level: 'chatty' is not error, warn, info or debug"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -338,6 +381,8 @@ int main(void)
         cmocka_unit_test(test_config_files),
         cmocka_unit_test(test_whole_config_checks_name_the_field),
         cmocka_unit_test(test_markdown_has_every_row),
+        cmocka_unit_test(test_example_config_is_the_defaults),
+        cmocka_unit_test(test_log_level_and_quiet),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

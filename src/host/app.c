@@ -13,7 +13,17 @@ void app_say(const struct app *a, const char *fmt, ...)
     if (a->log == NULL)
         return;
     va_start(ap, fmt);
-    a->log(a->log_user, fmt, ap);
+    a->log(a->log_user, APP_INFO, fmt, ap);
+    va_end(ap);
+}
+
+void app_warn(const struct app *a, const char *fmt, ...)
+{
+    va_list ap;
+    if (a->log == NULL)
+        return;
+    va_start(ap, fmt);
+    a->log(a->log_user, APP_WARN, fmt, ap);
     va_end(ap);
 }
 
@@ -179,7 +189,7 @@ static void beam_pose(struct app *a, struct sonar_record *b)
     state = b->has_pose ? SONAR_POSE_OK : a->poses.accepted > 0 ? SONAR_POSE_STALE : SONAR_POSE_NONE;
     if (state == SONAR_POSE_STALE && a->pose_state != SONAR_POSE_STALE) {
         a->pose_stale++;
-        app_say(a, "pose: stale (none within 1 s of the beam at %.3f s): body-frame processing until it returns",
+        app_warn(a, "pose: stale (none within 1 s of the beam at %.3f s): body-frame processing until it returns",
                 (double)b->utime * 1e-6);
     } else if (state == SONAR_POSE_OK && a->pose_state != SONAR_POSE_OK) {
         app_say(a, "pose: %s at %.3f s: detections and tracks in the world frame",

@@ -42,8 +42,11 @@ struct app_clock {
     void *user;
 };
 
-/* Messages for people (stderr in sonard); NULL to drop them. */
-typedef void (*app_log_fn)(void *user, const char *fmt, va_list ap);
+/* How much a message for people matters: sonard's --log-level shows those at or below its level. */
+enum app_level { APP_ERROR = 0, APP_WARN = 1, APP_INFO = 2, APP_DEBUG = 3 };
+
+/* Messages for people (stderr in sonard, so the journal under systemd); NULL to drop them. */
+typedef void (*app_log_fn)(void *user, int level, const char *fmt, va_list ap);
 
 enum app_link_event { APP_LINK_NONE = 0, APP_LINK_LOST = 1, APP_LINK_STOPPED = 2 };
 
@@ -92,8 +95,13 @@ HOST_CHECK int app_set_gain_auto(struct app *a, const struct sonar_gain_config *
 /* Messages go to log(user, ...). */
 void app_set_log(struct app *a, app_log_fn log, void *user);
 
-/* A message for people through the app's log (nothing when it has none). */
+/* A message for people through the app's log (nothing when it has none): app_say at APP_INFO (what happens), app_warn at APP_WARN (what went wrong and what sonard does about it). */
 void app_say(const struct app *a, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void app_warn(const struct app *a, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif

@@ -45,7 +45,7 @@ void app_background_first_beam(struct app *a, const struct sonar_record *b)
         return;
     sonar_pipeline_restart_background(&a->pipe);
     a->bg_restarts++;
-    app_say(a, "background: the loaded file was recorded at %u samples over %.3f m, gain %d; the sonar gives %u over "
+    app_warn(a, "background: the loaded file was recorded at %u samples over %.3f m, gain %d; the sonar gives %u over "
                "%.3f m, gain %d: refused, the background learns afresh",
             m->n, (double)m->range_mm * 1e-3, m->gain == SONAR_BGFILE_GAIN_UNKNOWN ? -1 : (int)m->gain, b->n,
             (double)b->range_m, (int)b->gain);

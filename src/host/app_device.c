@@ -148,7 +148,7 @@ void app_gain_sweep(struct app *a, uint32_t sweep)
         a->gain_refused++;
         if (a->last_gain >= 0 && a->last_gain <= SONAR_GAIN_MAX)
             a->dev.drv.cfg.gain = (uint8_t)a->last_gain; /* ask for what it gives */
-        app_say(a, "gain auto: the sonar kept its gain for a whole sweep though %s was asked; auto gain off",
+        app_warn(a, "gain auto: the sonar kept its gain for a whole sweep though %s was asked; auto gain off",
                 gain_name(was));
         return;
     }

@@ -101,7 +101,7 @@ static void on_link(struct mav *m, int ev, const char *err, int64_t now)
         app_say(m->app, "--mavlink %s: open", m->desc);
         m->down = 0;
     } else if (ev == LINK_EV_FAILED && !m->down) {
-        app_say(m->app, "--mavlink %s: %s; running without the autopilot, retrying every second", m->desc, err);
+        app_warn(m->app, "--mavlink %s: %s; running without the autopilot, retrying every second", m->desc, err);
         m->down = 1;
     } else if (ev == LINK_EV_DATA) {
         mav_read(m, now);

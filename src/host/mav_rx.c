@@ -64,7 +64,7 @@ static void ack_in(struct mav *m, const mavlink_message_t *msg)
         return;
     m->n.interval_refused++;
     if (!m->refusal_said)
-        app_say(m->app, "mavlink: the autopilot refused SET_MESSAGE_INTERVAL (MAV_RESULT %u): the pose comes at %.1f Hz; "
+        app_warn(m->app, "mavlink: the autopilot refused SET_MESSAGE_INTERVAL (MAV_RESULT %u): the pose comes at %.1f Hz; "
                 "raise its SRn_EXTRA1 and SRn_POSITION stream rates", a.result, (double)m->pose_hz);
     m->refusal_said = 1;
 }

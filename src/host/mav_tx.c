@@ -115,7 +115,7 @@ static const struct sonar_pose *pose_now(struct mav *m, int64_t now_wall, struct
     if (m->have_last_pose && now_wall - m->last_pose.utime <= MAV_POSE_HOLD_US) {
         if (!m->holding) {
             m->n.pose_holds++;
-            app_say(m->app, "mavlink: the pose is stale; the obstacle map keeps the last one for up to %.0f s",
+            app_warn(m->app, "mavlink: the pose is stale; the obstacle map keeps the last one for up to %.0f s",
                     MAV_POSE_HOLD_US * 1e-6);
         }
         m->holding = 1;
@@ -175,7 +175,7 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
         return; /* nothing scanned yet: every sector would be unknown */
     if (m->cfg.fail_closed && stale) {
         if (!m->withholding)
-            app_say(m->app, "mavlink: no beam for %.2f s: OBSTACLE_DISTANCE withheld, the autopilot will mark the sonar "
+            app_warn(m->app, "mavlink: no beam for %.2f s: OBSTACLE_DISTANCE withheld, the autopilot will mark the sonar "
                     "NoData", MAV_BEAM_STALE_US * 1e-6);
         m->withholding = 1;
         m->n.od_withheld++;

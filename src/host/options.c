@@ -1,6 +1,7 @@
 /* options.c -- sonard's option table: every option once, with its field, range, unit, default and help; parsing and whole-config checks; no heap. */
 #include "options.h"
 #include "version.h"
+#include "app.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -330,7 +331,10 @@ static const struct opt_spec spec[] = {
      "an echo there from the first look (before the background knew the place)\nthat stays within 1 m for S seconds is structure: learnt into the\nbackground, reported as structure, not tracked. A person motionless from\nthe first ping is the same to it: see docs/configuration.md", NULL, NULL},
     SECTION("output"),
     {"json", NULL, OPT_FLAG, 1, 0, F(json), 0, 0, NULL, "off", "one JSON line per sweep on stdout", NULL, NULL},
-    {"quiet", NULL, OPT_FLAG, 1, 0, F(quiet), 0, 0, NULL, "off", "no per-sweep text and no summary", NULL, NULL},
+    {"quiet", NULL, OPT_FLAG, 1, 0, F(quiet), 0, 0, NULL, "off", "no per-sweep text (diagnostics: --log-level)", NULL, NULL},
+    {"log-level", "LEVEL", OPT_CHOICE, 1, 0, F(log_level), 0, 0, "error, warn, info or debug", "info",
+     "diagnostics on stderr (the journal under systemd): error, warn (link lost,\na file refused, ...), info (what happens, the exit summary) or debug",
+     "error=0|warn=1|info=2|debug=3", NULL},
     {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
     {"version", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "the version", NULL, NULL},
 };
@@ -355,6 +359,7 @@ static void defaults(struct sonard_options *o)
     o->mav_sysid = 0;
     o->mav_compid = 158;
     o->mav_rate = 10.0f;
+    o->log_level = APP_INFO;
     o->mav_pose_rate = 10.0f;
     o->mav_fail_closed = 1;
     o->stage = SONAR_STAGE_FOREGROUND;

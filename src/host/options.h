@@ -47,7 +47,8 @@ struct sonard_options {
     long baud;                  /* serial: bits/s; 0 = from the URL or 115200; -1 = auto */
     long sweeps;                /* stop after this many sweeps; 0 = run until signalled */
     int json;
-    int quiet;
+    int quiet;                  /* no per-sweep text report */
+    uint8_t log_level;          /* enum app_level: diagnostics at or below it go to stderr */
     int publish_filtered;
     int no_lcm;
     struct sonar_ping360_config device;

@@ -62,12 +62,18 @@ static int64_t wall_us(void *user)
     return (int64_t)t.tv_sec * 1000000 + t.tv_nsec / 1000;
 }
 
-static void log_stderr(void *user, const char *fmt, va_list ap)
+/* Diagnostics at or below --log-level (--quiet is the per-sweep report's, not theirs: the journal keeps them). */
+static int shows(const struct sonard *s, int level)
+{
+    return level <= (int)s->opt.log_level;
+}
+
+static void log_stderr(void *user, int level, const char *fmt, va_list ap)
 {
     const struct sonard *s = user;
-    if (s->opt.quiet)
+    if (!shows(s, level))
         return;
-    fputs("sonard: ", stderr);
+    fputs(level == APP_WARN ? "sonard: warning: " : "sonard: ", stderr);
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
 }
@@ -88,7 +94,7 @@ static int reload(void *user)
     }
     if (memcmp(&s->reload.device, &s->opt.device, sizeof(s->opt.device)) != 0)
         fprintf(stderr, "sonard: SIGHUP: device settings (range, sector, gain, ...) apply after a restart\n");
-    if (!s->opt.quiet)
+    if (shows(s, APP_INFO))
         fprintf(stderr, "sonard: SIGHUP: %d config file%s re-read; filter and detector settings apply from the next sweep\n",
                 s->reload.nconfigs, s->reload.nconfigs == 1 ? "" : "s");
     /* The pipeline copied what it needs: the scratch can be parsed into again. */
@@ -153,7 +159,7 @@ static int run_live(struct sonard *s)
     source_link_live(&s->link, &ls);
     if (live_run(s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
         return 2;
-    if (!s->opt.quiet) {
+    if (shows(s, APP_INFO)) {
         app_report_status(s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
         sink_summary(s->app);
@@ -175,7 +181,7 @@ static int run_coproc(struct sonard *s)
     source_coproc_live(&s->coproc, &ls);
     if (live_run(s->app, &ls, s->aux, s->naux, NULL, NULL) != HOST_OK)
         return 2;
-    if (!s->opt.quiet) {
+    if (shows(s, APP_INFO)) {
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
                         " before_config %u\n",
                 s->coproc.parser.counters.frames, s->coproc.parser.counters.crc_errors, s->coproc.parser.counters.oversize,
@@ -196,10 +202,10 @@ static int run_replay(struct sonard *s)
     ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
     used = good - app_beams_rejected(s->app);
     fflush(stdout);
-    if (!s->opt.quiet)
+    if (shows(s, APP_INFO))
         fprintf(stderr, "sonard: %s: %lu rows used, %lu skipped, %" PRIu32 " sweeps, %.1f ms (%.2f us/beam)\n",
                 s->opt.replay, used, (unsigned long)app_rows_bad(s->app), app_sweeps(s->app), ms, used ? ms * 1e3 / (double)used : 0.0);
-    else if (app_rows_bad(s->app))
+    else if (app_rows_bad(s->app) && shows(s, APP_WARN))
         fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)app_rows_bad(s->app));
     source_replay_close(&s->replay);
     if (s->replay.pose != NULL) {
@@ -256,7 +262,7 @@ int main(int argc, char **argv)
     } else {
         s.replay.beam_ms = s.opt.beam_ms;
         s.replay.speed = s.opt.replay_speed;
-        s.replay.quiet = s.opt.quiet;
+        s.replay.quiet = !shows(&s, APP_INFO); /* which form the file is in */
         /* a progress line is for a person watching, not for a log */
         s.replay.progress = !s.opt.quiet && isatty(fileno(stderr));
         if (s.opt.pose_file != NULL) {
@@ -317,7 +323,7 @@ int main(int argc, char **argv)
         if (bgstore_save(s.app, s.opt.bg_save, err, sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             rc = rc != 0 ? rc : 1;
-        } else if (!s.opt.quiet) {
+        } else if (shows(&s, APP_INFO)) {
             fprintf(stderr, "sonard: background saved to %s\n", s.opt.bg_save);
         }
     }

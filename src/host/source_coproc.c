@@ -11,6 +11,7 @@
 #include "sonar_status_t.h"
 
 #define say(s, ...) ((s)->app != NULL ? app_say((s)->app, __VA_ARGS__) : (void)0)
+#define warn(s, ...) ((s)->app != NULL ? app_warn((s)->app, __VA_ARGS__) : (void)0)
 
 static int build_config(struct source_coproc *s, const struct sonard_options *o, char *err, size_t errlen)
 {
@@ -42,7 +43,7 @@ static void send_config(struct source_coproc *s, int64_t now)
 {
     s->config_at = now + COPROC_CONFIG_RETRY_US;
     if (link_write(&s->link, s->config, (size_t)s->config_len) != HOST_OK)
-        say(s, "co-processor: the configuration could not be sent; retrying");
+        warn(s, "co-processor: the configuration could not be sent; retrying");
 }
 
 static void lost(struct source_coproc *s, int64_t now, const char *why)
@@ -56,7 +57,7 @@ static void lost(struct source_coproc *s, int64_t now, const char *why)
         return;
     }
     link_lost(&s->link, now, LINK_RETRY_US);
-    say(s, "co-processor link lost (%s); reconnecting in 1 s", why);
+    warn(s, "co-processor link lost (%s); reconnecting in 1 s", why);
 }
 
 static void on_status(struct source_coproc *s, const sonar_status_t *m)
@@ -164,7 +165,7 @@ static void on_link(struct source_coproc *s, int ev, const char *err, int64_t no
         send_config(s, now);
         break;
     case LINK_EV_FAILED:
-        say(s, "%s; retrying in 1 s", err);
+        warn(s, "%s; retrying in 1 s", err);
         break;
     case LINK_EV_DATA:
         readable(s, now);

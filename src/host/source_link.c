@@ -8,6 +8,7 @@
 
 /* Messages go through the app's log; the link has none before it is bound to an app. */
 #define say(s, ...) ((s)->app != NULL ? app_say((s)->app, __VA_ARGS__) : (void)0)
+#define warn(s, ...) ((s)->app != NULL ? app_warn((s)->app, __VA_ARGS__) : (void)0)
 
 int source_link_parse(struct source_link *s, const char *url, long baud, char *err, size_t errlen)
 {
@@ -61,7 +62,7 @@ static void drop(struct source_link *s, int64_t now, const char *why)
     if (backoff == 0)
         backoff = LINK_RETRY_US;
     link_lost(&s->link, now, backoff);
-    say(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
+    warn(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
 }
 
 static void handle(struct source_link *s, int ev, int64_t now)
@@ -105,7 +106,7 @@ static void on_link(struct source_link *s, int ev, const char *err, int64_t now)
             drop(s, now, "write failed");
         break;
     case LINK_EV_FAILED:
-        say(s, "%s; retrying in 1 s", err);
+        warn(s, "%s; retrying in 1 s", err);
         break;
     case LINK_EV_DATA:
         read_link(s, now);

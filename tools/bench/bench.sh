@@ -11,7 +11,7 @@ rows=$(wc -l < "$T/pool.csv")
 # --replay wall time (whole process: load, parse, filter, detect, JSON), best of 3
 best=999999
 for i in 1 2 3; do
-    s=$(date +%s%N); "$B/sonard" --replay "$T/pool.csv" --json --quiet > /dev/null; e=$(date +%s%N)
+    s=$(date +%s%N); "$B/sonard" --replay "$T/pool.csv" --json --quiet --log-level warn > /dev/null; e=$(date +%s%N)
     ms=$(( (e - s) / 1000000 )); [ "$ms" -lt "$best" ] && best=$ms
 done
 echo "replay_ms $best" >> "$T/c.txt"

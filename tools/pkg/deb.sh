@@ -27,6 +27,8 @@ find "$R/usr/lib/python3" -name '__pycache__' -prune -exec rm -rf {} +
 find "$R/usr/lib/python3" -type f -exec chmod 0644 {} +
 install -m 0644 README.md "$R/usr/share/doc/sonard/README.md"
 for f in docs/*.md; do install -m 0644 "$f" "$R/usr/share/doc/sonard/"; done
+mkdir -p "$R/usr/share/doc/sonard/presets"
+for f in docs/presets/*.conf; do install -m 0644 "$f" "$R/usr/share/doc/sonard/presets/"; done
 install -m 0644 tools/pkg/deb/copyright "$R/usr/share/doc/sonard/copyright"
 printf 'sonard (%s) unstable; urgency=medium\n\n  * Built from %s.\n\n -- sonard developers <sonard@localhost>  %s\n' \
     "$V" "$(git describe --always --dirty 2> /dev/null || echo 'a source tree')" \
