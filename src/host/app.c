@@ -7,23 +7,25 @@
 /* struct app_storage must hold a struct app: a negative array size stops the build when it does not. */
 typedef char app_storage_fits[sizeof(struct app) <= sizeof(struct app_storage) ? 1 : -1];
 
+static void say_at(const struct app *a, int level, const char *fmt, va_list ap)
+{
+    if (a->log != NULL)
+        a->log(a->log_user, level, fmt, ap);
+}
+
 void app_say(const struct app *a, const char *fmt, ...)
 {
     va_list ap;
-    if (a->log == NULL)
-        return;
     va_start(ap, fmt);
-    a->log(a->log_user, APP_INFO, fmt, ap);
+    say_at(a, APP_INFO, fmt, ap);
     va_end(ap);
 }
 
 void app_warn(const struct app *a, const char *fmt, ...)
 {
     va_list ap;
-    if (a->log == NULL)
-        return;
     va_start(ap, fmt);
-    a->log(a->log_user, APP_WARN, fmt, ap);
+    say_at(a, APP_WARN, fmt, ap);
     va_end(ap);
 }
 
