@@ -13,10 +13,10 @@
  * background had not yet learnt the water: the echo was there before the model was) that joins none
  * starts one. Only such places are kept: nothing that came in later can become structure. A place
  * that has stood there since (seen in at least 3 of every 4 sweeps since it was first seen, and
- * SONAR_PLACE_MIN_SEEN times) for structure_s becomes structure: its detections are reported as structure rather than objects and kept
- * from the tracker, and the background learns its echo at once (sonar_background_apply_spans). A
- * place first seen after the background had learnt the water came in: it is never structure,
- * however still it stands.
+ * SONAR_PLACE_MIN_SEEN times) for structure_s becomes structure: its detections are reported as
+ * structure rather than objects and kept from the tracker, and the background learns its echo at
+ * once (sonar_background_apply_spans). What was first seen after the background had learnt the
+ * water came in: it is never structure, however still it stands.
  *
  * The rule cannot tell structure from a person motionless from the first ping: both were there
  * before the background, and stand. structure_s is how long such an echo is an object before it is
