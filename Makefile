@@ -41,7 +41,29 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+
+# ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
+# target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
+ifneq ($(ARCH),)
+TRIPLE_armhf = arm-linux-gnueabihf
+TRIPLE_arm64 = aarch64-linux-gnu
+TRIPLE := $(TRIPLE_$(ARCH))
+ifeq ($(TRIPLE),)
+$(error ARCH=$(ARCH): armhf or arm64)
+endif
+BUILD := build-$(ARCH)
+SYSROOT := $(BUILD)/sysroot
+ifeq ($(wildcard $(SYSROOT)/.done),)
+$(info arm_sysroot: making $(SYSROOT))
+$(if $(shell sh tools/build/arm_sysroot.sh $(ARCH) $(SYSROOT) >&2 && echo ok),,$(error tools/build/arm_sysroot.sh $(ARCH) failed))
+endif
+CC := $(TRIPLE)-gcc
+AR := $(TRIPLE)-ar
+CROSS_CFLAGS := -isystem $(SYSROOT)/usr/include
+EXTRA_CFLAGS += $(CROSS_CFLAGS)
+LDLIBS += -L$(SYSROOT)/usr/lib/$(TRIPLE) -Wl,-rpath-link,$(SYSROOT)/usr/lib/$(TRIPLE):$(SYSROOT)/lib/$(TRIPLE)
+endif
 
 ## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
 all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
@@ -85,7 +107,7 @@ $(BUILD)/lcm/.stamp: $(LCM_TYPES)
 	@touch $@
 
 $(BUILD)/lcm/c/%.o: $(BUILD)/lcm/.stamp
-	$(CC) -std=c99 -O2 -g $(SAN) -I$(BUILD)/lcm/c -Wno-pedantic -Wno-unused-parameter -c $(BUILD)/lcm/c/$*.c -o $@
+	$(CC) -std=c99 -O2 -g $(SAN) $(CROSS_CFLAGS) -I$(BUILD)/lcm/c -Wno-pedantic -Wno-unused-parameter -c $(BUILD)/lcm/c/$*.c -o $@
 
 $(BUILD)/host/sinks.o: src/host/sinks.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
@@ -227,6 +249,10 @@ bgfile-test: all
 ## structure-test: structure is not an object: the lanes scene under the default, --structure-s and a recorded empty pool; walls reported as structure and never tracked; bad settings
 structure-test: all
 	@sh tests/structure.sh $(BUILD)
+
+## test-arm: sonard and its tests cross-built for armhf and arm64 (Raspberry Pi; ARCH=armhf|arm64 builds into build-ARCH/), run under qemu-user: unit tests pass, golden replays byte-identical
+test-arm:
+	@sh tests/arm.sh
 
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all
@@ -460,7 +486,7 @@ $(BUILD)/lcm/sonar_types.jar: $(LCM_TYPES)
 
 ## clean: remove build outputs
 clean:
-	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev build-mcu-* .venv .venv-brping .venv-mavlink
+	rm -rf $(BUILD) build-asan build-clang build-fuzz build-fuzzcov build-dev build-mcu-* build-armhf build-arm64 .venv .venv-brping .venv-mavlink
 
 ## help: this list
 help:

@@ -1,0 +1,30 @@
+#!/bin/sh
+# arm_sysroot.sh -- what a cross build for a Raspberry Pi needs (make ARCH=armhf|arm64): Debian's cross compiler and
+# qemu-user, and the target's LCM, cmocka, glib and libc unpacked into DEST with dpkg -x (downloaded with apt-get
+# download for ARCH; never installed over the host's, whose liblcm the armhf one would replace).
+# Usage: sh tools/build/arm_sysroot.sh ARCH DEST
+set -eu
+A=$1; D=$2
+case $A in
+    armhf) triple=arm-linux-gnueabihf ;;
+    arm64) triple=aarch64-linux-gnu ;;
+    *) echo "arm_sysroot.sh: ARCH=$A: armhf or arm64" >&2; exit 2 ;;
+esac
+sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
+if ! command -v "$triple-gcc" > /dev/null || ! command -v qemu-arm-static > /dev/null; then
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "gcc-$triple" qemu-user-static binfmt-support > /dev/null
+fi
+if ! dpkg --print-foreign-architectures | grep -qx "$A"; then
+    $sudo dpkg --add-architecture "$A"
+    $sudo apt-get update -qq
+fi
+T=$(mktemp -d /tmp/sonard-sysroot.XXXXXX)
+trap 'rm -rf "$T"' EXIT
+(cd "$T" && apt-get download -qq liblcm1:$A liblcm-dev:$A libglib2.0-0:$A libcmocka0:$A libcmocka-dev:$A libc6:$A \
+    libgcc-s1:$A libffi8:$A libmount1:$A libpcre2-8-0:$A libselinux1:$A zlib1g:$A libblkid1:$A)
+rm -rf "$D"
+mkdir -p "$D"
+for f in "$T"/*.deb; do dpkg -x "$f" "$D"; done
+touch "$D/.done"
+echo "arm_sysroot: $D: $(ls "$T" | wc -l) packages for $A"
