@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
@@ -249,6 +249,11 @@ bgfile-test: all
 ## structure-test: structure is not an object: the lanes scene under the default, --structure-s and a recorded empty pool; walls reported as structure and never tracked; bad settings
 structure-test: all
 	@sh tests/structure.sh $(BUILD)
+
+## pi-cost: sonard's share of a Raspberry Pi 4 core at 50 beams/s, from callgrind's instruction count (method in tools/bench/pi_cost.sh)
+pi-cost: all
+	@command -v valgrind > /dev/null || sh tools/build/deps.sh valgrind
+	@sh tools/bench/pi_cost.sh $(BUILD)
 
 ## test-arm: sonard and its tests cross-built for armhf and arm64 (Raspberry Pi; ARCH=armhf|arm64 builds into build-ARCH/), run under qemu-user: unit tests pass, golden replays byte-identical
 test-arm:

@@ -11,10 +11,7 @@ case $A in
     *) echo "arm_sysroot.sh: ARCH=$A: armhf or arm64" >&2; exit 2 ;;
 esac
 sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
-if ! command -v "$triple-gcc" > /dev/null || ! command -v qemu-arm-static > /dev/null; then
-    $sudo apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "gcc-$triple" qemu-user-static binfmt-support > /dev/null
-fi
+sh "$(dirname "$0")/deps.sh" "gcc-$triple" qemu-user-static binfmt-support
 if ! dpkg --print-foreign-architectures | grep -qx "$A"; then
     $sudo dpkg --add-architecture "$A"
     $sudo apt-get update -qq
