@@ -18,7 +18,7 @@ if ! dpkg --print-foreign-architectures | grep -qx "$A"; then
 fi
 T=$(mktemp -d /tmp/sonard-sysroot.XXXXXX)
 trap 'rm -rf "$T"' EXIT
-(cd "$T" && apt-get download -qq liblcm1:$A liblcm-dev:$A libglib2.0-0:$A libcmocka0:$A libcmocka-dev:$A libc6:$A \
+(cd "$T" && apt-get download -qq -o APT::Sandbox::User=root liblcm1:$A liblcm-dev:$A libglib2.0-0:$A libcmocka0:$A libcmocka-dev:$A libc6:$A \
     libgcc-s1:$A libffi8:$A libmount1:$A libpcre2-8-0:$A libselinux1:$A zlib1g:$A libblkid1:$A)
 rm -rf "$D"
 mkdir -p "$D"
