@@ -256,7 +256,7 @@ pi-cost: all
 	@sh tools/bench/pi_cost.sh $(BUILD)
 
 ## test-arm: sonard and its tests cross-built for armhf and arm64 (Raspberry Pi; ARCH=armhf|arm64 builds into build-ARCH/), run under qemu-user: unit tests pass, golden replays byte-identical
-test-arm:
+test-arm: all
 	@sh tests/arm.sh
 
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
@@ -275,7 +275,7 @@ mavlink: all .venv-mavlink/.done
 ## deb: build $(BUILD)/sonard_VERSION_ARCH.deb: binaries, systemd units, example config, LCM types (Python, jar), docs
 deb: all $(BUILD)/lcm/sonar_types.jar
 	@sh tools/build/deps.sh dpkg-dev
-	@sh tools/pkg/deb.sh $(BUILD)
+	@$(if $(ARCH),QEMU_LD_PREFIX=$(CURDIR)/$(SYSROOT) STRIP=$(TRIPLE)-strip) sh tools/pkg/deb.sh $(BUILD) $(ARCH)
 
 ## deb-test: install the package with dpkg -i (needs root), run it from the installed paths, two sonard@ instances, purge it
 deb-test: deb

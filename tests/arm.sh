@@ -1,7 +1,8 @@
 #!/bin/sh
 # arm.sh -- `make test-arm`: sonard and its tests cross-built for a Raspberry Pi (armhf: BlueOS on a Pi 4; arm64: a
-# Pi 5) with Debian's cross compilers, run under qemu-user through binfmt: every unit test passes and every golden
-# replay is byte-identical to this machine's (tests/golden.sha256). Ends with "N passed, N failed".
+# Pi 5) with Debian's cross compilers, run under qemu-user through binfmt: every unit test passes, every golden
+# replay is byte-identical to this machine's (tests/golden.sha256), and each architecture's package holds programs
+# that replay as this machine's do. Needs this machine's build (make all) for the reference. Ends with "N passed, N failed".
 set -u
 T=$(mktemp -d /tmp/sonard-arm.XXXXXX)
 trap 'rm -rf "$T"' EXIT
@@ -26,6 +27,20 @@ for a in armhf arm64; do
     fi
     check "$a: the unit tests pass under $q" make --no-print-directory ARCH=$a -j2 unit
     check "$a: the golden replays are byte-identical to this machine's" sh tests/golden_check.sh "$B"
+    # The package: built for the architecture, and its own programs (unpacked, the target's libraries beside them)
+    # replay the pool to the same detections as this machine's build. Installing it in a chroot of the
+    # architecture is not done here yet.
+    if make --no-print-directory ARCH=$a deb > "$T/$a.deb" 2>&1; then
+        d=$(ls "$B"/sonard_*_$a.deb)
+        rm -rf "$T/root" && dpkg-deb -x "$d" "$T/root"
+        build/sonar-sim --scene pool --sweeps 3 --out "$T/pool.csv" --truth "$T/pool.json" > /dev/null
+        build/sonard --replay "$T/pool.csv" --json --quiet --log-level warn > "$T/host.jsonl"
+        "$T/root/usr/bin/sonard" --replay "$T/pool.csv" --json --quiet --log-level warn > "$T/$a.jsonl" 2> "$T/$a.err"
+        check "$a: make deb ARCH=$a: $(basename "$d") ($(du -k "$d" | cut -f1) KB), Architecture $a, its sonard replays the pool as this machine's does" \
+            sh -c "test \"\$(dpkg-deb -f '$d' Architecture)\" = $a && cmp '$T/host.jsonl' '$T/$a.jsonl'"
+    else
+        ko "$a: make deb ARCH=$a"; tail -5 "$T/$a.deb" | sed 's/^/    /'
+    fi
     unset QEMU_LD_PREFIX
 done
 echo "arm: $pass passed, $fail failed"

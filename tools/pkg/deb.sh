@@ -1,11 +1,13 @@
 #!/bin/sh
 # deb.sh -- builds sonard_VERSION_ARCH.deb from a build directory: binaries, systemd units, the example config,
 # the LCM types (sources, Python, the jar for lcm-spy), the docs; the sonard user is made by its postinst.
-# Usage: sh tools/pkg/deb.sh BUILD_DIR (make deb). Needs dpkg-deb; dpkg-shlibdeps when present finds the library dependencies.
+# Usage: sh tools/pkg/deb.sh BUILD_DIR [ARCH] (make deb, make deb ARCH=armhf|arm64: a cross build's programs, run
+# under qemu-user for their --help, STRIP the target's strip). Needs dpkg-deb; dpkg-shlibdeps, when present and it
+# knows the target's libraries, finds the library dependencies (else libc6, liblcm1).
 set -eu
 B=${1:-build}
-V=$("$B/sonard" --version | awk '{print $2}')
-A=$(dpkg --print-architecture)
+A=${2:-$(dpkg --print-architecture)}
+V=$(sed -n 's/^#define SONARD_VERSION "\(.*\)"$/\1/p' src/host/version.h)
 R="$B/deb/root"
 OUT="$B/sonard_${V}_${A}.deb"
 rm -rf "$B/deb"
@@ -16,7 +18,7 @@ install -m 0755 "$B/sonar-feed" "$R/usr/bin/sonar-feed"
 install -m 0755 "$B/sonar-sim" "$R/usr/bin/sonar-sim"
 install -m 0755 "$B/pvbin2csv" "$R/usr/bin/sonar-pvbin2csv"
 install -m 0755 "$B/sonar-wallfit" "$R/usr/bin/sonar-wallfit"
-strip --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/*
+${STRIP:-strip} --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/*
 install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.service "$R/lib/systemd/system/"
 install -m 0644 docs/sonard.conf.example "$R/etc/sonard/sonard.conf"
 install -m 0644 docs/sonard.conf.example "$R/usr/share/doc/sonard/examples/sonard.conf"
