@@ -80,4 +80,10 @@ SONAR_CHECK int sonar_device_up(struct sonar_device *d, int64_t now);
  */
 uint32_t sonar_device_down(struct sonar_device *d, int64_t now);
 
+/* The Ping360's firmware version as probed (0.0.0 until then): fw[0] major, fw[1] minor, fw[2] patch. */
+void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3]);
+
+/* Where the driver is: an enum sonar_ping360_state (SONAR_P360_AUTO when the sonar streams by itself). */
+int sonar_device_state(const struct sonar_device *d);
+
 #endif

@@ -84,6 +84,20 @@ static int passes(const struct sonar_detector *d, const struct sonar_det_cluster
     return 1;
 }
 
+/* Is the hull's diameter (its widest pair of vertices, h <= 2 * SONAR_HULL_WORK) more than lim_m metres? */
+static int wider_than(const struct sonar_xy *hull, int h, float lim_m)
+{
+    int64_t lim = (int64_t)((double)lim_m * 1000.0), lim2 = lim * lim;
+    int a, b;
+    for (a = 0; a < h; a++)
+        for (b = a + 1; b < h; b++) {
+            int64_t dx = (int64_t)hull[a].x - hull[b].x, dy = (int64_t)hull[a].y - hull[b].y;
+            if (dx * dx + dy * dy > lim2)
+                return 1;
+        }
+    return 0;
+}
+
 void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl)
 {
     const uint32_t line = sonar_det_line_samples(d);
@@ -171,21 +185,9 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
     h = sonar_hull_build(hs.work, nw, hs.hull, 2 * SONAR_HULL_WORK);
     if (h < 1)
         return 0;
-    if (d->cfg.max_extent_m > 0.0f) {
-        /* hull diameter: the widest pair of vertices (h <= 2 * SONAR_HULL_WORK, once per cluster) */
-        int64_t lim = (int64_t)((double)d->cfg.max_extent_m * 1000.0), lim2 = lim * lim;
-        int a, b;
-        for (a = 0; a < h && !wide; a++)
-            for (b = a + 1; b < h; b++) {
-                int64_t dx = (int64_t)hs.hull[a].x - hs.hull[b].x, dy = (int64_t)hs.hull[a].y - hs.hull[b].y;
-                if (dx * dx + dy * dy > lim2) {
-                    wide = 1; /* wider than any object: a wall, a rope, a dock's edge */
-                    break;
-                }
-            }
-    }
-    /* A piece cut from a wider group that is itself a line is a piece of a wall, not an object. */
-    wide |= cut && sonar_det_thin(cl->thick, cl->nbeams);
+    /* Wider than any object (a wall, a rope, a dock's edge), or a piece of wall cut from a wider group: structure. */
+    wide = (d->cfg.max_extent_m > 0.0f && wider_than(hs.hull, h, d->cfg.max_extent_m)) ||
+           (cut && sonar_det_thin(cl->thick, cl->nbeams));
     if (d->cfg.angle_offset != 0.0f) {
         double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);

@@ -100,3 +100,15 @@ uint32_t sonar_device_down(struct sonar_device *d, int64_t now)
     }
     return d->backoff_us;
 }
+
+void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3])
+{
+    fw[0] = d->drv.info.fw_major;
+    fw[1] = d->drv.info.fw_minor;
+    fw[2] = d->drv.info.fw_patch;
+}
+
+int sonar_device_state(const struct sonar_device *d)
+{
+    return (int)d->drv.state;
+}

@@ -63,6 +63,8 @@ static void place(struct sonar_obstacle_echo *e)
     e->y_m = (float)((double)e->oy + (double)e->range_m * sin(th));
 }
 
+/* Long: one beam is placed, its echoes found and the map aged in one pass over its samples (per beam, on the host
+   beside the pipeline); the steps share the beam's bearing and pose, so they stay together. */
 int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_deg, const struct sonar_pose *pose,
                         const uint8_t *s, uint16_t n, float range_m)
 {

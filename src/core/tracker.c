@@ -238,6 +238,8 @@ void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const 
     t->det = (int8_t)det;
 }
 
+/* Long: the cascade of assignments, then confirmation, coasting and births, in the order the contract above
+   gives; issue 36 asks for it split, which needs the passes' shared state in a struct first. */
 int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
                          const struct sonar_tracker_sweep *sw)
 {

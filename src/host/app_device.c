@@ -6,16 +6,19 @@
 static int on_event(struct app *a, struct sonar_device_event *ev)
 {
     switch (ev->kind) {
-    case SONAR_P360_EV_READY:
-        app_say(a, "Ping360 firmware %u.%u.%u on %s", a->dev.drv.info.fw_major, a->dev.drv.info.fw_minor,
-                a->dev.drv.info.fw_patch, a->link);
-        app_say(a, "scanning (%s)", a->dev.drv.state == SONAR_P360_AUTO ? "auto_transmit" : "stepping");
-        if (a->have_scan && a->dev.drv.state == SONAR_P360_AUTO && !a->scan_said) {
+    case SONAR_P360_EV_READY: {
+        uint8_t fw[3];
+        int streaming = sonar_device_state(&a->dev) == SONAR_P360_AUTO;
+        sonar_device_firmware(&a->dev, fw);
+        app_say(a, "Ping360 firmware %u.%u.%u on %s", fw[0], fw[1], fw[2], a->link);
+        app_say(a, "scanning (%s)", streaming ? "auto_transmit" : "stepping");
+        if (a->have_scan && streaming && !a->scan_said) {
             app_say(a, "--scan follow: the sonar steps itself in auto_transmit mode, so the planner cannot steer it; "
                        "sweeping (use --mode step to follow)");
             a->scan_said = 1;
         }
         return APP_LINK_NONE;
+    }
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
         if (a->have_gain_auto && !a->gain_off)

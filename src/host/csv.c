@@ -248,6 +248,7 @@ static int parse_angle(char **p, struct csv_row *row, char *err, size_t errlen)
     return 0;
 }
 
+/* Long: every field of a row is checked where it is read, so each error names its column and value. */
 static int parse_row(struct csv_reader *r, char *line, struct csv_row *row, char *err, size_t errlen)
 {
     const char *p;

@@ -220,6 +220,7 @@ static void take_firmware(struct sonar_ping_parser *p, struct discover_device *d
     }
 }
 
+/* Long: one bounded listen loop (send, receive, ask each device its firmware, report), its state on the stack. */
 int discover_run(const struct discover_config *c, FILE *out, FILE *errf)
 {
     struct discover_device dev[DISCOVER_MAX_DEVICES];

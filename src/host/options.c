@@ -1,5 +1,6 @@
-/* options.c -- sonard's option table: every option once, with its field, range, unit, default and help; parsing and whole-config checks; no heap. */
+/* options.c -- sonard's option table: every option once, with its field, range, unit, default and help; parsing and whole-config checks (option values of their own form: options_values.c); no heap. */
 #include "options.h"
+#include "options_internal.h"
 #include "version.h"
 #include "app.h"
 
@@ -16,158 +17,21 @@
 /* Rows: name, metavariable, type, in files, on SIGHUP, offset, lo, hi, unit, default, help, choices, parser */
 #define SECTION(title) {title, NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL}
 
-/* serial:, udp: or tcp: for --sonar and --coprocessor (link.c checks the rest when it opens). */
-static int link_url(const char *opt, const char *v, const char **field, char *err, size_t n)
-{
-    if (strncmp(v, "serial:", 7) != 0 && strncmp(v, "udp:", 4) != 0 && strncmp(v, "tcp:", 4) != 0) {
-        snprintf(err, n, "--%s: '%s' is not serial:PATH[:BAUD], udp:HOST:PORT or tcp:HOST:PORT", opt, v);
-        return HOST_ERR_CONFIG;
-    }
-    *field = v;
-    return HOST_OK;
-}
-
-static int parse_sonar(void *base, const char *v, char *err, size_t n)
-{
-    return link_url("sonar", v, &((struct sonard_options *)base)->sonar, err, n);
-}
-
-static int parse_coprocessor(void *base, const char *v, char *err, size_t n)
-{
-    return link_url("coprocessor", v, &((struct sonard_options *)base)->coprocessor, err, n);
-}
-
-static int parse_baud(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    char *end;
-    long b;
-    if (strcmp(v, "auto") == 0) {
-        o->baud = -1;
-        return HOST_OK;
-    }
-    b = strtol(v, &end, 10);
-    if (*v == '\0' || *end != '\0' || b < 1200 || b > 4000000) {
-        snprintf(err, n, "--baud: '%s' is not a whole number in 1200..4000000 bits/s (or auto)", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->baud = b;
-    return HOST_OK;
-}
-
-static int parse_gain(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    if (strcmp(v, "auto") == 0) {
-        o->gain_auto = 1;
-        o->device.gain = 1; /* the middle: one step from either end */
-        return HOST_OK;
-    }
-    if (strlen(v) != 1 || v[0] < '0' || v[0] > '2') {
-        snprintf(err, n, "--gain: '%s' is not 0 (low), 1 (normal), 2 (high) or auto", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->gain_auto = 0;
-    o->device.gain = (uint8_t)(v[0] - '0');
-    return HOST_OK;
-}
-
-/* --transmit-duration: us 5..500, or auto (0: the driver's rule from range and sample period, geometry.h). */
-static int parse_tx(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    char *end;
-    long us;
-    if (strcmp(v, "auto") == 0) {
-        o->device.transmit_duration = 0;
-        return HOST_OK;
-    }
-    us = strtol(v, &end, 10);
-    if (*v == '\0' || *end != '\0' || us < 5 || us > 500) {
-        snprintf(err, n, "--transmit-duration: '%s' is not a whole number in 5..500 us (or auto)", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->device.transmit_duration = (uint16_t)us;
-    return HOST_OK;
-}
-
-static int parse_sector(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    unsigned s0, s1;
-    char tail;
-    if (strcmp(v, "full") == 0) {
-        o->device.full_circle = 1;
-        o->device.start_angle = 0;
-        return HOST_OK;
-    }
-    if (sscanf(v, "%u:%u%c", &s0, &s1, &tail) != 2 || s0 > 399 || s1 > 399 || s0 == s1) {
-        snprintf(err, n, "--sector: '%s' is not START:STOP in gradians 0..399 (START != STOP), or full", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->device.full_circle = 0;
-    o->device.start_angle = (uint16_t)s0;
-    o->device.stop_angle = (uint16_t)s1;
-    return HOST_OK;
-}
-
-/* --ignore-sector FROM:TO, degrees clockwise from forward (0..360); repeatable, an arc may cross forward. */
-static int parse_ignore(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    double a, b;
-    char tail;
-    if (sscanf(v, "%lf:%lf%c", &a, &b, &tail) != 2 || !(a >= 0.0 && a <= 360.0 && b >= 0.0 && b <= 360.0)) {
-        snprintf(err, n, "--ignore-sector: '%s' is not FROM:TO in degrees 0..360 clockwise from forward", v);
-        return HOST_ERR_CONFIG;
-    }
-    if (o->n_ignore >= SONARD_MAX_IGNORE) {
-        snprintf(err, n, "--ignore-sector %s: at most %d arcs", v, SONARD_MAX_IGNORE);
-        return HOST_ERR_CONFIG;
-    }
-    o->ignore[o->n_ignore][0] = (float)a;
-    o->ignore[o->n_ignore][1] = (float)b;
-    o->n_ignore++;
-    return HOST_OK;
-}
-
-static int parse_median(void *base, const char *v, char *err, size_t n)
-{
-    struct sonard_options *o = base;
-    char *end;
-    long w;
-    if (strcmp(v, "3x3") == 0 || strcmp(v, "5x5") == 0) {
-        o->pipeline.median2d = (uint8_t)(v[0] - '0');
-        return HOST_OK;
-    }
-    w = strtol(v, &end, 10);
-    if (*v == '\0' || *end != '\0' || w < 1 || w > SONAR_MAX_MEDIAN) {
-        snprintf(err, n, "--median: '%s' is not a whole number in 1..%d samples (odd), or 3x3 / 5x5", v, SONAR_MAX_MEDIAN);
-        return HOST_ERR_CONFIG;
-    }
-    if (w % 2 == 0) {
-        snprintf(err, n, "--median: '%s' is even; use 1 (off), 3, 5, 7, 9, 3x3 or 5x5", v);
-        return HOST_ERR_CONFIG;
-    }
-    o->pipeline.median = (uint8_t)w;
-    o->pipeline.median2d = 0;
-    return HOST_OK;
-}
 
 static const struct opt_spec spec[] = {
     SECTION("live"),
     {"sonar", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
-     "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092)", NULL, parse_sonar},
+     "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092)", NULL, options_parse_sonar},
     {"baud", "N|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "bits/s 1200..4000000, or auto", "115200",
-     "serial bit rate; auto tries Ping Viewer's list after a line break", NULL, parse_baud},
+     "serial bit rate; auto tries Ping Viewer's list after a line break", NULL, options_parse_baud},
     {"mode", "step|auto", OPT_CHOICE, 1, 0, V(use_auto), 0, 0, "step or auto", "step",
      "step: one transducer request per beam; auto: auto_transmit\nwhen the firmware is newer than 3.3.0, else step",
      "step=0|auto=1", NULL},
     {"sector", "START:STOP", OPT_CUSTOM, 1, 0, 0, 0, 0, "START:STOP gradians 0..399, or full", "full",
-     "swept back and forth from START up to STOP (mod 400); full: full turns", NULL, parse_sector},
+     "swept back and forth from START up to STOP (mod 400); full: full turns", NULL, options_parse_sector},
     {"step", "G", OPT_U8, 1, 0, V(step), 1, 50, "gradians", "1", "gradians per beam (at most 10 in auto mode)", NULL, NULL},
     {"gain", "G|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "0 low, 1 normal, 2 high, or auto", "0",
-     "receiver gain; auto: from normal, lowered when a sweep saturates, raised\nwhen its median sits at the bottom of the scale (SONAR_STATUS)", NULL, parse_gain},
+     "receiver gain; auto: from normal, lowered when a sweep saturates, raised\nwhen its median sits at the bottom of the scale (SONAR_STATUS)", NULL, options_parse_gain},
     {"scan", "sweep|follow", OPT_CHOICE, 1, 0, F(scan.mode), 0, 0, "sweep or follow", "sweep",
      "sweep: the sector in order; follow: passes one way round that look at\nevery tracked target each pass and at the rest in turns (step mode)",
      "sweep=0|follow=1", NULL},
@@ -178,7 +42,7 @@ static const struct opt_spec spec[] = {
     {"frequency", "F", OPT_U16, 1, 0, V(frequency), 500, 1000, "kHz", "750", "transmit frequency", NULL, NULL},
     {"samples", "N", OPT_U16, 1, 0, V(samples), 200, 1200, "samples", "the most the range allows", "samples per beam", NULL, NULL},
     {"transmit-duration", "U|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "us 5..500, or auto", "auto",
-     "transmit pulse length; auto: Ping Viewer's rule, 8000 R / c us, at least\n2.5 sample periods, within 5..500 (geometry.h)", NULL, parse_tx},
+     "transmit pulse length; auto: Ping Viewer's rule, 8000 R / c us, at least\n2.5 sample periods, within 5..500 (geometry.h)", NULL, options_parse_tx},
     {"sweeps", "N", OPT_LONG, 1, 0, F(sweeps), 1, 1e9, "sweeps", "run until SIGINT/SIGTERM", "stop (motor_off) after N sweeps", NULL, NULL},
     {"lcm", "URL", OPT_STR, 1, 0, F(lcm_url), 0, 0, "LCM URL", "LCM's own: $LCM_DEFAULT_URL, else udpm ttl=0",
      "LCM provider; file:///path.lcm?mode=w writes a log; a --replay publishes\nonly when this is given", NULL, NULL},
@@ -201,7 +65,7 @@ static const struct opt_spec spec[] = {
      "the devices' Ping Protocol port, asked for their firmware", NULL, NULL},
     SECTION("co-processor (docs/coprocessor.md)"),
     {"coprocessor", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
-     "the co-processor's host link: push these options to its firmware,\nrepublish its detections and status", NULL, parse_coprocessor},
+     "the co-processor's host link: push these options to its firmware,\nrepublish its detections and status", NULL, options_parse_coprocessor},
     {"coprocessor-beams", "N", OPT_LONG, 1, 0, F(coproc_beams), 0, 1000, "beams (0 = none)", "0",
      "ask the firmware for every Nth raw beam (SONAR_BEAM, --csv-out)", NULL, NULL},
     SECTION("autopilot (MAVLink, docs/mavlink.md)"),
@@ -220,7 +84,7 @@ static const struct opt_spec spec[] = {
     {"mavlink-3d", "on|off", OPT_CHOICE, 1, 0, F(mav_3d), 0, 0, "on or off", "off",
      "OBSTACLE_DISTANCE_3D for each confirmed track (see docs/mavlink.md first)", "off=0|on=1", NULL},
     {"ignore-sector", "FROM:TO", OPT_CUSTOM, 1, 0, 0, 0, 0, "degrees clockwise from forward", "none",
-     "the vehicle's own echoes (hull, thrusters, tether): kept out of the obstacle\nmap and sent unknown; repeatable, up to 8", NULL, parse_ignore},
+     "the vehicle's own echoes (hull, thrusters, tether): kept out of the obstacle\nmap and sent unknown; repeatable, up to 8", NULL, options_parse_ignore},
     {"pose-lcm", "URL", OPT_STR, 1, 0, F(pose_lcm), 0, 200, "LCM URL", "sonard's --lcm",
      "live: read the vehicle's pose (sonar.pose_t on SONAR_POSE) from this LCM", NULL, NULL},
     {"mavlink-rate", "HZ", OPT_F32, 1, 0, F(mav_rate), 1, 50, "messages a second", "10",
@@ -245,7 +109,7 @@ static const struct opt_spec spec[] = {
      "gradians", "0", "added to every angle of the output frame (Ping Viewer's forward is 200)", NULL, NULL},
     SECTION("filters"),
     {"median", "W|KxK", OPT_CUSTOM, 1, 1, 0, 0, 0, "1 (off), 3, 5, 7, 9, 3x3 or 5x5", "5",
-     "median along range, or K x K over adjacent beams (the study's)", NULL, parse_median},
+     "median along range, or K x K over adjacent beams (the study's)", NULL, options_parse_median},
     {"background", "MODE", OPT_CHOICE, 1, 1, B(mode), 0, 0, "auto, per-angle, range or off", "auto",
      "per-angle: each angle learns its own; range: the study's median\nacross the beams of a sweep; auto: per-angle, the across-beam model\nwhile it warms up, and tracked objects never learnt",
      "off=0|per-angle=1|range=2|auto=3", NULL},
