@@ -24,7 +24,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
 HOST_LIB  = src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/options_values.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/app_bg.c src/host/bgstore.c src/host/source_replay.c \
-            src/host/posefile.c src/host/pvbin.c src/host/discover.c
+            src/host/posefile.c src/host/pvbin.c src/host/discover.c src/host/blueos.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o) $(BUILD)/msg/view.o
 # The LCM mappings (host and firmware); view.c (the outputs' view, host only, no LCM) goes with the host objects.
 MSG_SRC   = $(filter-out src/msg/view.c,$(wildcard src/msg/*.c))
@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 cpframe bgfile structure geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain
+UNIT      = ping ping360 cpframe bgfile structure geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
 UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)

@@ -217,11 +217,27 @@ static void test_config_files(void **state)
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
         assert_non_null(strstr(err, "bad.conf:3: --link-beams: '9' is not a whole number in 1..8 beams"));
     }
-    bad = write_file("unknown.conf", "rnage = 20\n");
+    /* keys of another version (or slips) are named and skipped; the rest of the file applies */
+    bad = write_file("unknown.conf", "rnage = 20\nmin-points = 9\nradar-mode = on\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        char said[1024] = "";
+        FILE *f = tmpfile();
+        assert_int_equal(parse(5, argv), HOST_OK);
+        assert_int_equal(o.pipeline.detector.min_points, 9);
+        assert_int_equal(o.given.unknown, 2);
+        options_say_unknown(&o, f);
+        rewind(f);
+        assert_true(fread(said, 1, sizeof(said) - 1, f) > 0);
+        fclose(f);
+        assert_non_null(strstr(said, "unknown.conf:1: unknown key 'rnage' (did you mean 'range'?) skipped"));
+        assert_non_null(strstr(said, "unknown.conf:3: unknown key 'radar-mode' skipped"));
+    }
+    bad = write_file("cmdonly.conf", "config = other.conf\n");
     {
         const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
-        assert_non_null(strstr(err, "unknown.conf:1: unknown key 'rnage'"));
+        assert_non_null(strstr(err, "cmdonly.conf:1: unknown key 'config'"));
     }
     flag = write_file("flag.conf", "json = maybe\n");
     {

@@ -352,6 +352,46 @@ static void test_nacks_and_stale_replies(void **state)
     assert_int_equal(w.id[(w.n - 1) % 64], SONAR_PING_GENERAL_REQUEST);
 }
 
+/* A Ping1D behind the same BlueOS bridge: its device_information and its messages are another device's. */
+static void test_other_device_on_the_bridge(void **state)
+{
+    struct sonar_ping360_config c = base_cfg();
+    struct sonar_ping360_io io = {fake_send, fake_break, &w, NULL, NULL};
+    struct sonar_ping360_event ev;
+    struct sonar_ping_frame f;
+    (void)state;
+    memset(&w, 0, sizeof(w));
+    assert_int_equal(sonar_ping360_init(&drv, &c, &io), SONAR_OK);
+    assert_int_equal(sonar_ping360_connected(&drv, 1000), SONAR_OK);
+    memset(payload, 0, 16);
+    payload[0] = SONAR_PING_DEVICE_PING1D;
+    payload[2] = 3;
+    payload[3] = 29;
+    f.id = SONAR_PING_DEVICE_INFORMATION;
+    f.payload = payload;
+    f.payload_len = 6;
+    f.src = 1;
+    f.dst = 0;
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 1500, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_NONE); /* not taken for the Ping360 */
+    assert_int_equal(drv.state, SONAR_P360_PROBING);
+    f.id = 1211; /* distance_simple */
+    f.payload_len = 5;
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 1600, &ev), SONAR_OK);
+    assert_int_equal(drv.counters.foreign, 2);
+    /* the Ping360's own answer still brings it up, and the counter carries on */
+    payload[0] = SONAR_PING_DEVICE_PING360;
+    payload[3] = 3;
+    f.id = SONAR_PING_DEVICE_INFORMATION;
+    f.payload_len = 6;
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 2000, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_READY);
+    payload[0] = SONAR_PING_DEVICE_PING1D;
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 2100, &ev), SONAR_OK);
+    assert_int_equal(drv.counters.foreign, 3);
+    assert_int_equal(drv.state, SONAR_P360_SCANNING);
+}
+
 static void test_auto_mode_and_fallback(void **state)
 {
     struct sonar_ping360_config c = base_cfg();
@@ -427,6 +467,7 @@ int main(void)
         cmocka_unit_test(test_timeout_retries_same_angle_quickly),
         cmocka_unit_test(test_silence_gives_up_with_backoff),
         cmocka_unit_test(test_nacks_and_stale_replies),
+        cmocka_unit_test(test_other_device_on_the_bridge),
         cmocka_unit_test(test_auto_mode_and_fallback),
         cmocka_unit_test(test_stop_sends_motor_off),
     };

@@ -27,6 +27,13 @@ enum sonar_ping_id {
     SONAR_PING360_MOTOR_OFF = 2903
 };
 
+/* The echosounder's (Ping1D's) message ids: another device when they arrive on a Ping360's link. */
+#define SONAR_PING1D_FIRST_ID 1000u
+#define SONAR_PING1D_LAST_ID 1999u
+
+/* device_information's device_type. */
+enum sonar_ping_device_type { SONAR_PING_DEVICE_UNKNOWN = 0, SONAR_PING_DEVICE_PING1D = 1, SONAR_PING_DEVICE_PING360 = 2 };
+
 /* One checked frame. payload points into the parser and is valid until the next parser call. */
 struct sonar_ping_frame {
     uint16_t id;

@@ -58,6 +58,7 @@ struct sonar_ping360_counters {
     uint32_t reconnects; /* links declared lost */
     uint32_t beams;      /* beams delivered */
     uint32_t stale;      /* replies for another angle than requested (late or duplicate) */
+    uint32_t foreign;    /* frames of another device on the link (a Ping1D behind the same bridge), ignored */
 };
 
 enum sonar_ping360_event_kind {

@@ -223,7 +223,14 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
     case SONAR_PING_DEVICE_INFORMATION: {
         struct sonar_ping_device_info info;
         int newer;
-        if (d->state != SONAR_P360_PROBING || sonar_ping_decode_device_info(f, &info) != SONAR_OK)
+        if (sonar_ping_decode_device_info(f, &info) != SONAR_OK)
+            return SONAR_OK;
+        /* A bridge relays every device's replies to every client: another type is not ours. */
+        if (info.device_type != 0 && info.device_type != SONAR_PING_DEVICE_PING360) {
+            d->counters.foreign++;
+            return SONAR_OK;
+        }
+        if (d->state != SONAR_P360_PROBING)
             return SONAR_OK;
         d->info = info;
         d->have_info = 1;
@@ -290,6 +297,8 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
         return SONAR_OK;
     }
     default:
+        if (f->id >= SONAR_PING1D_FIRST_ID && f->id <= SONAR_PING1D_LAST_ID)
+            d->counters.foreign++; /* an echosounder's message set (distance, profile ...) */
         return SONAR_OK; /* protocol_version, ascii_text and others need nothing */
     }
 }

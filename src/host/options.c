@@ -341,6 +341,16 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     return HOST_OK;
 }
 
+void options_say_unknown(const struct sonard_options *o, FILE *f)
+{
+    unsigned i;
+    for (i = 0; i < o->given.unknown && i < OPT_UNKNOWN_KEPT; i++)
+        fprintf(f, "sonard: warning: %s skipped (a key of a newer or older sonard %s?); the rest of the file applies\n",
+                o->given.unknown_said[i], SONARD_VERSION);
+    if (o->given.unknown > OPT_UNKNOWN_KEPT)
+        fprintf(f, "sonard: warning: %u more unknown keys skipped\n", o->given.unknown - OPT_UNKNOWN_KEPT);
+}
+
 int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)
 {
     size_t used = 0;

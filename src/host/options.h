@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "herr.h"
 #include "optschema.h"
@@ -71,6 +72,9 @@ const struct opt_schema *options_schema(void);
  * config's check names the failing field). Returns 0 to run, 1 when --help/--version was handled
  * (printed to stdout), or HOST_ERR_CONFIG / HOST_ERR_IO with err naming the option or file:line.
  */
+/* Names on f each config-file key options_parse skipped (a newer or older version's, or a slip), once each. */
+void options_say_unknown(const struct sonard_options *o, FILE *f);
+
 HOST_CHECK int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen);
 
 /* The Markdown option reference (docs/configuration.md is generated from it). */

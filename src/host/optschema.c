@@ -110,6 +110,50 @@ static char *strip(char *s)
 static int is_true(const char *v) { return !strcmp(v, "true") || !strcmp(v, "yes") || !strcmp(v, "1"); }
 static int is_false(const char *v) { return !strcmp(v, "false") || !strcmp(v, "no") || !strcmp(v, "0"); }
 
+/* Edits between a and b (insert, delete, substitute, swap two neighbours), counted up to 3. */
+static unsigned edits(const char *a, const char *b)
+{
+    unsigned m[3][40], i, j, la = (unsigned)strlen(a), lb = (unsigned)strlen(b);
+    if (la >= 40 || lb >= 40)
+        return 3;
+    for (j = 0; j <= lb; j++)
+        m[0][j] = j;
+    for (i = 1; i <= la; i++) {
+        unsigned *cur = m[i % 3], *up = m[(i - 1) % 3], *up2 = m[(i + 1) % 3];
+        cur[0] = i;
+        for (j = 1; j <= lb; j++) {
+            unsigned best = up[j - 1] + (a[i - 1] != b[j - 1]);
+            if (up[j] + 1 < best)
+                best = up[j] + 1;
+            if (cur[j - 1] + 1 < best)
+                best = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && up2[j - 2] + 1 < best)
+                best = up2[j - 2] + 1;
+            cur[j] = best;
+        }
+    }
+    return m[la % 3][lb] < 3 ? m[la % 3][lb] : 3;
+}
+
+/* A key of another version (or a slip): named with the nearest file key, skipped. */
+static void unknown_key(const struct opt_schema *s, struct opt_given *g, const char *path, unsigned long ln, const char *k)
+{
+    const char *near = NULL;
+    unsigned best = 3;
+    size_t i;
+    for (i = 0; i < s->count; i++) {
+        unsigned d = s->spec[i].file_ok ? edits(k, s->spec[i].name) : 3;
+        if (d < best) {
+            best = d;
+            near = s->spec[i].name;
+        }
+    }
+    if (g->unknown < OPT_UNKNOWN_KEPT)
+        snprintf(g->unknown_said[g->unknown], sizeof g->unknown_said[0], "%.80s:%lu: unknown key '%.32s'%s%s%s", path, ln, k,
+                 near ? " (did you mean '" : "", near ? near : "", near ? "'?)" : "");
+    g->unknown++;
+}
+
 int opt_read_file(const struct opt_schema *s, const char *path, void *base, struct opt_given *given, char *pool, size_t cap,
                   size_t *used, char *err, size_t errlen)
 {
@@ -164,6 +208,10 @@ int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void 
         k = strip(k);
         v = strip(eq + 1);
         i = opt_find(s, k);
+        if (i < 0 && given != NULL) {
+            unknown_key(s, given, path, ln, k);
+            continue;
+        }
         if (i < 0 || !s->spec[i].file_ok) {
             snprintf(err, errlen, "%s:%lu: unknown key '%.64s'", path, ln, k);
             r = HOST_ERR_CONFIG;

@@ -40,8 +40,11 @@ struct opt_spec {
 
 /* One bit per table row (rows < OPT_GIVEN_ROWS), set when the option is applied. */
 #define OPT_GIVEN_ROWS 128
+#define OPT_UNKNOWN_KEPT 4 /* unknown file keys named in full; more are counted */
 struct opt_given {
     uint64_t w[OPT_GIVEN_ROWS / 64];
+    unsigned unknown;                          /* file keys no row knows, skipped (a newer or older version's) */
+    char unknown_said[OPT_UNKNOWN_KEPT][160];  /* "PATH:LINE: unknown key 'k' (did you mean 'range'?)" */
 };
 
 /* Whether row i was applied. */
@@ -66,8 +69,11 @@ int opt_find(const struct opt_schema *s, const char *name);
 
 /*
  * Reads one key = value file ('#' comments, blank lines). Values are copied into pool (cap bytes,
- * *used carried across files) so string fields can point at them. Returns HOST_OK, HOST_ERR_IO
- * (err: "--config PATH: reason"), or HOST_ERR_CONFIG (err: "PATH:LINE: what is wrong").
+ * *used carried across files) so string fields can point at them. A key no row knows (one of a
+ * newer or an older version) is skipped and named in given->unknown_said, with the nearest known
+ * key when one is within two edits; the rest of the file applies. Returns HOST_OK, HOST_ERR_IO
+ * (err: "--config PATH: reason"), or HOST_ERR_CONFIG (err: "PATH:LINE: what is wrong", also for
+ * a command-line-only key in a file).
  */
 HOST_CHECK int opt_read_file(const struct opt_schema *s, const char *path, void *base, struct opt_given *given, char *pool,
                              size_t cap, size_t *used, char *err, size_t errlen);

@@ -10,6 +10,7 @@
 
 #include "app.h"
 #include "bgstore.h"
+#include "blueos.h"
 #include "discover.h"
 #include "live.h"
 #include "options.h"
@@ -44,6 +45,7 @@ struct sonard {
     int have_mav, have_plcm;
     FILE *csv_out;
     int have_lcm;
+    char sonar_url[160]; /* --sonar blueos...: the URL the ping service named (or its fallback) */
 };
 
 static int64_t mono_ns(void *user)
@@ -68,6 +70,19 @@ static int shows(const struct sonard *s, int level)
     return level <= (int)s->opt.log_level;
 }
 
+/* --sonar as given, or for blueos[:HOST[:PORT]] the Ping360 BlueOS's ping service names (bounded: 3 asks of 2 s). */
+static const char *sonar_url(struct sonard *s, char *err, size_t errlen)
+{
+    char host[128];
+    int port, rc = blueos_spec(s->opt.sonar, host, sizeof host, &port, err, errlen);
+    if (rc <= 0)
+        return rc == 0 ? s->opt.sonar : NULL;
+    if (blueos_resolve(host, port, 2000, 1000, s->sonar_url, sizeof s->sonar_url, shows(s, APP_WARN) ? stderr : NULL) &&
+        shows(s, APP_INFO))
+        fprintf(stderr, "sonard: the ping service at %s:%d names the Ping360 at %s\n", host, port, s->sonar_url);
+    return s->sonar_url;
+}
+
 static void log_stderr(void *user, int level, const char *fmt, va_list ap)
 {
     const struct sonard *s = user;
@@ -88,6 +103,8 @@ static int reload(void *user)
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", r < 0 ? err : "no reload from --help");
         return HOST_ERR_CONFIG;
     }
+    if (shows(s, APP_WARN))
+        options_say_unknown(&s->reload, stderr);
     if (app_reconfigure(s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
@@ -136,10 +153,10 @@ static void summary(const struct sonar_status *st)
     fprintf(stderr,
             "sonard: status frames %" PRIu32 " checksum_errors %" PRIu32 " resyncs %" PRIu32 " oversize %" PRIu32
             " bytes_dropped %" PRIu32 " timeouts %" PRIu32 " retries %" PRIu32 " nacks %" PRIu32 " reconnects %" PRIu32
-            " stale %" PRIu32 " beams %" PRIu32 " sweeps %" PRIu32 " beams_rejected %" PRIu32 " sink_errors %" PRIu32 "\n",
+            " stale %" PRIu32 " foreign %" PRIu32 " beams %" PRIu32 " sweeps %" PRIu32 " beams_rejected %" PRIu32 " sink_errors %" PRIu32 "\n",
             st->parser.frames, st->parser.checksum_errors, st->parser.resyncs, st->parser.oversize,
             st->parser.bytes_dropped, st->driver.timeouts, st->driver.retries, st->driver.nacks, st->driver.reconnects,
-            st->driver.stale, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
+            st->driver.stale, st->driver.foreign, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
 }
 
 /* What each sink delivered: "sonard: sink lcm: beams B detections D status S errors E". */
@@ -233,6 +250,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "sonard: %s\n", err);
         return rc < 0 ? 2 : 0;
     }
+    if (shows(&s, APP_WARN))
+        options_say_unknown(&s.opt, stderr);
     if (s.opt.discover) {
         struct discover_config dc;
         dc.to = s.opt.discover_to;
@@ -242,7 +261,8 @@ int main(int argc, char **argv)
         return rc > 0 ? 0 : rc == 0 ? 1 : 2;
     }
     if (s.opt.sonar != NULL) {
-        if (source_link_parse(&s.link, s.opt.sonar, s.opt.baud, err, sizeof(err)) != HOST_OK) {
+        const char *url = sonar_url(&s, err, sizeof(err));
+        if (url == NULL || source_link_parse(&s.link, url, s.opt.baud, err, sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }

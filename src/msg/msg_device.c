@@ -65,6 +65,7 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->nacks = s->driver.nacks;
     m->reconnects = s->driver.reconnects;
     m->stale = s->driver.stale;
+    m->foreign = s->driver.foreign;
     m->beams = s->driver.beams;
     m->sweeps = s->sweeps;
     m->beams_rejected = s->beams_rejected;
@@ -137,6 +138,7 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->driver.nacks = to_u32(m->nacks);
     s->driver.reconnects = to_u32(m->reconnects);
     s->driver.stale = to_u32(m->stale);
+    s->driver.foreign = to_u32(m->foreign);
     s->driver.beams = to_u32(m->beams);
     s->sweeps = to_u32(m->sweeps);
     s->beams_rejected = to_u32(m->beams_rejected);
