@@ -274,7 +274,7 @@ mavlink: all .venv-mavlink/.done
 
 ## deb: build $(BUILD)/sonard_VERSION_ARCH.deb: binaries, systemd units, example config, LCM types (Python, jar), docs
 deb: all $(BUILD)/lcm/sonar_types.jar
-	@sh tools/build/deps.sh dpkg-dev
+	@sh tools/build/deps.sh dpkg-dev python3-pip
 	@$(if $(ARCH),QEMU_LD_PREFIX=$(CURDIR)/$(SYSROOT) STRIP=$(TRIPLE)-strip) sh tools/pkg/deb.sh $(BUILD) $(ARCH)
 
 ## deb-test: install the package with dpkg -i (needs root), run it from the installed paths, two sonard@ instances, purge it

@@ -45,10 +45,11 @@ assert all('sonar/%s.class' % t in n for t in ('beam_t', 'detections_t', 'status
 check "the docs, the manual pages, the LCM type sources and the units are where the package says" sh -c "
 test -f /usr/share/doc/sonard/README.md && test -f /usr/share/doc/sonard/configuration.md &&
 test -f /usr/share/sonard/lcm_types/sonar_beam_t.lcm && test -f /lib/systemd/system/sonard.service &&
-test -f /lib/systemd/system/sonard@.service && zcat /usr/share/man/man1/sonard.1.gz | grep -q -- --discover"
+test -f /lib/systemd/system/sonard@.service && test -f /lib/systemd/system/sonar-view.service &&
+zcat /usr/share/man/man1/sonard.1.gz | grep -q -- --discover && zcat /usr/share/man/man1/sonar-view.1.gz | grep -q -- --listen"
 
 # The units: their exposure as systemd scores it, the serial device by the ACL and dialout only.
-for u in sonard.service sonard@front.service; do
+for u in sonard.service sonard@front.service sonar-view.service; do
     systemd-analyze security --offline=true --root=/ "$u" > "$T/sec.$u" 2>&1
     check "systemd-analyze security --offline: $u exposure <= 2.0 ($(grep -o 'exposure level for [^:]*: [0-9.]*' "$T/sec.$u" | awk '{print $NF}'))" \
         python3 -c "
@@ -60,8 +61,8 @@ for u in /lib/systemd/system/sonard.service /lib/systemd/system/sonard@.service;
   grep -qx 'DevicePolicy=closed' \$u && grep -qx 'DeviceAllow=char-ttyUSB rw' \$u && grep -qx 'SupplementaryGroups=dialout' \$u &&
   grep -qx 'User=sonard' \$u && grep -qx 'CapabilityBoundingSet=' \$u || exit 1
 done"
-systemd-analyze verify /lib/systemd/system/sonard.service /lib/systemd/system/sonard@front.service > "$T/verify" 2>&1
-check "systemd-analyze verify: no complaint about either unit" sh -c "! grep -i 'sonard' '$T/verify' || { cat '$T/verify'; exit 1; }"
+systemd-analyze verify /lib/systemd/system/sonard.service /lib/systemd/system/sonard@front.service /lib/systemd/system/sonar-view.service > "$T/verify" 2>&1
+check "systemd-analyze verify: no complaint about the units" sh -c "! grep -i 'sonar' '$T/verify' || { cat '$T/verify'; exit 1; }"
 
 # Two instances of the template, run as their ExecStart says, on one LCM bus: t1 drives a full-turn sonar over UDP at
 # 12 m, t2 a 100:200 sector over TCP at 8 m. Each stream must carry only its own sonar's beams under its own prefix.
@@ -91,6 +92,11 @@ lcm-logger -f --lcm-url='udpm://239.255.76.67:7667?ttl=0' "$T/bus.lcm" > "$T/log
 sleep 0.5
 timeout 60 $(exec_of t1) > "$T/t1.out" 2> "$T/t1.err" & A=\$!
 timeout 60 $(exec_of t2) > "$T/t2.out" 2> "$T/t2.err" & Z=\$!
+$(sed -n 's/^ExecStart=//p' /lib/systemd/system/sonar-view.service) 2> "$T/view.err" & VW=\$!
+sleep 2
+python3 tests/blueos_view_check.py --url http://127.0.0.1:8360/ --vendor /usr/share/sonard/view/vendor > "$T/view.out" 2>&1
+echo \$? > "$T/view.rc"
+kill \$VW
 wait \$A; ra=\$?
 wait \$Z; rz=\$?
 sleep 0.5
@@ -101,6 +107,9 @@ echo "t1: $(exec_of t1)"
 echo "t2: $(exec_of t2)"
 if unshare -rn true 2> /dev/null; then
     unshare -rn sh "$T/two.sh"
+    cat "$T/view.out"
+    check "the installed view (sonar-view.service's ExecStart, its vendored websockets, no LCM binding) serves the page, /register_service and the WebSocket under BlueOS's prefix" \
+        sh -c "test \"\$(cat '$T/view.rc')\" = 0 || { cat '$T/view.err'; exit 1; }"
     check "two sonard@ instances, both exit 0 after their sweeps" sh -c "test \"\$(cat '$T/rc')\" = '0 0' || { cat '$T/t1.err' '$T/t2.err'; exit 1; }"
     check "one LCM bus, two streams kept apart: t1_* only the UDP full-turn sonar at 12 m, t2_* only the TCP sector at 8 m" \
         /usr/bin/python3 - "$T/bus.lcm" <<'PY'

@@ -16,6 +16,7 @@ URL='udpm://239.255.76.67:7667?ttl=0'
 "$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json" > /dev/null 2>&1
 cat > "$T/run.sh" <<EOS
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
+.venv-view/bin/python tests/lcm_udpm_check.py > "$T/udpm.out" 2>&1
 "$B/sonar-feed" --listen tcp:127.0.0.1:5360 --scene pool --max-seconds 120 2> "$T/feed.err" & F=\$!
 "$B/sonar-feed" --listen tcp:127.0.0.1:5361 --scene pool --pace fast --max-seconds 120 2> "$T/feed2.err" & F2=\$!
 .venv-view/bin/python tools/view/sonar_view.py --lcm '$URL' --listen 127.0.0.1:8360 --types "$B/lcm/python" 2> "$T/view.err" & V=\$!
@@ -30,10 +31,11 @@ kill \$V \$F \$F2 2> /dev/null
 wait
 EOS
 unshare -rn sh "$T/run.sh"
-cat "$T/check.out"
+cat "$T/udpm.out" "$T/check.out" > "$T/all.out"
+cat "$T/all.out"
 sed 's/^/    view: /' "$T/view.err" | head -10
-pass=$(grep -c '^\[  PASS' "$T/check.out")
-fail=$(grep -c '^\[  FAIL' "$T/check.out")
+pass=$(grep -c '^\[  PASS' "$T/all.out")
+fail=$(grep -c '^\[  FAIL' "$T/all.out")
 if [ "$(cat "$T/rc")" != 0 ] && [ "$fail" -eq 0 ]; then fail=1; fi
 test -s "$B/view.png" && echo "view: screenshot in $B/view.png"
 echo "view: $pass passed, $fail failed"

@@ -18,8 +18,12 @@ install -m 0755 "$B/sonar-feed" "$R/usr/bin/sonar-feed"
 install -m 0755 "$B/sonar-sim" "$R/usr/bin/sonar-sim"
 install -m 0755 "$B/pvbin2csv" "$R/usr/bin/sonar-pvbin2csv"
 install -m 0755 "$B/sonar-wallfit" "$R/usr/bin/sonar-wallfit"
-${STRIP:-strip} --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/*
-install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.service "$R/lib/systemd/system/"
+${STRIP:-strip} --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/sonar*
+install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.service tools/pkg/systemd/sonar-view.service "$R/lib/systemd/system/"
+# The live view (Python, no native code: the same for every architecture) and its launcher.
+sh tools/pkg/vendor_view.sh "$R/usr/share/sonard/view" build/vendor
+printf '#!/bin/sh\n# sonar-view -- the live view of sonard in a browser (see sonar-view --help)\nexec python3 /usr/share/sonard/view/sonar_view.py --types /usr/lib/python3/dist-packages "$@"\n' > "$R/usr/bin/sonar-view"
+chmod 0755 "$R/usr/bin/sonar-view"
 install -m 0644 docs/sonard.conf.example "$R/etc/sonard/sonard.conf"
 install -m 0644 docs/sonard.conf.example "$R/usr/share/doc/sonard/examples/sonard.conf"
 install -m 0644 lcm_types/*.lcm "$R/usr/share/sonard/lcm_types/"
@@ -42,12 +46,13 @@ for p in sonard:"Ping360 sonar to live object detections over LCM and MAVLink" \
          sonar-feed:"a simulated Ping360 on TCP, UDP or a pty" \
          sonar-sim:"simulated Ping360 recordings with their truth" \
          sonar-pvbin2csv:"Ping Viewer .bin logs to the study's CSV" \
-         sonar-wallfit:"fits a recording's world grid to known walls"; do
+         sonar-wallfit:"fits a recording's world grid to known walls" \
+         sonar-view:"the live view of sonard in a browser"; do
     name=${p%%:*}; what=${p#*:}
     { printf '.TH %s 1 "%s" "sonard %s" "User Commands"\n.SH NAME\n%s \\- %s\n.SH SYNOPSIS AND OPTIONS\n.nf\n' \
           "$(echo "$name" | tr a-z A-Z)" "$(date -u -d @"${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2> /dev/null || date +%s)}" +%Y-%m-%d)" \
           "$V" "$name" "$what"
-      "$R/usr/bin/$name" --help 2>&1 | sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"
+      if [ "$name" = sonar-view ]; then python3 "$R/usr/share/sonard/view/sonar_view.py" --help; else "$R/usr/bin/$name" --help; fi 2>&1 | sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"
       printf '.fi\n.SH SEE ALSO\n/usr/share/doc/sonard/README.md, /usr/share/doc/sonard/configuration.md\n'
     } | gzip -9n > "$R/usr/share/man/man1/$name.1.gz"
 done

@@ -5,8 +5,10 @@
 
 It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with
 sonard's --channel-prefix) and serves http://ADDR:PORT/ (index.html, view.js) and the WebSocket /ws.
-Libraries: the `lcm` Python binding (LCM's own) and `websockets` (HTTP and WebSocket in one small,
-dependency-free asyncio library); the page is plain JavaScript on a canvas.
+Libraries: `websockets` (HTTP and WebSocket in one small, dependency-free asyncio library) and, for udpm:// (LCM's
+default), lcm_udpm.py beside this file; other LCM URLs need LCM's own Python binding. The page is plain JavaScript
+on a canvas and uses relative paths only, so it works behind a proxy's prefix (BlueOS shows it at
+/extensionv2/sonard/). GET /register_service answers BlueOS's helper (name, icon, version, ...).
 
 Backpressure: a page that cannot keep up gets the newest beam of each angle (older ones are dropped and
 counted), never a growing queue: at most PAGE_BEAMS (64) beams wait per page, the oldest dropped first, and at
@@ -23,6 +25,8 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+if os.path.isdir(os.path.join(HERE, "vendor")):  # the package's and the BlueOS image's pinned websockets
+    sys.path.insert(0, os.path.join(HERE, "vendor"))
 PAGE_BEAMS = 64  # beams waiting per page at most (the oldest dropped first): ~2.7 s of a device-paced sonar
 IN_FLIGHT = 32   # beams sent and not yet acknowledged by the page
 
@@ -47,6 +51,10 @@ class Hub:
         self.counts = {"beams": 0, "bad": 0, "dropped": 0}
         self.last_rx = 0.0
         self.last_status = None
+        self.udpm = None  # the plain-Python receiver, when it is the transport (its malformed datagrams count as bad)
+
+    def bad(self):
+        return self.counts["bad"] + (self.udpm.bad if self.udpm is not None else 0)
 
     def beam(self, filtered, data):
         for c in self.clients:
@@ -91,9 +99,15 @@ def status_json(m, hub):
 
 def lcm_setup(url, hub, types_dir):
     sys.path.insert(0, types_dir)
-    import lcm
     from sonar import beam_t, detections_t, tracks_t, status_t
-    lc = lcm.LCM(url) if url else lcm.LCM()
+    if not url or url.startswith("udpm://"):
+        sys.path.insert(0, HERE)
+        from lcm_udpm import Udpm
+        lc = Udpm(url)
+        hub.udpm = lc
+    else:
+        import lcm  # file://, tcpq:// ...: LCM's own binding
+        lc = lcm.LCM(url)
     p = hub.prefix
 
     def guard(fn):
@@ -194,8 +208,29 @@ async def ticker(hub):
     while True:
         await asyncio.sleep(1.0)
         silent = time.time() - hub.last_rx if hub.last_rx else None
-        hub.text({"kind": "view", "silent_s": silent, "beams": hub.counts["beams"], "bad": hub.counts["bad"],
+        hub.text({"kind": "view", "silent_s": silent, "beams": hub.counts["beams"], "bad": hub.bad(),
                   "dropped": hub.counts["dropped"], "pages": len(hub.clients)})
+
+
+def version():
+    """sonard's version: the package writes it beside the view; in the tree, src/host/version.h has it."""
+    for path, pick in ((os.path.join(HERE, "VERSION"), lambda t: t.strip()),
+                       (os.path.join(HERE, "..", "..", "src", "host", "version.h"),
+                        lambda t: t.split('SONARD_VERSION "', 1)[1].split('"', 1)[0])):
+        try:
+            with open(path) as f:
+                return pick(f.read())
+        except (OSError, IndexError):
+            continue
+    return "0.0.0"
+
+
+def register_service():
+    """BlueOS's helper asks every port it finds listening on 0.0.0.0 for this (services/helper/main.py)."""
+    return {"name": "sonard", "description": "Ping360 sonar to live object detections and tracks, obstacles for the "
+            "autopilot: the live view", "icon": "mdi-radar", "company": "sonard", "version": version(),
+            "webpage": os.environ.get("SONARD_WEBPAGE", ""), "api": "", "new_page": False,
+            "works_in_relative_paths": True}
 
 
 async def main_async(a):
@@ -217,8 +252,10 @@ async def main_async(a):
         if path in files:
             name, ctype = files[path]
             body = open(os.path.join(HERE, name), "rb").read()
+        elif path == "/register_service":
+            body, ctype = json.dumps(register_service()).encode(), "application/json"
         elif path == "/health":
-            body, ctype = json.dumps({"counts": hub.counts, "pages": len(hub.clients),
+            body, ctype = json.dumps({"counts": dict(hub.counts, bad=hub.bad()), "pages": len(hub.clients),
                                       "silent_s": time.time() - hub.last_rx if hub.last_rx else None}).encode(), "application/json"
         else:
             return connection.respond(404, "not found\n")

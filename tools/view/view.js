@@ -169,7 +169,8 @@ setInterval(() => {
 
 let ws = null;
 function connect() {
-  ws = new WebSocket(`ws://${location.host}/ws`);
+  // relative to the page, so the view works under a proxy's prefix (BlueOS: /extensionv2/sonard/)
+  ws = new WebSocket(new URL("ws", location.href).href.replace(/^http/, "ws"));
   ws.binaryType = "arraybuffer";
   ws.onopen = () => { view.state = "open"; received = acked = 0; ws.send(JSON.stringify({ filtered: document.getElementById("filtered").checked })); };
   ws.onmessage = ev => {
