@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: blueos blueos-test pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
@@ -276,6 +276,14 @@ mavlink: all .venv-mavlink/.done
 deb: all $(BUILD)/lcm/sonar_types.jar
 	@sh tools/build/deps.sh dpkg-dev python3-pip
 	@$(if $(ARCH),QEMU_LD_PREFIX=$(CURDIR)/$(SYSROOT) STRIP=$(TRIPLE)-strip) sh tools/pkg/deb.sh $(BUILD) $(ARCH)
+
+## blueos: the BlueOS extension (tools/pkg/blueos/) for linux/arm/v7, arm64/v8 and amd64 as OCI archives in build/blueos/ (root; buildah, debootstrap, qemu-user)
+blueos: all
+	@sh tools/pkg/blueos/build.sh
+
+## blueos-test: --sonar blueos against a simulated ping service and bridge; the images' labels as BlueOS reads them; the arm/v7 image's files run (chroot, qemu-user) on a replay and with the simulator, its view as BlueOS's helper finds it
+blueos-test: all .venv-view/.done
+	@sh tests/blueos.sh $(BUILD)
 
 ## deb-test: install the package with dpkg -i (needs root), run it from the installed paths, two sonard@ instances, purge it
 deb-test: deb

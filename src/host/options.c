@@ -20,8 +20,8 @@
 
 static const struct opt_spec spec[] = {
     SECTION("live"),
-    {"sonar", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT", NULL,
-     "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092)", NULL, options_parse_sonar},
+    {"sonar", "URL", OPT_CUSTOM, 1, 0, 0, 0, 0, "serial:PATH[:BAUD] | udp:HOST:PORT | tcp:HOST:PORT | blueos[:HOST[:PORT]]", NULL,
+     "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092; blueos: the one BlueOS's\nping service on HOST:PORT (127.0.0.1:9110) names)", NULL, options_parse_sonar},
     {"baud", "N|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "bits/s 1200..4000000, or auto", "115200",
      "serial bit rate; auto tries Ping Viewer's list after a line break", NULL, options_parse_baud},
     {"mode", "step|auto", OPT_CHOICE, 1, 0, V(use_auto), 0, 0, "step or auto", "step",

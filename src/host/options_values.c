@@ -1,5 +1,6 @@
 /* options_values.c -- the values of sonard's options that have a form of their own (link URLs, baud, gain, transmit, sector, ignore arcs, median); no heap. */
 #include "options_internal.h"
+#include "blueos.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,9 +17,16 @@ static int link_url(const char *opt, const char *v, const char **field, char *er
     return HOST_OK;
 }
 
+/* A link URL, or blueos[:HOST[:PORT]]: BlueOS's ping service names the sonar when sonard starts (blueos.c). */
 int options_parse_sonar(void *base, const char *v, char *err, size_t n)
 {
-    return link_url("sonar", v, &((struct sonard_options *)base)->sonar, err, n);
+    char host[128];
+    int port, r = blueos_spec(v, host, sizeof host, &port, err, n);
+    if (r == 1) {
+        ((struct sonard_options *)base)->sonar = v;
+        return HOST_OK;
+    }
+    return r < 0 ? r : link_url("sonar", v, &((struct sonard_options *)base)->sonar, err, n);
 }
 
 int options_parse_coprocessor(void *base, const char *v, char *err, size_t n)

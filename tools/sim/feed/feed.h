@@ -48,6 +48,7 @@ struct feed {
     const char *log_path;
     int device_pace;
     double drop, corrupt, garbage;
+    double ping1d;  /* probability that a Ping1D's frame (a bridge's other device) precedes a reply */
     long disconnect_after, stall_at, drop_at;
     long disconnect_every, stall_every, max_beams; /* soak: faults every N replies; exit after N intact beams */
     double stall_s, max_s;
@@ -78,6 +79,7 @@ struct feed {
     uint16_t a_start, a_stop, a_step;
     int a_dir;
     /* counters */
+    long ping1d_frames;
     long replies, dropped, corrupted, garbage_runs, disconnects, stalls, motor_offs, requests, nacks_sent, beams;
     int stop_after;
     double stop_at;

@@ -42,6 +42,26 @@ void feed_flush_reply(struct feed *f)
         while (k-- > 0)
             buf[n++] = (uint8_t)(scene_uniform(&f->fault_rng) < 0.2 ? 'B' : scene_uniform(&f->fault_rng) * 256);
     }
+    if (f->ping1d > 0 && scene_uniform(&f->fault_rng) < f->ping1d) {
+        /* Another device behind the same bridge: a Ping1D's device_information (type 1) or distance_simple (1211). */
+        static const uint8_t info[6] = {1, 1, 3, 29, 0, 0}, dist[9] = {0x10, 0x27, 0, 0, 100};
+        int k = scene_uniform(&f->fault_rng) < 0.5;
+        int len = sonar_ping_encode(buf + n, sizeof buf - n, k ? SONAR_PING_DEVICE_INFORMATION : 1211, k ? info : dist, k ? 6 : 5);
+        if (len > 0) {
+            buf[n + 6] = 1; /* src: the Ping1D's own device id */
+            /* the checksum covers the header: redo it for the new src */
+            {
+                uint16_t sum = 0;
+                int i;
+                for (i = 0; i < len - 2; i++)
+                    sum = (uint16_t)(sum + buf[n + (size_t)i]);
+                buf[n + (size_t)len - 2] = (uint8_t)(sum & 0xff);
+                buf[n + (size_t)len - 1] = (uint8_t)(sum >> 8);
+            }
+            n += (size_t)len;
+            f->ping1d_frames++;
+        }
+    }
     memcpy(buf + n, f->out, f->out_len);
     if (scene_uniform(&f->fault_rng) < f->corrupt) {
         size_t at = n + 8 + (size_t)(scene_uniform(&f->fault_rng) * (double)(f->out_len - 10));

@@ -129,6 +129,8 @@ static const struct opt_spec feed_spec[] = {
     {"drop-at", "N", OPT_LONG, 0, 0, FO(drop_at), 1, 1e12, "replies", NULL, "drop reply N", NULL, NULL},
     {"corrupt", "P", OPT_F64, 0, 0, FO(corrupt), 0, 1, "probability", "0", "flip a byte of a reply", NULL, NULL},
     {"garbage", "P", OPT_F64, 0, 0, FO(garbage), 0, 1, "probability", "0", "send 1..40 junk bytes before a reply", NULL, NULL},
+    {"ping1d", "P", OPT_F64, 0, 0, FO(ping1d), 0, 1, "probability", "0",
+     "send a Ping1D's frame before a reply (its device_information or\ndistance_simple), as a BlueOS bridge shared with one relays it", NULL, NULL},
     {"disconnect-after", "N", OPT_LONG, 0, 0, FO(disconnect_after), 1, 1e12, "replies", NULL, "close the link at reply N", NULL, NULL},
     {"disconnect-every", "N", OPT_LONG, 0, 0, FO(disconnect_every), 1, 1e12, "replies", NULL, "close the link every N replies", NULL, NULL},
     {"stall-at", "N", OPT_LONG, 0, 0, FO(stall_at), 1, 1e12, "replies", NULL, "go quiet for --stall seconds at reply N", NULL, NULL},
@@ -314,9 +316,9 @@ int main(int argc, char **argv)
     }
     fprintf(stderr,
             "sonar_feed: requests %ld, beams %ld (intact %ld), replies %ld, dropped %ld, corrupted %ld, garbage %ld, "
-            "disconnects %ld, stalls %ld, nacks %ld, motor_off %ld\n",
+            "disconnects %ld, stalls %ld, nacks %ld, motor_off %ld, ping1d frames %ld\n",
             f.requests, f.beams, f.beams_intact, f.replies, f.dropped, f.corrupted, f.garbage_runs, f.disconnects, f.stalls, f.nacks_sent,
-            f.motor_offs);
+            f.motor_offs, f.ping1d_frames);
     if (f.mfd >= 0)
         fprintf(stderr, "sonar_feed: mavlink %s: %ld poses sent, %ld intervals set, %ld refused, %ld acks\n", f.mavlink,
                 f.poses_sent, f.intervals_set, f.intervals_refused, f.acks_sent);
