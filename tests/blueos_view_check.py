@@ -87,9 +87,9 @@ async def through_proxy(host, port, name):
         if r.endswith(b".js"):
             check(b"new URL(\"ws\", location.href)" in body, "the script opens its WebSocket relative to the page")
     try:
-        async with connect(f"ws://127.0.0.1:{pport}{prefix}ws", open_timeout=5) as ws:
+        async with connect(f"ws://127.0.0.1:{pport}{prefix}ws", open_timeout=15) as ws:
             kinds = set()
-            end = loop.time() + 4
+            end = loop.time() + 15  # bounded; under qemu-user the image's view answers slowly
             while "view" not in kinds and loop.time() < end:
                 m = await asyncio.wait_for(ws.recv(), timeout=end - loop.time())
                 if isinstance(m, str):

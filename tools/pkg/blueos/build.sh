@@ -65,7 +65,7 @@ EOC
     buildah build --isolation chroot --pull=never --platform $plat -t localhost/sonard-blueos:$p "$c" > "$O/build-$p.log" 2>&1 ||
         { tail -15 "$O/build-$p.log"; exit 1; }
     rm -f "$O/sonard-blueos-$p.tar"
-    podman save --format oci-archive -o "$O/sonard-blueos-$p.tar" localhost/sonard-blueos:$p
+    podman save -q --format oci-archive -o "$O/sonard-blueos-$p.tar" localhost/sonard-blueos:$p
     echo "blueos: $O/sonard-blueos-$p.tar ($plat, $(du -m "$O/sonard-blueos-$p.tar" | cut -f1) MB archive)"
 done
 podman rmi -f "$BASE" > /dev/null 2>&1 || true
