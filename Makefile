@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: blueos blueos-test pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: passive-test blueos blueos-test pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
@@ -173,7 +173,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test structure-test live scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test structure-test live passive-test scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -280,6 +280,10 @@ deb: all $(BUILD)/lcm/sonar_types.jar
 ## blueos: the BlueOS extension (tools/pkg/blueos/) for linux/arm/v7, arm64/v8 and amd64 as OCI archives in build/blueos/ (root; buildah, debootstrap, qemu-user)
 blueos: all
 	@sh tools/pkg/blueos/build.sh
+
+## passive-test: sonard --passive beside a simulated Ping Viewer through a simulated BlueOS bridge: equal to a replay of the driver's beams, nothing sent that moves the head, gain/range changes, pauses, a forgetful bridge, a Ping1D, two drivers
+passive-test: all
+	@sh tests/passive.sh $(BUILD)
 
 ## blueos-test: --sonar blueos against a simulated ping service and bridge; the images' labels as BlueOS reads them; the arm/v7 image's files run (chroot, qemu-user) on a replay and with the simulator, its view as BlueOS's helper finds it
 blueos-test: all .venv-view/.done

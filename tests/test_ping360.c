@@ -392,6 +392,54 @@ static void test_other_device_on_the_bridge(void **state)
     assert_int_equal(drv.state, SONAR_P360_SCANNING);
 }
 
+/* Passive: one device_information request, then every beam at any angle and settings; idle and hellos on silence; nothing else ever sent. */
+static void test_passive_listens_only(void **state)
+{
+    struct sonar_ping360_config c = base_cfg();
+    struct sonar_ping360_io io = {fake_send, fake_break, &w, NULL, NULL};
+    struct sonar_ping360_event ev;
+    struct sonar_ping_frame f;
+    int i;
+    (void)state;
+    c.passive = 1;
+    memset(&w, 0, sizeof(w));
+    assert_int_equal(sonar_ping360_init(&drv, &c, &io), SONAR_OK);
+    assert_int_equal(sonar_ping360_connected(&drv, 1000), SONAR_OK);
+    assert_int_equal(drv.state, SONAR_P360_PASSIVE);
+    assert_string_equal(sonar_ping360_state_str(drv.state), "passive");
+    /* beams of another program's choosing: stepped at 7 then 250, then auto_transmit's */
+    f = reply(7, 0);
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 2000, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_BEAM);
+    assert_int_equal(ev.data.angle, 7);
+    f = reply(250, 0);
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 3000, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_BEAM);
+    f = reply(251, 1);
+    assert_int_equal(sonar_ping360_handle(&drv, &f, 4000, &ev), SONAR_OK);
+    assert_int_equal(ev.kind, SONAR_P360_EV_BEAM);
+    assert_int_equal(drv.counters.beams, 3);
+    assert_int_equal(drv.counters.stale, 0);
+    /* silence: idle once after 1.5 s, a request each second, never a link loss */
+    for (i = 1; i <= 40; i++) {
+        int64_t now = 4000 + (int64_t)i * 100000;
+        if (now >= sonar_ping360_deadline(&drv)) {
+            assert_int_equal(sonar_ping360_poll(&drv, now, &ev), SONAR_OK);
+            assert_true(ev.kind == SONAR_P360_EV_NONE || ev.kind == SONAR_P360_EV_IDLE);
+            if (ev.kind == SONAR_P360_EV_IDLE)
+                assert_true(now - 4000 >= (int64_t)SONAR_P360_IDLE_US && now - 4000 <= (int64_t)SONAR_P360_IDLE_US + 250000);
+        }
+    }
+    assert_int_equal(drv.counters.idles, 1);
+    assert_int_equal(drv.counters.hellos, 4); /* at connect, then after 1 s of silence, once a second: 1.0, 2.0, 3.0 s */
+    assert_int_equal(drv.state, SONAR_P360_PASSIVE);
+    /* stopping leaves the head to its driver */
+    assert_int_equal(sonar_ping360_stop(&drv, 5000000), SONAR_OK);
+    assert_int_equal(drv.state, SONAR_P360_STOPPED);
+    for (i = 0; i < w.n && i < 64; i++)
+        assert_int_equal(w.id[i], SONAR_PING_GENERAL_REQUEST);
+}
+
 static void test_auto_mode_and_fallback(void **state)
 {
     struct sonar_ping360_config c = base_cfg();
@@ -468,6 +516,7 @@ int main(void)
         cmocka_unit_test(test_silence_gives_up_with_backoff),
         cmocka_unit_test(test_nacks_and_stale_replies),
         cmocka_unit_test(test_other_device_on_the_bridge),
+        cmocka_unit_test(test_passive_listens_only),
         cmocka_unit_test(test_auto_mode_and_fallback),
         cmocka_unit_test(test_stop_sends_motor_off),
     };

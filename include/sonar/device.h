@@ -83,6 +83,9 @@ uint32_t sonar_device_down(struct sonar_device *d, int64_t now);
 /* The Ping360's firmware version as probed (0.0.0 until then): fw[0] major, fw[1] minor, fw[2] patch. */
 void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3]);
 
+/* 1 when the device listens only (cfg.passive): another program drives the head. */
+int sonar_device_passive(const struct sonar_device *d);
+
 /* Where the driver is: an enum sonar_ping360_state (SONAR_P360_AUTO when the sonar streams by itself). */
 int sonar_device_state(const struct sonar_device *d);
 

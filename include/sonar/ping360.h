@@ -19,7 +19,8 @@ enum sonar_ping360_state {
     SONAR_P360_SCANNING = 3, /* stepping: one transducer request per beam */
     SONAR_P360_AUTO = 4,     /* the device streams auto_device_data */
     SONAR_P360_STOPPING = 5, /* motor_off sent, waiting for its ack */
-    SONAR_P360_STOPPED = 6
+    SONAR_P360_STOPPED = 6,
+    SONAR_P360_PASSIVE = 7   /* listen-only: another program drives the head; every reply is used */
 };
 
 struct sonar_ping360_config {
@@ -35,6 +36,7 @@ struct sonar_ping360_config {
     uint8_t full_circle;        /* 1: full turns from start_angle (stop ignored); 0: back and forth */
     uint8_t use_auto;           /* 1: auto_transmit when the firmware is newer than 3.3.0 */
     uint32_t baud;              /* serial bit rate, for the transfer time in the timeout; 0 = network */
+    uint8_t passive;            /* 1: never command the head; use the replies another program draws */
 };
 
 /*
@@ -59,14 +61,20 @@ struct sonar_ping360_counters {
     uint32_t beams;      /* beams delivered */
     uint32_t stale;      /* replies for another angle than requested (late or duplicate) */
     uint32_t foreign;    /* frames of another device on the link (a Ping1D behind the same bridge), ignored */
+    uint32_t hellos;     /* passive: device_information requests sent so a bridge relays to us (none move the head) */
+    uint32_t idles;      /* passive: times the beams stopped for SONAR_P360_IDLE_US (the driving program quiet) */
 };
+
+#define SONAR_P360_IDLE_US 1500000u  /* passive: no beam for this long is idle (said within 2 s) */
+#define SONAR_P360_HELLO_US 1000000u /* passive: a device_information request when nothing came for this long */
 
 enum sonar_ping360_event_kind {
     SONAR_P360_EV_NONE = 0,
     SONAR_P360_EV_READY = 1,     /* probe answered: firmware known, scanning started */
     SONAR_P360_EV_BEAM = 2,      /* ev->data holds a beam (data points into the frame) */
     SONAR_P360_EV_LINK_LOST = 3, /* give up on this link: reconnect after ev->backoff_us */
-    SONAR_P360_EV_STOPPED = 4    /* motor_off acknowledged (or given up on) */
+    SONAR_P360_EV_STOPPED = 4,   /* motor_off acknowledged (or given up on) */
+    SONAR_P360_EV_IDLE = 5       /* passive: no beam for SONAR_P360_IDLE_US (the next beam ends it) */
 };
 
 struct sonar_ping360_event {
@@ -98,12 +106,15 @@ struct sonar_ping360 {
     uint8_t attempts;      /* consecutive timeouts of the pending request */
     uint8_t nack_run;      /* consecutive NACKs */
     uint8_t have_info;
+    uint8_t idle;          /* passive: no beam for SONAR_P360_IDLE_US */
+    int64_t last_beam;     /* passive: when the last beam came (or the link opened) */
+    int64_t last_hello;    /* passive: when the last request went out */
 };
 
 /* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. cfg must not be NULL. */
 const char *sonar_ping360_config_check(const struct sonar_ping360_config *cfg);
 
-/* The state's name: "down", "connecting", "probing", "scanning", "auto", "stopping", "stopped"; never NULL. */
+/* The state's name: "down", "connecting", "probing", "scanning", "auto", "stopping", "stopped", "passive"; never NULL. */
 const char *sonar_ping360_state_str(int state);
 
 /*
@@ -114,7 +125,11 @@ const char *sonar_ping360_state_str(int state);
 SONAR_CHECK int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_config *cfg,
                                    const struct sonar_ping360_io *io);
 
-/* The host opened the link: probe the device. Returns SONAR_OK or the send error. */
+/*
+ * The host opened the link: probe the device. Passive (cfg.passive): state PASSIVE and one
+ * device_information request, which a bridge takes as a client's hello; nothing else is ever sent.
+ * Returns SONAR_OK or the send error.
+ */
 SONAR_CHECK int sonar_ping360_connected(struct sonar_ping360 *d, int64_t now);
 
 /* The host lost the link (TCP closed, serial unplugged): state DOWN, one reconnect counted. */

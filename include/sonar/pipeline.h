@@ -35,6 +35,7 @@ struct sonar_pipeline_config {
     uint8_t median;   /* 1-D window along range: 1 (off) or odd 3..SONAR_MAX_MEDIAN */
     uint8_t median2d; /* 0, or K = 3 / 5 for K x K over adjacent beams (then median is ignored) */
     uint16_t max_step; /* gradians; a larger angle move starts a new sweep (1..200) */
+    float sweep_gap_s; /* a beam this long after the one before starts a new sweep, seconds (0.1..3600); 0: never */
     struct sonar_background_config background;
     struct sonar_detector_config detector;
     float structure_s; /* an echo there from the first look that stands this long is structure, learnt into
@@ -101,6 +102,8 @@ struct sonar_pipeline {
     uint32_t repeats;                    /* detections dropped as an object seen twice in a sweep */
     uint32_t geometry_changes;           /* the range or the samples a beam changed: the open sweep
                                             was cut and the background relearns from the next beam */
+    uint32_t gap_cuts;                   /* sweeps cut by a gap in time (cfg sweep_gap_s) */
+    int64_t last_utime;                  /* the last beam's time, us */
     float prev_bearing;                  /* world heading of the last such beam, degrees */
     float prev_width;                    /* the footprint it had, degrees */
     uint8_t have_prev_bearing;

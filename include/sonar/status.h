@@ -65,6 +65,13 @@ struct sonar_status {
         uint32_t places, learnt;           /* places seen now (structure.h) and those learnt as structure */
         uint32_t promoted, detections, restarts; /* its counters since the start */
     } structure;                           /* all 0 with --structure-s 0 */
+    struct {
+        int on;                            /* 1: listen-only (--passive): another program drives the head */
+        int idle;                          /* 1: no beam for SONAR_P360_IDLE_US */
+        int samples;                       /* the driving program's settings, from its latest beam ... */
+        float range_m;                     /* ... (the gain is acq.gain) */
+        uint32_t changes;                  /* its changes of range, samples or gain, said and counted */
+    } passive;                             /* all 0 when sonard drives the head */
 };
 
 /*

@@ -112,3 +112,8 @@ int sonar_device_state(const struct sonar_device *d)
 {
     return (int)d->drv.state;
 }
+
+int sonar_device_passive(const struct sonar_device *d)
+{
+    return d->drv.cfg.passive != 0;
+}

@@ -45,8 +45,8 @@ const char *sonar_ping360_config_check(const struct sonar_ping360_config *c)
 
 const char *sonar_ping360_state_str(int state)
 {
-    static const char *const names[] = {"down", "connecting", "probing", "scanning", "auto", "stopping", "stopped"};
-    return state >= 0 && state <= SONAR_P360_STOPPED ? names[state] : "unknown";
+    static const char *const names[] = {"down", "connecting", "probing", "scanning", "auto", "stopping", "stopped", "passive"};
+    return state >= 0 && state <= SONAR_P360_PASSIVE ? names[state] : "unknown";
 }
 
 int sonar_ping360_init(struct sonar_ping360 *d, const struct sonar_ping360_config *cfg,
@@ -166,13 +166,83 @@ static int send_motor_off(struct sonar_ping360 *d, int64_t now)
     return d->io.send(d->io.user, buf, (size_t)n);
 }
 
+/* Passive: a device_information request, the one message that changes nothing on the head; a bridge counts its sender as a client. */
+static int send_hello(struct sonar_ping360 *d, int64_t now)
+{
+    uint8_t buf[16];
+    int n = sonar_ping_encode_general_request(buf, sizeof(buf), SONAR_PING_DEVICE_INFORMATION);
+    if (n < 0)
+        return n;
+    d->last_hello = now;
+    d->counters.hellos++;
+    return d->io.send(d->io.user, buf, (size_t)n);
+}
+
 int sonar_ping360_connected(struct sonar_ping360 *d, int64_t now)
 {
     if (d == NULL)
         return SONAR_ERR_ARG;
     d->attempts = 0;
     d->nack_run = 0;
+    if (d->cfg.passive) {
+        d->state = SONAR_P360_PASSIVE;
+        d->last_beam = now;
+        d->idle = 0;
+        d->deadline = now + SONAR_P360_HELLO_US / 2;
+        return send_hello(d, now);
+    }
     return send_probe(d, now);
+}
+
+/* Passive: every reply at whatever angle and settings the driving program chose. */
+static int passive_frame(struct sonar_ping360 *d, const struct sonar_ping_frame *f, int64_t now, struct sonar_ping360_event *ev)
+{
+    struct sonar_ping360_data data;
+    if (f->id == SONAR_PING_DEVICE_INFORMATION) {
+        struct sonar_ping_device_info info;
+        if (sonar_ping_decode_device_info(f, &info) != SONAR_OK)
+            return SONAR_OK;
+        if (info.device_type != 0 && info.device_type != SONAR_PING_DEVICE_PING360) {
+            d->counters.foreign++;
+            return SONAR_OK;
+        }
+        d->info = info;
+        if (!d->have_info)
+            ev->kind = SONAR_P360_EV_READY;
+        d->have_info = 1;
+        return SONAR_OK;
+    }
+    if (f->id >= SONAR_PING1D_FIRST_ID && f->id <= SONAR_PING1D_LAST_ID) {
+        d->counters.foreign++;
+        return SONAR_OK;
+    }
+    if ((f->id != SONAR_PING360_DEVICE_DATA && f->id != SONAR_PING360_AUTO_DEVICE_DATA) ||
+        sonar_ping_decode_data(f, &data) != SONAR_OK)
+        return SONAR_OK;
+    if (data.data_length == 0) {
+        d->counters.stale++;
+        return SONAR_OK;
+    }
+    d->counters.beams++;
+    d->last_beam = now;
+    d->idle = 0;
+    ev->kind = SONAR_P360_EV_BEAM;
+    ev->data = data;
+    return SONAR_OK;
+}
+
+/* Passive timers: idle after SONAR_P360_IDLE_US without a beam; a hello when nothing at all came for SONAR_P360_HELLO_US (at most one a period). */
+static int passive_poll(struct sonar_ping360 *d, int64_t now, struct sonar_ping360_event *ev)
+{
+    d->deadline = now + SONAR_P360_HELLO_US / 4;
+    if (!d->idle && now - d->last_beam >= (int64_t)SONAR_P360_IDLE_US) {
+        d->idle = 1;
+        d->counters.idles++;
+        ev->kind = SONAR_P360_EV_IDLE;
+    }
+    if (now - d->last_rx >= (int64_t)SONAR_P360_HELLO_US && now - d->last_hello >= (int64_t)SONAR_P360_HELLO_US)
+        return send_hello(d, now);
+    return SONAR_OK;
 }
 
 static void give_up(struct sonar_ping360 *d, struct sonar_ping360_event *ev)
@@ -219,6 +289,8 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
         return SONAR_ERR_ARG;
     ev->kind = SONAR_P360_EV_NONE;
     d->last_rx = now;
+    if (d->state == SONAR_P360_PASSIVE)
+        return passive_frame(d, f, now, ev);
     switch (f->id) {
     case SONAR_PING_DEVICE_INFORMATION: {
         struct sonar_ping_device_info info;
@@ -310,6 +382,8 @@ int sonar_ping360_poll(struct sonar_ping360 *d, int64_t now, struct sonar_ping36
     ev->kind = SONAR_P360_EV_NONE;
     if (now < d->deadline)
         return SONAR_OK;
+    if (d->state == SONAR_P360_PASSIVE)
+        return passive_poll(d, now, ev);
     d->attempts++;
     switch (d->state) {
     case SONAR_P360_PROBING:
@@ -356,7 +430,8 @@ int sonar_ping360_stop(struct sonar_ping360 *d, int64_t now)
 {
     if (d == NULL)
         return SONAR_ERR_ARG;
-    if (d->state == SONAR_P360_DOWN || d->state == SONAR_P360_STOPPED) {
+    /* Passive: the head is not ours to stop. */
+    if (d->state == SONAR_P360_DOWN || d->state == SONAR_P360_STOPPED || d->state == SONAR_P360_PASSIVE || d->cfg.passive) {
         d->state = SONAR_P360_STOPPED;
         d->deadline = NO_DEADLINE;
         return SONAR_OK;

@@ -66,6 +66,8 @@ const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
         return "median: 1 (off) or odd 3..SONAR_MAX_MEDIAN";
     if (cfg->max_step < 1 || cfg->max_step > SONAR_PIPE_MAX_STEP_MAX)
         return "max_step: 1..200 gradians";
+    if (!(cfg->sweep_gap_s == 0.0f || (cfg->sweep_gap_s >= 0.1f && cfg->sweep_gap_s <= 3600.0f)))
+        return "sweep_gap_s: 0 (never) or 0.1..3600 seconds";
     /* The sub-configs' checks name their own fields; the prefix is implied by the field names. */
     if ((why = sonar_background_config_check(&cfg->background)) != NULL)
         return why;
@@ -417,6 +419,15 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
             return r;
     }
+    /* A pause in the beams (the program driving a head stopped, then resumed) ends the sweep, as a wrap would. */
+    if (p->cfg->sweep_gap_s > 0.0f && p->open && b->utime - p->last_utime > (int64_t)(p->cfg->sweep_gap_s * 1e6f)) {
+        if ((r = end_sweep(p)) != SONAR_OK)
+            return r;
+        p->gap_cuts++;
+        if ((r = sonar_sweep_init(&p->sweep, p->cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
+            return r;
+    }
+    p->last_utime = b->utime;
     p->n = b->n;
     p->range_m = b->range_m;
     tap(p, SONAR_STAGE_RAW, b->utime, b->angle, b->samples);

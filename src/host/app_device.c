@@ -3,6 +3,23 @@
 
 #include <stdio.h>
 
+/* --passive: the driving program's settings as its beams show them; a change is said and counted (the pipeline cuts the sweep). */
+static void passive_beam(struct app *a, const struct sonar_record *b)
+{
+    const struct sonar_record *p = &a->passive_last;
+    if (a->passive_idle) {
+        app_say(a, "passive: beams again after %.1f s", (double)(b->utime - p->utime) * 1e-6);
+        a->passive_idle = 0;
+    }
+    if (p->n != 0 && (p->n != b->n || p->sample_period != b->sample_period || p->gain != b->gain)) {
+        a->passive_changes++;
+        app_say(a, "passive: the driving program changed its settings: range %.2f -> %.2f m, samples %u -> %u, gain %d -> %d",
+                (double)p->range_m, (double)b->range_m, p->n, b->n, (int)p->gain, (int)b->gain);
+    }
+    a->passive_last = *b;
+    a->passive_last.samples = NULL;
+}
+
 static int on_event(struct app *a, struct sonar_device_event *ev)
 {
     switch (ev->kind) {
@@ -11,6 +28,10 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         int streaming = sonar_device_state(&a->dev) == SONAR_P360_AUTO;
         sonar_device_firmware(&a->dev, fw);
         app_say(a, "Ping360 firmware %u.%u.%u on %s", fw[0], fw[1], fw[2], a->link);
+        if (sonar_device_state(&a->dev) == SONAR_P360_PASSIVE) {
+            app_say(a, "passive: using the beams another program draws; sending nothing that moves or sets the head");
+            return APP_LINK_NONE;
+        }
         app_say(a, "scanning (%s)", streaming ? "auto_transmit" : "stepping");
         if (a->have_scan && streaming && !a->scan_said) {
             app_say(a, "--scan follow: the sonar steps itself in auto_transmit mode, so the planner cannot steer it; "
@@ -19,8 +40,15 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         }
         return APP_LINK_NONE;
     }
+    case SONAR_P360_EV_IDLE:
+        a->passive_idle = 1;
+        app_warn(a, "passive: no beam for %.1f s: the program driving the head stopped, or the bridge dropped us "
+                    "(asking the device again each second)", SONAR_P360_IDLE_US * 1e-6);
+        return APP_LINK_NONE;
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
+        if (sonar_device_state(&a->dev) == SONAR_P360_PASSIVE)
+            passive_beam(a, &ev->beam);
         if (a->have_gain_auto && !a->gain_off)
             sonar_gain_beam(&a->gain, ev->beam.samples, ev->beam.n, (uint8_t)ev->beam.gain);
         if (app_push(a, &ev->beam) != HOST_OK)

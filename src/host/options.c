@@ -24,6 +24,8 @@ static const struct opt_spec spec[] = {
      "the Ping360 to drive (Ethernet Ping360: UDP 12345;\nBlueOS serial bridge: UDP 9092; blueos: the one BlueOS's\nping service on HOST:PORT (127.0.0.1:9110) names)", NULL, options_parse_sonar},
     {"baud", "N|auto", OPT_CUSTOM, 1, 0, 0, 0, 0, "bits/s 1200..4000000, or auto", "115200",
      "serial bit rate; auto tries Ping Viewer's list after a line break", NULL, options_parse_baud},
+    {"passive", NULL, OPT_FLAG, 1, 0, F(passive), 0, 0, NULL, "off",
+     "listen only: use the beams another program (Ping Viewer)\ndraws through a bridge; command nothing", NULL, NULL},
     {"mode", "step|auto", OPT_CHOICE, 1, 0, V(use_auto), 0, 0, "step or auto", "step",
      "step: one transducer request per beam; auto: auto_transmit\nwhen the firmware is newer than 3.3.0, else step",
      "step=0|auto=1", NULL},
@@ -170,6 +172,8 @@ static const struct opt_spec spec[] = {
     {"link-beams", "N", OPT_U8, 1, 1, D(link_beams), 1, SONAR_DET_LINK_BEAMS_MAX, "beams", "2", "beams apart still joining one object", NULL, NULL},
     {"max-step", "G", OPT_U16, 1, 1, offsetof(struct sonard_options, pipeline.max_step), 1, SONAR_PIPE_MAX_STEP_MAX,
      "gradians", "20", "an angle move larger than G starts a sweep", NULL, NULL},
+    {"sweep-gap", "S", OPT_F32, 1, 1, offsetof(struct sonard_options, pipeline.sweep_gap_s), 0, 3600, "seconds (0: never)",
+     "0 (2 with --passive)", "a beam this long after the one before starts a sweep\n(a paused driving program)", NULL, NULL},
     SECTION("tracking (once per sweep, docs/architecture.md)"),
     {"track", "on|off", OPT_CHOICE, 1, 1, P(track), 0, 0, "on or off", "on",
      "Kalman tracks with IDs on SONAR_TRACKS and in --json", "off=0|on=1", NULL},
@@ -274,6 +278,24 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
             o->pipeline.detector.max_aspect = d.detector.max_aspect;
         if (!given(o, "min-area"))
             o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
+    }
+    o->device.passive = (uint8_t)(o->passive != 0);
+    if (o->device.passive) {
+        /* Whoever drives the head chooses these; sonard takes them from each reply. */
+        static const char *const head[] = {"mode", "sector", "step", "gain", "scan", "frequency", "samples",
+                                           "transmit-duration", "range"};
+        size_t i;
+        if (o->sonar == NULL) {
+            snprintf(err, errlen, "--passive listens to a live sonar: it goes with --sonar");
+            return HOST_ERR_CONFIG;
+        }
+        for (i = 0; i < sizeof head / sizeof head[0]; i++)
+            if (given(o, head[i])) {
+                snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
+                return HOST_ERR_CONFIG;
+            }
+        if (!given(o, "sweep-gap"))
+            o->pipeline.sweep_gap_s = 2.0f;
     }
     if (o->pose_lcm != NULL && o->replay != NULL) {
         snprintf(err, errlen, "--pose-lcm URL is for a live sonar; a replay takes --pose FILE.csv");

@@ -49,6 +49,7 @@ struct sonard_options {
     long sweeps;                /* stop after this many sweeps; 0 = run until signalled */
     int json;
     int quiet;                  /* no per-sweep text report */
+    int passive;                /* --passive: copied into device.passive by the whole-options check */
     uint8_t log_level;          /* enum app_level: diagnostics at or below it go to stderr */
     int publish_filtered;
     int no_lcm;

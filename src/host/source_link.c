@@ -164,7 +164,8 @@ void source_link_stop(struct source_link *s, int64_t now)
         s->stopped = 1;
         return;
     }
-    say(s, "stopping: motor_off");
+    say(s, link_device_state(s) == SONAR_P360_PASSIVE ? "stopping (passive: the head is its driver's; nothing sent)"
+                                                      : "stopping: motor_off");
     r = app_link_stop(s->app, now);
     if (r != 0) /* already stopped, or the request could not be sent */
         s->stopped = 1;

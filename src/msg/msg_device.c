@@ -117,6 +117,13 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->structure_promoted = s->structure.promoted;
     m->structure_detections = s->structure.detections;
     m->structure_restarts = s->structure.restarts;
+    m->passive = (int8_t)(s->passive.on != 0);
+    m->passive_idle = (int8_t)(s->passive.idle != 0);
+    m->passive_range_m = s->passive.range_m;
+    m->passive_samples = (int16_t)(s->passive.samples > 32767 ? 32767 : s->passive.samples < 0 ? 0 : s->passive.samples);
+    m->passive_changes = s->passive.changes;
+    m->passive_hellos = s->driver.hellos;
+    m->passive_idles = s->driver.idles;
 }
 
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
@@ -190,6 +197,13 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->structure.promoted = to_u32(m->structure_promoted);
     s->structure.detections = to_u32(m->structure_detections);
     s->structure.restarts = to_u32(m->structure_restarts);
+    s->passive.on = m->passive != 0;
+    s->passive.idle = m->passive_idle != 0;
+    s->passive.range_m = m->passive_range_m;
+    s->passive.samples = m->passive_samples;
+    s->passive.changes = to_u32(m->passive_changes);
+    s->driver.hellos = to_u32(m->passive_hellos);
+    s->driver.idles = to_u32(m->passive_idles);
 }
 
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)

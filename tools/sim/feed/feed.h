@@ -47,6 +47,7 @@ struct feed {
     const char *pty_link;
     const char *log_path;
     int device_pace;
+    double pace_speedup; /* --pace xN: the device's timing N times faster (1: as the device) */
     double drop, corrupt, garbage;
     double ping1d;  /* probability that a Ping1D's frame (a bridge's other device) precedes a reply */
     long disconnect_after, stall_at, drop_at;

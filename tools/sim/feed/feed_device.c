@@ -141,7 +141,7 @@ void feed_queue(struct feed *f, uint16_t id, const uint8_t *payload, uint16_t le
     if (w < 0)
         return;
     f->out_len = (size_t)w;
-    f->due = feed_now() + (f->device_pace ? delay : 0.0);
+    f->due = feed_now() + (f->device_pace ? delay / f->pace_speedup : 0.0);
 }
 
 double feed_beam_time(const struct feed *f, uint16_t from, uint16_t to)
@@ -268,7 +268,8 @@ void feed_handle_frame(struct feed *f, const struct sonar_ping_frame *fr)
         f->a_stop = (uint16_t)(p[12] | p[13] << 8);
         f->a_step = p[14] ? p[14] : 1;
         f->a_dir = 1;
-        f->angle = (uint16_t)(f->a_start - f->a_step);
+        /* one step before the start, mod 400: the first beam is at start_angle (a full turn's 0, not 336) */
+        f->angle = (uint16_t)((f->a_start + 400u - f->a_step) % 400u);
         f->streaming = 1;
         feed_auto_next(f, 0.0);
         break;

@@ -84,8 +84,20 @@ static int parse_seed(void *base, const char *v, char *err, size_t n)
 static int parse_pace(void *base, const char *v, char *err, size_t n)
 {
     struct feed *f = base;
+    char *end;
+    double x = v[0] == 'x' ? strtod(v + 1, &end) : 0.0;
+    f->pace_speedup = 1.0;
+    if (v[0] == 'x') {
+        if (v[1] == '\0' || *end != '\0' || !(x >= 1.0 && x <= 1000.0)) {
+            snprintf(err, n, "--pace: '%s' is not xN with N in 1..1000", v);
+            return HOST_ERR_CONFIG;
+        }
+        f->device_pace = 1;
+        f->pace_speedup = x;
+        return HOST_OK;
+    }
     if (strcmp(v, "fast") != 0 && strcmp(v, "device") != 0) {
-        snprintf(err, n, "--pace: '%s' is not device or fast", v);
+        snprintf(err, n, "--pace: '%s' is not device, fast or xN", v);
         return HOST_ERR_CONFIG;
     }
     f->device_pace = strcmp(v, "device") == 0;
@@ -99,7 +111,8 @@ static const struct opt_spec feed_spec[] = {
     {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still or faces", NULL, "a simulated scene", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
-    {"pace", "device|fast", OPT_CUSTOM, 0, 0, 0, 0, 0, "device or fast", "device", "device: 19.4 ms + 6 ms a gradian + 2R/c a beam", NULL, parse_pace},
+    {"pace", "device|fast|xN", OPT_CUSTOM, 0, 0, 0, 0, 0, "device, fast or xN", "device",
+     "device: 19.4 ms + 6 ms a gradian + 2R/c a beam; xN: N times\nfaster; fast: at once", NULL, parse_pace},
     {"firmware", "X.Y.Z", OPT_CUSTOM, 0, 0, 0, 0, 0, "X.Y.Z", "3.3.8", "firmware version reported", NULL, parse_firmware},
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "scene and fault random seed", NULL, parse_seed},
     {"scene-clock", "sweeps|wall", OPT_CHOICE, 0, 0, FO(wall_clock), 0, 0, "sweeps or wall", "sweeps",
@@ -156,6 +169,7 @@ int main(int argc, char **argv)
     char err[256];
     int action;
     f.device_pace = 1;
+    f.pace_speedup = 1.0;
     f.fw[0] = 3;
     f.fw[1] = 3;
     f.fw[2] = 8;
