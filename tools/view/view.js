@@ -3,7 +3,7 @@
 "use strict";
 
 const S = 720, C = S / 2, R = S / 2 - 12;           // canvas, centre, fan radius in pixels
-const LINK = ["down", "connecting", "probing", "scanning", "auto-transmit", "stopping", "stopped"];
+const LINK = ["down", "connecting", "probing", "scanning", "auto-transmit", "stopping", "stopped", "passive"];
 const image = document.getElementById("image"), overlay = document.getElementById("overlay");
 const ictx = image.getContext("2d"), octx = overlay.getContext("2d");
 const img = ictx.createImageData(S, S);
@@ -151,6 +151,7 @@ setInterval(() => {
   let h = "";
   if (st) {
     h += row("link", `${LINK[st.link_state] || st.link_state} ${st.link}`, st.link_state < 3);
+    if (st.passive) h += row("driving program", st.passive_idle ? "quiet (no beams)" : "beams coming", st.passive_idle > 0);
     h += row("firmware", `${st.fw_major}.${st.fw_minor}.${st.fw_patch}`);
     h += row("sweep time", st.last_sweep_s > 0 ? st.last_sweep_s.toFixed(1) + " s" : "—");
     h += row("processing a beam p50 / p99", `${st.beam_us_p50.toFixed(1)} / ${st.beam_us_p99.toFixed(1)} µs`);
