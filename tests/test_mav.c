@@ -448,6 +448,40 @@ static void test_ignored_arcs(void **state)
     }
 }
 
+/* A reload's angle-offset reaches the obstacle map (the detections turn by it too); a min-range too far is refused, nothing changed. */
+static void test_retune(void **state)
+{
+    struct mav_config mc;
+    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
+    mavlink_message_t msg, rbuf;
+    mavlink_status_t st, rst;
+    mavlink_obstacle_distance_t od;
+    char err[160];
+    size_t n, i;
+    int a, pass;
+    (void)state;
+    default_cfg(&mc);
+    setup_cfg(&mc);
+    assert_int_equal(mav_retune(&m, 0.0f, 150.0f, err, sizeof(err)), HOST_ERR_CONFIG);
+    assert_string_equal(err, "--min-range 150: too far for the obstacle map (0..100 m)");
+    assert_true(m.cfg.angle_offset == 0.0f);
+    assert_int_equal(mav_retune(&m, 100.0f, 1.0f, err, sizeof(err)), HOST_OK); /* 100 gradians: 90 degrees */
+    for (pass = 0; pass < 2; pass++)
+        for (a = 0; a < 400; a++)
+            beam_at(wall + (int64_t)(pass * 400 + a) * 10000, (uint16_t)a, pass == 1 && a >= 10 && a < 16);
+    n = mav_obstacle_distance(&m, buf, wall + 8000000, 3000000);
+    memset(&st, 0, sizeof(st));
+    memset(&rst, 0, sizeof(rst));
+    for (i = 0; i < n; i++)
+        (void)mavlink_frame_char_buffer(&rbuf, &st, buf[i], &msg, &rst);
+    mavlink_msg_obstacle_distance_decode(&msg, &od);
+    /* an echo at head angles 10..15 gradians: 9..13.5 degrees ahead without the offset (entries 6, 7); turned by
+       100 gradians it lies at 99..103.5 degrees (entries 24, 25) */
+    assert_true(od.distances[24] == 390 || od.distances[25] == 390);
+    assert_true(od.distances[6] != 390 && od.distances[7] != 390);
+    assert_int_equal(od.min_distance, 100);
+}
+
 /* OBSTACLE_DISTANCE_3D only when asked, its IDs folded into 1..65534 (65535 reads as unknown). */
 static void test_3d_ids(void **state)
 {
@@ -494,6 +528,7 @@ int main(void)
         cmocka_unit_test(test_fail_closed),
         cmocka_unit_test(test_pose_held),
         cmocka_unit_test(test_ignored_arcs),
+        cmocka_unit_test(test_retune),
         cmocka_unit_test(test_3d_ids),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

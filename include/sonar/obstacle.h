@@ -94,6 +94,12 @@ void sonar_obstacle_defaults(struct sonar_obstacle_config *cfg);
 SONAR_CHECK int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_config *cfg);
 
 /*
+ * A new min_range (0..100 m) from the next beam on, the map kept: a reload must not empty the map an
+ * autopilot avoids with. Returns SONAR_OK or SONAR_ERR_ARG.
+ */
+SONAR_CHECK int sonar_obstacle_set_min_range(struct sonar_obstacle *o, float min_range_m);
+
+/*
  * One beam (filtered samples, n 1..SONAR_MAX_SAMPLES over range_m metres, (0, 1000]) at bearing_deg
  * in the body frame (any value; taken modulo 360), seen at utime with the vehicle at pose (NULL:
  * unknown): its nearest echo beyond min_range is remembered (the oldest echo held making way), or

@@ -34,6 +34,14 @@ int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_co
     return SONAR_OK;
 }
 
+int sonar_obstacle_set_min_range(struct sonar_obstacle *o, float min_range_m)
+{
+    if (o == NULL || !(min_range_m >= 0.0f && min_range_m <= 100.0f))
+        return SONAR_ERR_ARG;
+    o->cfg.min_range_m = min_range_m;
+    return SONAR_OK;
+}
+
 /* The sector of a bearing in degrees (any value): round(bearing / 5) modulo 72. */
 static int sector_at(double bearing_deg)
 {

@@ -73,6 +73,18 @@ int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errl
     return HOST_OK;
 }
 
+int mav_retune(struct mav *m, float angle_offset, float min_range_m, char *err, size_t errlen)
+{
+    float r = min_range_m > SONAR_PIPE_NEAR_M ? min_range_m : SONAR_PIPE_NEAR_M;
+    if (sonar_obstacle_set_min_range(&m->obs, r) != SONAR_OK) {
+        snprintf(err, errlen, "--min-range %g: too far for the obstacle map (0..100 m)", (double)min_range_m);
+        return HOST_ERR_CONFIG;
+    }
+    m->cfg.angle_offset = angle_offset;
+    m->cfg.min_range_m = min_range_m;
+    return HOST_OK;
+}
+
 static void fill(const void *self, struct sonar_status *s)
 {
     mav_status(self, s);

@@ -101,6 +101,13 @@ struct mav {
  */
 HOST_CHECK int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
 
+/*
+ * A reload's pipeline settings the obstacle map shares: angle_offset (gradians) and min_range_m
+ * (at least SONAR_PIPE_NEAR_M, at most 100 m), from the next beam on, the map kept. Returns
+ * HOST_OK, or HOST_ERR_CONFIG with err naming the value (nothing changed).
+ */
+HOST_CHECK int mav_retune(struct mav *m, float angle_offset, float min_range_m, char *err, size_t errlen);
+
 /* Binds the app: adds the sink (HOST_OK or SONAR_ERR_FULL). Open with the live loop (mav_live). */
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);
 

@@ -105,10 +105,19 @@ static int reload(void *user)
     }
     if (shows(s, APP_WARN))
         options_say_unknown(&s->reload, stderr);
+    /* The obstacle map turns beams by the same angle-offset as the detections: both change together, or neither. */
+    if (s->have_mav && s->reload.pipeline.detector.min_range_m > 100.0f) {
+        fprintf(stderr, "sonard: SIGHUP: --min-range %g: too far for the obstacle map (0..100 m); the running settings stay\n",
+                (double)s->reload.pipeline.detector.min_range_m);
+        return HOST_ERR_CONFIG;
+    }
     if (app_reconfigure(s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
     }
+    if (s->have_mav && mav_retune(&s->mav, s->reload.pipeline.detector.angle_offset,
+                                  s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK)
+        fprintf(stderr, "sonard: SIGHUP: %s\n", err); /* checked above: not reached */
     if (memcmp(&s->reload.device, &s->opt.device, sizeof(s->opt.device)) != 0)
         fprintf(stderr, "sonard: SIGHUP: device settings (range, sector, gain, ...) apply after a restart\n");
     if (shows(s, APP_INFO))
