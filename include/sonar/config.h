@@ -5,7 +5,8 @@
 /*
  * Angular cells of the per-angle background. The head has 400 gradian positions; with fewer
  * cells, angle a maps to cell a * SONAR_MAX_ANGLES / 400. RAM: SONAR_MAX_ANGLES *
- * (SONAR_MAX_SAMPLES + 1) bytes in struct sonar_background (480 400 B at 400 x 1200).
+ * (SONAR_MAX_SAMPLES + 1) bytes in struct sonar_background (480 400 B at 400 x 1200, plus its other fields:
+ * docs/sizes.md has the whole).
  */
 #ifndef SONAR_MAX_ANGLES
 #define SONAR_MAX_ANGLES 400
@@ -29,7 +30,7 @@
 #define SONAR_MAX_MEDIAN2D 5
 #endif
 
-/* Largest Ping Protocol payload accepted; Ping360's largest is 1220. RAM: payload + 10 bytes per parser. */
+/* Largest Ping Protocol payload accepted; Ping360's largest is 1220. RAM: payload + 40 bytes per parser. */
 #ifndef SONAR_PING_MAX_PAYLOAD
 #define SONAR_PING_MAX_PAYLOAD 2048
 #endif
@@ -50,7 +51,7 @@
 #define SONAR_MAX_RUNS 970
 #endif
 
-/* Clusters k-means may use per sweep, and detections reported. RAM: 24 + SONAR_MAX_HULL * 8 + 48 bytes each. */
+/* Clusters k-means may use per sweep, and detections reported. RAM: 24 + SONAR_MAX_HULL * 8 + 16 bytes each. */
 #ifndef SONAR_MAX_CLUSTERS
 #define SONAR_MAX_CLUSTERS 16
 #endif

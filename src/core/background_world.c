@@ -102,7 +102,7 @@ static int ray_ok(const struct sonar_bg_ray *r)
  * 905 cells (400 x 4096 bytes of two-byte cells). Stack: 2 bytes a ring.
  */
 #define RINGS_MAX 310
-SONAR_STATIC_ASSERT(SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES <= 400 * 4096, rings_max_holds_the_grid);
+SONAR_STATIC_ASSERT(SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES <= SONAR_GRAD_TURN * 4096u, rings_max_holds_the_grid);
 
 /*
  * A rotation by a fixed angle, the points of an arc stepped by it: the beams' arcs have a few dozen

@@ -5,7 +5,7 @@
 
 int sonar_frame_delta(uint16_t a, uint16_t b)
 {
-    return (((int)(b % SONAR_GRAD_TURN) - (int)(a % SONAR_GRAD_TURN) + 600) % (int)SONAR_GRAD_TURN) - (int)SONAR_GRAD_HALF;
+    return (((int)(b % SONAR_GRAD_TURN) - (int)(a % SONAR_GRAD_TURN) + (int)(SONAR_GRAD_TURN + SONAR_GRAD_HALF)) % (int)SONAR_GRAD_TURN) - (int)SONAR_GRAD_HALF;
 }
 
 int sonar_frame_wrap(int a)
@@ -30,7 +30,7 @@ uint16_t sonar_frame_gap(uint16_t a, uint16_t b)
 
 double sonar_frame_rad(double g)
 {
-    return g * SONAR_PI / 200.0;
+    return g * SONAR_PI / (double)SONAR_GRAD_HALF;
 }
 
 double sonar_frame_deg(double rad)

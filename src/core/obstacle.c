@@ -66,7 +66,7 @@ static int above_floor(const struct sonar_obstacle *o, const uint8_t *s, uint16_
 /* e's point from its origin, range, bearing and side (a beam half-width toward it). */
 static void place(struct sonar_obstacle_echo *e)
 {
-    double th = ((double)e->bearing_deg + (double)e->side * SONAR_OBS_HALF_BEAM_DEG) * SONAR_PI / 180.0;
+    double th = ((double)e->bearing_deg + (double)e->side * SONAR_OBS_HALF_BEAM_DEG) * SONAR_RAD_PER_DEG;
     e->x_m = (float)((double)e->ox + (double)e->range_m * cos(th));
     e->y_m = (float)((double)e->oy + (double)e->range_m * sin(th));
 }
@@ -144,7 +144,7 @@ int sonar_obstacle_beam(struct sonar_obstacle *o, int64_t utime, float bearing_d
         if (o->prev_echo && prev->world == e->world && utime >= prev->utime && fabs(step) <= SONAR_OBS_LINK_DEG) {
             double dx = (double)e->x_m - (double)prev->x_m, dy = (double)e->y_m - (double)prev->y_m;
             /* A surface at incidence a puts two beams' echoes r x step / cos(a) apart: 3 x the arc is ~70 degrees. */
-            e->linked = sqrt(dx * dx + dy * dy) <= 0.2 + 3.0 * (double)e->range_m * fabs(step) * SONAR_PI / 180.0;
+            e->linked = sqrt(dx * dx + dy * dy) <= 0.2 + 3.0 * (double)e->range_m * fabs(step) * SONAR_RAD_PER_DEG;
         }
         if (e->linked) {
             /*
@@ -238,13 +238,13 @@ static void offer_line(uint16_t *dist_cm, double ax, double ay, double bx, doubl
         double t0 = 0.0, t1 = 1.0, t;
         if (s != last) {
             /* The edge this part leaves by: bearing (s +- 1/2) sectors; where the line meets it. */
-            double e = ((double)s + 0.5 * dir) * SONAR_OBS_SECTOR_DEG * SONAR_PI / 180.0, ux = cos(e), uy = sin(e);
+            double e = ((double)s + 0.5 * dir) * SONAR_OBS_SECTOR_DEG * SONAR_RAD_PER_DEG, ux = cos(e), uy = sin(e);
             double den = dx * uy - dy * ux;
             t1 = den != 0.0 ? -(ax * uy - ay * ux) / den : 1.0;
             t1 = t1 < 0.0 ? 0.0 : t1 > 1.0 ? 1.0 : t1;
         }
         if (guard > 0) {
-            double e = ((double)s - 0.5 * dir) * SONAR_OBS_SECTOR_DEG * SONAR_PI / 180.0, ux = cos(e), uy = sin(e);
+            double e = ((double)s - 0.5 * dir) * SONAR_OBS_SECTOR_DEG * SONAR_RAD_PER_DEG, ux = cos(e), uy = sin(e);
             double den = dx * uy - dy * ux;
             t0 = den != 0.0 ? -(ax * uy - ay * ux) / den : 0.0;
             t0 = t0 < 0.0 ? 0.0 : t0 > 1.0 ? 1.0 : t0;

@@ -224,7 +224,7 @@ static void mark_targets(struct sonar_scan *s, uint8_t *need, const struct sonar
         int c, k, h = (int)hw / s->cfg.step;
         if (h > share)
             h = share;
-        if (!(t[i].angle >= 0.0f && t[i].angle < 400.0f) || !in_sector(s, c = sonar_frame_wrap((int)(t[i].angle + 0.5f)))) {
+        if (!(t[i].angle >= 0.0f && t[i].angle < (float)SONAR_GRAD_TURN) || !in_sector(s, c = sonar_frame_wrap((int)(t[i].angle + 0.5f)))) {
             s->counters.targets_dropped++;
             continue;
         }

@@ -7,7 +7,7 @@
 
 int sonar_sweep_init(struct sonar_sweep *s, uint16_t max_step, uint16_t max_beams)
 {
-    if (s == NULL || max_step < 1 || max_step > 200 || max_beams < 2)
+    if (s == NULL || max_step < 1 || max_step > SONAR_GRAD_HALF || max_beams < 2)
         return SONAR_ERR_ARG;
     memset(s, 0, sizeof(*s));
     s->max_step = max_step;
