@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "sonar/pipeline.h"
+#include "sonar/status.h"
 #include "view.h"
 
 #define N 300
@@ -88,6 +89,7 @@ static void push_at(uint16_t angle, const uint8_t *s, uint16_t n, float range, i
     b.n = n;
     b.range_m = range;
     b.samples = s;
+    b.gain = -1;
     assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
 }
 
@@ -156,7 +158,7 @@ static void test_geometry_change_cuts_and_resets(void **state)
     assert_int_equal(lg.sweeps, 2);
     assert_int_equal(pipe_.geometry_changes, 2);
     {
-        struct sonar_beam b = {0, 400, N, 10.0f, s};
+        struct sonar_beam b = {0, 400, N, 10.0f, s, -1};
         assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_ERR_ARG);
         b.angle = 0;
         b.range_m = 0.0f;
@@ -164,6 +166,38 @@ static void test_geometry_change_cuts_and_resets(void **state)
     }
     c.median = 4;
     assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_ERR_ARG);
+}
+
+/* A change of the beams' gain restarts the background here, in the core: host and co-processor alike; unknown (-1) changes nothing. */
+static void test_gain_change_restarts(void **state)
+{
+    struct sonar_pipeline_config c;
+    struct sonar_status st;
+    uint8_t s[N] = {0};
+    struct sonar_beam b = {0, 0, N, 10.0f, s, 0};
+    uint16_t a;
+    (void)state;
+    memset(&lg, 0, sizeof(lg));
+    cfg_init(&c);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
+    for (a = 0; a < 3; a++) {
+        b.angle = a;
+        assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+    }
+    assert_int_equal(pipe_.bg->visits[2], 1);
+    b.gain = -1; /* unknown: no change */
+    b.angle = 3;
+    assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+    assert_int_equal(pipe_.gain_restarts, 0);
+    b.gain = 2;
+    b.angle = 4;
+    assert_int_equal(sonar_pipeline_push(&pipe_, &b), SONAR_OK);
+    assert_int_equal(pipe_.gain_restarts, 1);
+    assert_int_equal(pipe_.bg->visits[2], 0); /* learnt afresh at the new gain */
+    memset(&st, 0, sizeof(st));
+    sonar_status_fill(&st, NULL, &pipe_);
+    assert_int_equal(st.acq.gain, 2);
+    assert_int_equal(st.acq.background_restarts, 1);
 }
 
 /* A static scene (a wall at sample 200 in every beam) for 3 turns, then an object: only it is found. */
@@ -435,6 +469,7 @@ int main(void)
         cmocka_unit_test(test_stage_order_and_sweeps),
         cmocka_unit_test(test_2d_median_flushes_each_sweep),
         cmocka_unit_test(test_geometry_change_cuts_and_resets),
+        cmocka_unit_test(test_gain_change_restarts),
         cmocka_unit_test(test_object_over_static_scene),
         cmocka_unit_test(test_cfar_across_beams_one_beam_late),
         cmocka_unit_test(test_moving_vehicle_world_frame),

@@ -23,6 +23,7 @@ struct sonar_beam {
     uint16_t n;     /* samples, 1..SONAR_MAX_SAMPLES */
     float range_m;  /* metres covered by the n samples (see geometry.h) */
     const uint8_t *samples;
+    int16_t gain;   /* the sonar's gain setting (0 low, 1 normal, 2 high), or -1 unknown: a change restarts the background */
 };
 
 enum sonar_stage {
@@ -103,6 +104,8 @@ struct sonar_pipeline {
     uint32_t geometry_changes;           /* the range or the samples a beam changed: the open sweep
                                             was cut and the background relearns from the next beam */
     uint32_t gap_cuts;                   /* sweeps cut by a gap in time (cfg sweep_gap_s) */
+    uint32_t gain_restarts;              /* backgrounds restarted because the beams' gain changed */
+    int16_t last_gain;                   /* the gain of the beam before, -1 none known yet */
     int64_t last_utime;                  /* the last beam's time, us */
     float prev_bearing;                  /* world heading of the last such beam, degrees */
     float prev_width;                    /* the footprint it had, degrees */

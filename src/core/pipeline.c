@@ -89,6 +89,7 @@ int sonar_pipeline_init(struct sonar_pipeline *p, struct sonar_background *bg, c
     p->cfg = cfg;
     p->bg = bg;
     p->prev_width = 1.8f; /* two gradians, until a second beam gives the step */
+    p->last_gain = -1;
     if ((r = sonar_sweep_init(&p->sweep, cfg->max_step, SONAR_MAX_SWEEP_BEAMS)) != SONAR_OK)
         return r;
     if (cfg->median2d != 0 && (r = sonar_median2d_init(&p->m2d, cfg->median2d)) != SONAR_OK)
@@ -128,6 +129,7 @@ static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16
         return;
     b.utime = utime;
     b.angle = angle;
+    b.gain = p->last_gain;
     b.n = p->n;
     b.range_m = p->range_m;
     b.samples = s;
@@ -409,6 +411,14 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
         b->angle > SONAR_GRAD_MAX || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
+    if (b->gain >= 0) {
+        /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
+        if (p->last_gain >= 0 && b->gain != p->last_gain) {
+            sonar_pipeline_restart_background(p);
+            p->gain_restarts++;
+        }
+        p->last_gain = b->gain;
+    }
     changed = p->n != 0 && (b->n != p->n || b->range_m != p->range_m);
     if (changed) {
         /* New geometry: the old background and the open sweep's cells no longer line up. */

@@ -22,6 +22,9 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
     s->structure.promoted = p->st.promoted;
     s->structure.detections = p->st.detections;
     s->structure.restarts = p->st.restarts;
+    /* The gain the beams carry (the device's setting until one came), and the backgrounds a change of it restarted. */
+    s->acq.gain = p->last_gain >= 0 ? p->last_gain : dev != NULL ? (int)dev->drv.cfg.gain : 0;
+    s->acq.background_restarts = p->gain_restarts;
     s->pose.world_sweeps = p->world_sweeps;
     s->pose.body_sweeps = p->body_sweeps;
 }

@@ -212,16 +212,7 @@ int app_push(struct app *a, const struct sonar_record *b)
     beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
     app_background_first_beam(a, b);
-    if (b->gain >= 0) {
-        if (a->last_gain >= 0 && b->gain != a->last_gain) {
-            /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
-            sonar_pipeline_restart_background(&a->pipe);
-            a->bg_restarts++;
-            app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
-                    "afresh over its warm-up (structure too)", (int)b->gain, (double)b->utime * 1e-6, (int)a->last_gain);
-        }
-        a->last_gain = b->gain;
-    }
+    pb.gain = (int16_t)(b->gain >= 0 && b->gain <= 255 ? b->gain : -1); /* the pipeline restarts its background on a change */
     pb.utime = b->utime;
     pb.angle = b->angle;
     pb.n = b->n;
@@ -229,12 +220,19 @@ int app_push(struct app *a, const struct sonar_record *b)
     pb.samples = b->samples;
     t0 = a->clock.mono_ns(a->clock.user);
     {
-        uint32_t changes = a->pipe.geometry_changes;
+        uint32_t changes = a->pipe.geometry_changes, gains = a->pipe.gain_restarts;
+        int16_t was_gain = a->pipe.last_gain;
         float was_m = a->pipe.range_m;
         uint16_t was_n = a->pipe.n;
         if ((r = sonar_pipeline_push(&a->pipe, &pb)) != SONAR_OK) {
             a->beams_rejected++;
             return r;
+        }
+        a->last_gain = a->pipe.last_gain;
+        if (a->pipe.gain_restarts != gains) {
+            a->bg_restarts++;
+            app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
+                    "afresh over its warm-up (structure too)", (int)pb.gain, (double)pb.utime * 1e-6, (int)was_gain);
         }
         if (a->pipe.geometry_changes != changes)
             app_say(a, "range: %u samples over %.2f m from the beam at %.3f s (was %u over %.2f m): the sweep was cut "

@@ -150,6 +150,7 @@ static int64_t pipeline_us(struct bench *b)
             beam.n = BENCH_N;
             beam.range_m = 20.0f;
             beam.samples = b->sweep[i];
+            beam.gain = 0;
             if (i == 1)
                 t0 = board_micros();
             if (sonar_pipeline_push(&pipe, &beam) < 0)

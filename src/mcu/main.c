@@ -89,6 +89,7 @@ static void beam_in(struct fw *f, struct sonar_record *r, int64_t now)
     b.n = r->n;
     b.range_m = r->range_m;
     b.samples = r->samples;
+    b.gain = (int16_t)(r->gain >= 0 && r->gain <= 255 ? r->gain : -1); /* a change restarts the background, as on the host */
     if (sonar_pipeline_push(&f->pipe, &b) != SONAR_OK)
         f->rejected++; /* bad geometry from the device: not processed, counted in status */
 }

@@ -157,7 +157,7 @@ int main(int argc, char **argv)
         for (r = 0; r < 8 + REPS; r++) {
             double t0 = 0.0;
             for (i = 0; i < BEAMS; i++) {
-                struct sonar_beam b = {(int64_t)(r * BEAMS + i) * 20000, (uint16_t)i, N, 20.0f, sweeps[r % SWEEPS][i]};
+                struct sonar_beam b = {(int64_t)(r * BEAMS + i) * 20000, (uint16_t)i, N, 20.0f, sweeps[r % SWEEPS][i], 0};
                 if (i == 1)
                     t0 = now();
                 sink += sonar_pipeline_push(&pipe, &b);

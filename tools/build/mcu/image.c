@@ -28,6 +28,7 @@ int main(void)
     b.n = SONAR_MAX_SAMPLES;
     b.range_m = 20.0f;
     b.samples = beam;
+    b.gain = 0;
     for (a = 0; a < 400; a++) {
         b.angle = a;
         beam[a % SONAR_MAX_SAMPLES] = (uint8_t)a;
