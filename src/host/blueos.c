@@ -321,6 +321,30 @@ static int wait_fd(int fd, short ev, int64_t deadline)
     }
 }
 
+/* An HTTP reply of got bytes in buf: its body moved to buf's start (NUL-terminated), its length returned; < 0 with why. */
+static long http_body(char *buf, size_t got, char *why, size_t whylen)
+{
+    char *body;
+    long n;
+    if (got < 12 || strncmp(buf, "HTTP/1.", 7) != 0) {
+        snprintf(why, whylen, "not an HTTP reply (%zu bytes)", got);
+        return -1;
+    }
+    if (strncmp(buf + 9, "200", 3) != 0) {
+        snprintf(why, whylen, "HTTP status %.3s", buf + 9);
+        return -1;
+    }
+    body = strstr(buf, "\r\n\r\n");
+    if (body == NULL) {
+        snprintf(why, whylen, "the reply's header never ends");
+        return -1;
+    }
+    body += 4;
+    n = (long)(got - (size_t)(body - buf));
+    memmove(buf, body, (size_t)n + 1);
+    return n;
+}
+
 /* One GET /v1.0/sensors: the body into buf (NUL-terminated), its length returned, or < 0 with why. */
 static long fetch(const char *host, int port, int timeout_ms, char *buf, size_t cap, char *why, size_t whylen)
 {
@@ -330,7 +354,6 @@ static long fetch(const char *host, int port, int timeout_ms, char *buf, size_t 
     size_t got = 0, sent = 0, reqlen;
     long rc = -1;
     int fd = -1, r;
-    char *body;
     memset(&hints, 0, sizeof hints);
     hints.ai_family = AF_UNSPEC;
     hints.ai_socktype = SOCK_STREAM;
@@ -385,22 +408,7 @@ static long fetch(const char *host, int port, int timeout_ms, char *buf, size_t 
         got += (size_t)n;
     }
     buf[got] = '\0';
-    if (got < 12 || strncmp(buf, "HTTP/1.", 7) != 0) {
-        snprintf(why, whylen, "not an HTTP reply (%zu bytes)", got);
-        goto out;
-    }
-    if (strncmp(buf + 9, "200", 3) != 0) {
-        snprintf(why, whylen, "HTTP status %.3s", buf + 9);
-        goto out;
-    }
-    body = strstr(buf, "\r\n\r\n");
-    if (body == NULL) {
-        snprintf(why, whylen, "the reply's header never ends");
-        goto out;
-    }
-    body += 4;
-    rc = (long)(got - (size_t)(body - buf));
-    memmove(buf, body, (size_t)rc + 1);
+    rc = http_body(buf, got, why, whylen);
 out:
     if (fd >= 0)
         close(fd);

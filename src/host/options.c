@@ -255,6 +255,32 @@ static int given(const struct sonard_options *o, const char *name)
     return k >= 0 && opt_was_given(&o->given, (size_t)k);
 }
 
+/* --passive: a live sonar, and none of the options that command the head (whoever drives it chooses them). */
+static int check_passive(struct sonard_options *o, char *err, size_t errlen)
+{
+    o->device.passive = (uint8_t)(o->passive != 0);
+    if (!o->device.passive)
+        return HOST_OK;
+    {
+        /* Whoever drives the head chooses these; sonard takes them from each reply. */
+        static const char *const head[] = {"mode", "sector", "step", "gain", "scan", "frequency", "samples",
+                                           "transmit-duration", "range"};
+        size_t i;
+        if (o->sonar == NULL) {
+            snprintf(err, errlen, "--passive listens to a live sonar: it goes with --sonar");
+            return HOST_ERR_CONFIG;
+        }
+        for (i = 0; i < sizeof head / sizeof head[0]; i++)
+            if (given(o, head[i])) {
+                snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
+                return HOST_ERR_CONFIG;
+            }
+        if (!given(o, "sweep-gap"))
+            o->pipeline.sweep_gap_s = 2.0f;
+    }
+    return HOST_OK;
+}
+
 /* Checks what no single option can: combinations, and each core config as a whole. */
 static int check_whole(struct sonard_options *o, char *err, size_t errlen)
 {
@@ -279,24 +305,8 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
         if (!given(o, "min-area"))
             o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
     }
-    o->device.passive = (uint8_t)(o->passive != 0);
-    if (o->device.passive) {
-        /* Whoever drives the head chooses these; sonard takes them from each reply. */
-        static const char *const head[] = {"mode", "sector", "step", "gain", "scan", "frequency", "samples",
-                                           "transmit-duration", "range"};
-        size_t i;
-        if (o->sonar == NULL) {
-            snprintf(err, errlen, "--passive listens to a live sonar: it goes with --sonar");
-            return HOST_ERR_CONFIG;
-        }
-        for (i = 0; i < sizeof head / sizeof head[0]; i++)
-            if (given(o, head[i])) {
-                snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
-                return HOST_ERR_CONFIG;
-            }
-        if (!given(o, "sweep-gap"))
-            o->pipeline.sweep_gap_s = 2.0f;
-    }
+    if (check_passive(o, err, errlen) != HOST_OK)
+        return HOST_ERR_CONFIG;
     if (o->pose_lcm != NULL && o->replay != NULL) {
         snprintf(err, errlen, "--pose-lcm URL is for a live sonar; a replay takes --pose FILE.csv");
         return HOST_ERR_CONFIG;
