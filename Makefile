@@ -65,8 +65,8 @@ EXTRA_CFLAGS += $(CROSS_CFLAGS)
 LDLIBS += -L$(SYSROOT)/usr/lib/$(TRIPLE) -Wl,-rpath-link,$(SYSROOT)/usr/lib/$(TRIPLE):$(SYSROOT)/lib/$(TRIPLE)
 endif
 
-## all: build build/sonard, build/sonar-sim, build/sonar-feed and build/pvbin2csv (default)
-all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/pvbin2csv $(BUILD)/sonar-wallfit
+## all: build build/sonard, build/sonar-sim, build/sonar-feed, build/sonar-pvbin2csv and build/sonar-wallfit (default)
+all: $(BUILD)/sonard $(BUILD)/sonar-sim $(BUILD)/sonar-feed $(BUILD)/sonar-pvbin2csv $(BUILD)/sonar-wallfit
 
 ## deps: apt-get the packages that are missing (idempotent; needs root or sudo only when something is missing)
 deps:
@@ -154,7 +154,7 @@ $(BUILD)/sonar-wallfit: tools/eval/wallfit.c tools/sim/scene.c $(BUILD)/libsonar
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Itools/sim -Wno-conversion $(INPUTS) -o $@ $(LDLIBS)
 
-$(BUILD)/pvbin2csv: tools/data/pvbin2csv.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
+$(BUILD)/sonar-pvbin2csv: tools/data/pvbin2csv.c $(BUILD)/libsonarhost.a $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -Wno-conversion -Wno-sign-conversion -D_DEFAULT_SOURCE $(INPUTS) -o $@ $(LDLIBS)
 

@@ -19,7 +19,7 @@ for a in armhf arm64; do
     if ! make --no-print-directory ARCH=$a -j2 all > "$T/$a.build" 2>&1; then
         ko "$a: cross build (make ARCH=$a)"; tail -5 "$T/$a.build" | sed 's/^/    /'; continue
     fi
-    ok "$a: make ARCH=$a builds sonard, sonar-sim, sonar-feed, pvbin2csv and sonar-wallfit into $B"
+    ok "$a: make ARCH=$a builds sonard, sonar-sim, sonar-feed, sonar-pvbin2csv and sonar-wallfit into $B"
     [ -e /proc/sys/fs/binfmt_misc/$q ] || $sudo update-binfmts --enable $q > /dev/null 2>&1 || true
     export QEMU_LD_PREFIX="$PWD/$B/sysroot"
     if ! "$B/sonard" --version > "$T/$a.ver" 2>&1; then

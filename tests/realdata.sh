@@ -17,7 +17,7 @@ trap 'rm -rf "$T"' EXIT
 for enc in utf16 utf8; do
     n=$(python3 tests/make_pvbin.py "$R/pingviewer_noah/test_ping_log.decoded" "$T/20220822-200542039.bin" \
         $( [ $enc = utf8 ] && echo --utf8 ) --tools "$R/tools")
-    "$B/pvbin2csv" "$T/20220822-200542039.bin" "$T/noah.csv" 2> "$T/pv.err"
+    "$B/sonar-pvbin2csv" "$T/20220822-200542039.bin" "$T/noah.csv" 2> "$T/pv.err"
     check "Ping Viewer .bin ($enc) -> CSV: all $n real beams recovered, samples identical, times the log's milliseconds" python3 - "$R" "$T/noah.csv" <<'PY'
 import sys, csv
 sys.path.insert(0, sys.argv[1] + "/tools")
@@ -35,7 +35,7 @@ PY
 done
 check "the converted Ping Viewer log replays (2 m range from its metadata)" sh -c "'$B/sonard' --replay '$T/noah.csv' --quiet --json | grep -c sweep | grep -qx 2"
 head -c 5000 "$T/20220822-200542039.bin" > "$T/cut.bin"
-"$B/pvbin2csv" "$T/cut.bin" "$T/cut.csv" 2> "$T/cut.err"
+"$B/sonar-pvbin2csv" "$T/cut.bin" "$T/cut.csv" 2> "$T/cut.err"
 check "a truncated .bin: named record and byte, the beams before it kept" sh -c "grep -q 'truncated at byte' '$T/cut.err' && test -s '$T/cut.csv'"
 
 # brping's own form, as a new user would try it: 'angle;s0;...' rows under a header, no timestamps.

@@ -83,24 +83,24 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
     r.off = 0;
     r.path = name;
     if (qstring(&r, s, sizeof(s)) != 0 || strcmp(s, "PingViewer sensor log file") != 0) {
-        say(errf, "pvbin2csv: %s: not a Ping Viewer sensor log (header '%.40s')\n", name, s);
+        say(errf, "sonar-pvbin2csv: %s: not a Ping Viewer sensor log (header '%.40s')\n", name, s);
         return HOST_ERR_CONFIG;
     }
     if (u32(&r, &v) != 0 || v == 0 || v > 1) {
-        say(errf, "pvbin2csv: %s: log version %u is not 1\n", name, v);
+        say(errf, "sonar-pvbin2csv: %s: log version %u is not 1\n", name, v);
         return HOST_ERR_CONFIG;
     }
     for (i = 0; i < 5; i++)
         if (qstring(&r, s, sizeof(s)) != 0) {
-            say(errf, "pvbin2csv: %s: truncated header at byte %zu\n", name, r.off);
+            say(errf, "sonar-pvbin2csv: %s: truncated header at byte %zu\n", name, r.off);
             return HOST_ERR_CONFIG;
         }
     if (u32(&r, &family) != 0 || u32(&r, &type) != 0) {
-        say(errf, "pvbin2csv: %s: truncated header at byte %zu\n", name, r.off);
+        say(errf, "sonar-pvbin2csv: %s: truncated header at byte %zu\n", name, r.off);
         return HOST_ERR_CONFIG;
     }
     if (type != 2)
-        say(errf, "pvbin2csv: %s: sensor type %u is not a Ping360 (2); converting its 2300/2301 frames anyway\n", name,
+        say(errf, "sonar-pvbin2csv: %s: sensor type %u is not a Ping360 (2); converting its 2300/2301 frames anyway\n", name,
             type);
     if (sonar_ping_parser_init(&parser, 0) != SONAR_OK)
         return HOST_ERR_CONFIG;
@@ -113,13 +113,13 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
         size_t left;
         struct sonar_ping_frame f;
         if (qstring(&r, s, sizeof(s)) != 0 || u32(&r, &len) != 0 || (len != 0xFFFFFFFFu && len > r.n - r.off)) {
-            say(errf, "pvbin2csv: %s: record %u truncated at byte %zu; stopping there\n", name, st->records + 1, at);
+            say(errf, "sonar-pvbin2csv: %s: record %u truncated at byte %zu; stopping there\n", name, st->records + 1, at);
             break;
         }
         /* A QTime: every field bounded before it reaches arithmetic and the timestamp's cast. */
         if (sscanf(s, "%d:%d:%d.%d", &h, &m, &sec, &ms) != 4 || h < 0 || h > 23 || m < 0 || m > 59 || sec < 0 ||
             sec > 59 || ms < 0 || ms > 999) {
-            say(errf, "pvbin2csv: %s: record %u at byte %zu: time '%.40s' is not hh:mm:ss.zzz\n", name, st->records + 1,
+            say(errf, "sonar-pvbin2csv: %s: record %u at byte %zu: time '%.40s' is not hh:mm:ss.zzz\n", name, st->records + 1,
                 at, s);
             break;
         }
@@ -142,7 +142,7 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
             if (n0 == 0)
                 n0 = d.data_length;
             if (d.data_length != n0 || d.data_length > SONAR_MAX_SAMPLES) {
-                say(errf, "pvbin2csv: %s: record %u: a beam of %u samples among beams of %u; skipped\n", name,
+                say(errf, "sonar-pvbin2csv: %s: record %u: a beam of %u samples among beams of %u; skipped\n", name,
                     st->records, d.data_length, n0);
                 st->skipped++;
                 continue;
@@ -155,7 +155,7 @@ int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double star
             meta.speed_of_sound = c;
             if (csv_write(out, t_us / 1000000, (uint32_t)(t_us % 1000000) * 1000u, d.angle, d.data, d.data_length,
                           &meta) != 0) {
-                say(errf, "pvbin2csv: write error\n");
+                say(errf, "sonar-pvbin2csv: write error\n");
                 return HOST_ERR_IO;
             }
             st->beams++;

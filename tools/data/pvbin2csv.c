@@ -17,7 +17,7 @@ int main(int argc, char **argv)
     uint8_t *buf;
     int i, r;
     if (argc < 3) {
-        fprintf(stderr, "usage: pvbin2csv LOG.bin OUT.csv [--speed-of-sound C] [--start EPOCH_SECONDS]\n"
+        fprintf(stderr, "usage: sonar-pvbin2csv LOG.bin OUT.csv [--speed-of-sound C] [--start EPOCH_SECONDS]\n"
                         "The log's name YYYYMMDD-hhmmsszzz.bin gives the start time (as UTC) unless --start is given.\n");
         return 2;
     }
@@ -25,12 +25,12 @@ int main(int argc, char **argv)
         char *end;
         double *dst = strcmp(argv[i], "--speed-of-sound") == 0 ? &c : strcmp(argv[i], "--start") == 0 ? &start : NULL;
         if (dst == NULL || i + 1 >= argc) {
-            fprintf(stderr, "pvbin2csv: %s: unknown option or no value (see usage)\n", argv[i]);
+            fprintf(stderr, "sonar-pvbin2csv: %s: unknown option or no value (see usage)\n", argv[i]);
             return 2;
         }
         *dst = strtod(argv[i + 1], &end);
         if (*end != '\0' || (dst == &c && !(c >= 1300.0 && c <= 1700.0)) || (dst == &start && !(start >= 0.0 && start < 1e11))) {
-            fprintf(stderr, "pvbin2csv: %s: '%s' is not %s\n", argv[i], argv[i + 1],
+            fprintf(stderr, "sonar-pvbin2csv: %s: '%s' is not %s\n", argv[i], argv[i + 1],
                     dst == &c ? "a number in 1300..1700 m/s" : "epoch seconds in 0..1e11");
             return 2;
         }
@@ -56,7 +56,7 @@ int main(int argc, char **argv)
     rewind(in);
     buf = malloc(size > 0 ? (size_t)size : 1);
     if (buf == NULL || fread(buf, 1, (size_t)size, in) != (size_t)size) {
-        fprintf(stderr, "pvbin2csv: %s: cannot read\n", argv[1]);
+        fprintf(stderr, "sonar-pvbin2csv: %s: cannot read\n", argv[1]);
         return 2;
     }
     fclose(in);
@@ -70,7 +70,7 @@ int main(int argc, char **argv)
     free(buf);
     if (r != HOST_OK)
         return r == HOST_ERR_IO ? 2 : 1;
-    fprintf(stderr, "pvbin2csv: %s: %u records, %u beams written, %u skipped; frames %u, checksum errors %u, resyncs %u\n",
+    fprintf(stderr, "sonar-pvbin2csv: %s: %u records, %u beams written, %u skipped; frames %u, checksum errors %u, resyncs %u\n",
             argv[1], st.records, st.beams, st.skipped, st.parser.frames, st.parser.checksum_errors, st.parser.resyncs);
     return st.beams > 0 ? 0 : 1;
 }

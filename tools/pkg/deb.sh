@@ -16,7 +16,7 @@ mkdir -p "$R/DEBIAN" "$R/usr/bin" "$R/lib/systemd/system" "$R/etc/sonard" "$R/us
 install -m 0755 "$B/sonard" "$R/usr/bin/sonard"
 install -m 0755 "$B/sonar-feed" "$R/usr/bin/sonar-feed"
 install -m 0755 "$B/sonar-sim" "$R/usr/bin/sonar-sim"
-install -m 0755 "$B/pvbin2csv" "$R/usr/bin/sonar-pvbin2csv"
+install -m 0755 "$B/sonar-pvbin2csv" "$R/usr/bin/sonar-pvbin2csv"
 install -m 0755 "$B/sonar-wallfit" "$R/usr/bin/sonar-wallfit"
 ${STRIP:-strip} --strip-unneeded --remove-section=.comment --remove-section=.note "$R"/usr/bin/sonar*
 install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.service tools/pkg/systemd/sonar-view.service "$R/lib/systemd/system/"
