@@ -83,6 +83,24 @@ uint32_t sonar_device_down(struct sonar_device *d, int64_t now);
 /* The Ping360's firmware version as probed (0.0.0 until then): fw[0] major, fw[1] minor, fw[2] patch. */
 void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3]);
 
+/* The driver's settings as validated at init (read-only; sonar_device_set_gain changes the gain). */
+const struct sonar_ping360_config *sonar_device_config(const struct sonar_device *d);
+
+/* Samples per beam the driver asks for (its derived count, not cfg.samples' 0 for automatic). */
+uint16_t sonar_device_samples(const struct sonar_device *d);
+
+/* The gain (0 low, 1 normal, 2 high) of the next request. Returns SONAR_OK or SONAR_ERR_ARG. */
+SONAR_CHECK int sonar_device_set_gain(struct sonar_device *d, int gain);
+
+/* A scan planner choosing each stepping request's angle (struct sonar_ping360_io's next_angle; NULL: the driver's own sweep). */
+void sonar_device_set_planner(struct sonar_device *d, uint16_t (*next_angle)(void *plan_user, int64_t now), void *plan_user);
+
+/* When sonar_device_poll is due next (us); INT64_MAX when nothing is pending. */
+int64_t sonar_device_deadline(const struct sonar_device *d);
+
+/* Stops the head (motor_off; nothing in passive mode). Returns SONAR_OK or the send error; sonar_device_state says STOPPED when done. */
+SONAR_CHECK int sonar_device_stop(struct sonar_device *d, int64_t now);
+
 /* 1 when the device listens only (cfg.passive): another program drives the head. */
 int sonar_device_passive(const struct sonar_device *d);
 

@@ -117,3 +117,37 @@ int sonar_device_passive(const struct sonar_device *d)
 {
     return d->drv.cfg.passive != 0;
 }
+
+const struct sonar_ping360_config *sonar_device_config(const struct sonar_device *d)
+{
+    return &d->drv.cfg;
+}
+
+uint16_t sonar_device_samples(const struct sonar_device *d)
+{
+    return d->drv.samples;
+}
+
+int sonar_device_set_gain(struct sonar_device *d, int gain)
+{
+    if (d == NULL || gain < 0 || gain > 2)
+        return SONAR_ERR_ARG;
+    d->drv.cfg.gain = (uint8_t)gain;
+    return SONAR_OK;
+}
+
+void sonar_device_set_planner(struct sonar_device *d, uint16_t (*next_angle)(void *plan_user, int64_t now), void *plan_user)
+{
+    d->drv.io.next_angle = next_angle;
+    d->drv.io.plan_user = plan_user;
+}
+
+int64_t sonar_device_deadline(const struct sonar_device *d)
+{
+    return sonar_ping360_deadline(&d->drv);
+}
+
+int sonar_device_stop(struct sonar_device *d, int64_t now)
+{
+    return sonar_ping360_stop(&d->drv, now);
+}

@@ -95,15 +95,15 @@ int app_link_poll(struct app *a, int64_t now_us)
 
 int64_t app_deadline(const struct app *a)
 {
-    return a->have_dev ? sonar_ping360_deadline(&a->dev.drv) : INT64_MAX;
+    return a->have_dev ? sonar_device_deadline(&a->dev) : INT64_MAX;
 }
 
 int app_link_stop(struct app *a, int64_t now_us)
 {
-    int r = sonar_ping360_stop(&a->dev.drv, now_us);
+    int r = sonar_device_stop(&a->dev, now_us);
     if (r != SONAR_OK)
         return r;
-    return a->dev.drv.state == SONAR_P360_STOPPED;
+    return sonar_device_state(&a->dev) == SONAR_P360_STOPPED;
 }
 
 const struct sonar_device *app_device(const struct app *a)
@@ -123,7 +123,7 @@ static uint16_t next_angle(void *user, int64_t now_us)
 int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, size_t errlen)
 {
     struct sonar_scan_config c = *cfg;
-    const struct sonar_ping360_config *d = &a->dev.drv.cfg;
+    const struct sonar_ping360_config *d = sonar_device_config(&a->dev);
     const char *why;
     if (!a->have_dev) {
         snprintf(err, errlen, "--scan: no sonar to steer");
@@ -135,14 +135,13 @@ int app_set_scan(struct app *a, const struct sonar_scan_config *cfg, char *err, 
     c.stop_angle = d->stop_angle;
     c.full_circle = d->full_circle;
     c.step = d->step;
-    c.ping_us = sonar_ping360_model_us(1, d->range_m, d->speed_of_sound, d->baud, a->dev.drv.samples) - SONAR_SCAN_GRAD_US;
+    c.ping_us = sonar_ping360_model_us(1, d->range_m, d->speed_of_sound, d->baud, sonar_device_samples(&a->dev)) - SONAR_SCAN_GRAD_US;
     if ((why = sonar_scan_config_check(&c)) != NULL || sonar_scan_init(&a->scan, &c) != SONAR_OK) {
         snprintf(err, errlen, "--scan follow: %s", why ? why : "invalid");
         return HOST_ERR_CONFIG;
     }
     a->have_scan = 1;
-    a->dev.drv.io.next_angle = next_angle;
-    a->dev.drv.io.plan_user = a;
+    sonar_device_set_planner(&a->dev, next_angle, a);
     return HOST_OK;
 }
 
@@ -159,7 +158,7 @@ int app_set_gain_auto(struct app *a, const struct sonar_gain_config *cfg, char *
         snprintf(err, errlen, "--gain auto: no sonar to set");
         return HOST_ERR_CONFIG;
     }
-    c.start = a->dev.drv.cfg.gain;
+    c.start = sonar_device_config(&a->dev)->gain;
     if ((why = sonar_gain_config_check(&c)) != NULL || sonar_gain_init(&a->gain, &c) != SONAR_OK) {
         snprintf(err, errlen, "--gain auto: %s", why ? why : "invalid");
         return HOST_ERR_CONFIG;
@@ -178,14 +177,15 @@ void app_gain_sweep(struct app *a, uint32_t sweep)
         a->gain_off = 1;
         a->gain_refused++;
         if (a->last_gain >= 0 && a->last_gain <= SONAR_GAIN_MAX)
-            a->dev.drv.cfg.gain = (uint8_t)a->last_gain; /* ask for what it gives */
+            (void)!sonar_device_set_gain(&a->dev, a->last_gain); /* ask for what it gives (0..2: taken) */
         app_warn(a, "gain auto: the sonar kept its gain for a whole sweep though %s was asked; auto gain off",
                 gain_name(was));
         return;
     }
     if ((r = sonar_gain_sweep_end(&a->gain)) < 0)
         return;
-    a->dev.drv.cfg.gain = (uint8_t)r;
+    if (sonar_device_set_gain(&a->dev, r) != SONAR_OK)
+        return; /* sonar_gain_sweep_end gives 0..2 */
     app_say(a, "gain auto: %s -> %s after sweep %u (%.2f %% of its samples saturated, median %u)", gain_name(was),
             gain_name(r), (unsigned)sweep, (double)a->gain.last_sat * 100.0, a->gain.last_median);
 }

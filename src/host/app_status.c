@@ -50,7 +50,7 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s)
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
     app_pose_status(a, s);
-    s->acq.gain = a->have_dev && !sonar_device_passive(&a->dev) ? (int)a->dev.drv.cfg.gain : (int)a->last_gain;
+    s->acq.gain = a->have_dev && !sonar_device_passive(&a->dev) ? (int)sonar_device_config(&a->dev)->gain : (int)a->last_gain;
     if (a->have_dev && sonar_device_passive(&a->dev)) {
         s->passive.on = 1;
         s->passive.idle = a->passive_idle;

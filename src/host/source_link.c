@@ -40,7 +40,7 @@ void source_link_break(void *user)
 static int link_device_state(const struct source_link *s)
 {
     const struct sonar_device *d = app_device(s->app);
-    return d != NULL ? d->drv.state : SONAR_P360_DOWN;
+    return d != NULL ? sonar_device_state(d) : SONAR_P360_DOWN;
 }
 
 /* Gives the link up: closed now, reopened after the device's backoff (serial auto-baud: the next rate at once). */
