@@ -82,4 +82,8 @@ struct sonar_status {
  */
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p);
 
+/* The tracker's counters (when p tracks) and the sweeps tracked per frame, from p: the part of sonar_status_fill that follows
+   the tracker, for a host whose tracks come from its own pipeline while the rest of the record comes from a co-processor. */
+void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *p);
+
 #endif

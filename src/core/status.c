@@ -1,6 +1,19 @@
 /* status.c -- the device's and the pipeline's counters into a status record; O(1), no heap. */
 #include "sonar/status.h"
 
+void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *p)
+{
+    if (p->cfg != NULL && p->cfg->track) {
+        s->tracker.live = p->trk.n;
+        s->tracker.ended = p->trk.deleted;
+        s->tracker.bad_detections = p->trk.bad_detections;
+        s->tracker.clock_back = p->trk.clock_back;
+        s->tracker.overflow = p->trk.overflow;
+    }
+    s->pose.world_sweeps = p->world_sweeps;
+    s->pose.body_sweeps = p->body_sweeps;
+}
+
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p)
 {
     if (dev != NULL) {
@@ -10,13 +23,7 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
         s->parser = dev->parser.counters;
         s->driver = dev->drv.counters;
     }
-    if (p->cfg != NULL && p->cfg->track) {
-        s->tracker.live = p->trk.n;
-        s->tracker.ended = p->trk.deleted;
-        s->tracker.bad_detections = p->trk.bad_detections;
-        s->tracker.clock_back = p->trk.clock_back;
-        s->tracker.overflow = p->trk.overflow;
-    }
+    sonar_status_tracking(s, p);
     s->structure.places = p->st.n;
     s->structure.learnt = sonar_structure_count(&p->st);
     s->structure.promoted = p->st.promoted;
@@ -25,6 +32,4 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
     /* The gain the beams carry (the device's setting until one came), and the backgrounds a change of it restarted. */
     s->acq.gain = p->last_gain >= 0 ? p->last_gain : dev != NULL ? (int)dev->drv.cfg.gain : 0;
     s->acq.background_restarts = p->gain_restarts;
-    s->pose.world_sweeps = p->world_sweeps;
-    s->pose.body_sweeps = p->body_sweeps;
 }

@@ -217,8 +217,12 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s);
  */
 HOST_CHECK int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen);
 
-/* Fills s->pose from the app's poses and pipeline. */
-void app_pose_status(const struct app *a, struct sonar_status *s);
+/*
+ * Fills what only this process knows, whoever made the rest of *s (this app or a co-processor's
+ * frame): sink_errors, pose (its poses and sweeps per frame), tracker (its tracker makes
+ * SONAR_TRACKS), and each sink's own counters (the autopilot's). Other fields are left as they are.
+ */
+void app_host_status(const struct app *a, struct sonar_status *s);
 
 /* Sum of every sink's failed calls. */
 unsigned long app_sink_errors(const struct app *a);

@@ -19,8 +19,12 @@ unsigned long app_sink_errors(const struct app *a)
     return e;
 }
 
-void app_pose_status(const struct app *a, struct sonar_status *s)
+/* What only this process knows, whoever made the rest of the record: its sinks' errors, its poses, its sinks'
+   own counters (the autopilot's), and its tracker's (SONAR_TRACKS come from it, with or without a co-processor). */
+void app_host_status(const struct app *a, struct sonar_status *s)
 {
+    unsigned i;
+    s->sink_errors = (uint32_t)app_sink_errors(a);
     s->pose.state = a->pose_state;
     s->pose.accepted = a->poses.accepted;
     s->pose.out_of_order = a->poses.out_of_order;
@@ -28,13 +32,15 @@ void app_pose_status(const struct app *a, struct sonar_status *s)
     s->pose.bad = a->poses.bad;
     s->pose.thinned = a->poses.thinned;
     s->pose.stale = a->pose_stale;
-    s->pose.world_sweeps = a->pipe.world_sweeps;
-    s->pose.body_sweeps = a->pipe.body_sweeps;
+    sonar_status_tracking(s, &a->pipe);
+    for (i = 0; i < a->nsinks; i++)
+        if (a->sinks[i]->fill != NULL)
+            a->sinks[i]->fill(a->sinks[i]->self, s);
 }
 
 void app_report_status(struct app *a, int link_state, struct sonar_status *s)
 {
-    unsigned i, n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
+    unsigned n = (unsigned)(a->nproc < APP_PROC_RING ? a->nproc : APP_PROC_RING);
     memcpy(a->sorted, a->proc_us, n * sizeof(float));
     qsort(a->sorted, n, sizeof(float), cmpf);
     memset(s, 0, sizeof(*s));
@@ -45,11 +51,9 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s)
     s->sweeps = a->sweeps;
     s->beams_rejected = a->beams_rejected;
     s->rows_bad = a->rows_bad;
-    s->sink_errors = (uint32_t)app_sink_errors(a);
     s->last_sweep_s = a->last_sweep_s;
     s->beam_us_p50 = n ? a->sorted[n / 2] : 0.0f;
     s->beam_us_p99 = n ? a->sorted[(n * 99) / 100] : 0.0f;
-    app_pose_status(a, s);
     s->acq.gain = a->have_dev && !sonar_device_passive(&a->dev) ? (int)sonar_device_config(&a->dev)->gain : (int)a->last_gain;
     if (a->have_dev && sonar_device_passive(&a->dev)) {
         s->passive.on = 1;
@@ -70,9 +74,7 @@ void app_report_status(struct app *a, int link_state, struct sonar_status *s)
         s->scan.late_looks = a->scan.counters.late_looks;
         s->scan.targets_dropped = a->scan.counters.targets_dropped;
     }
-    for (i = 0; i < a->nsinks; i++)
-        if (a->sinks[i]->fill != NULL)
-            a->sinks[i]->fill(a->sinks[i]->self, s);
+    app_host_status(a, s);
     app_send_status(a, s);
 }
 

@@ -67,8 +67,7 @@ static void on_status(struct source_coproc *s, const sonar_status_t *m)
     st.link = s->desc;
     /* The host's own side of it: the link's bad frames, its sinks, its poses. */
     st.coproc.frames_bad = s->parser.counters.crc_errors + s->decode_errors;
-    st.sink_errors = (uint32_t)app_sink_errors(s->app);
-    app_pose_status(s->app, &st);
+    app_host_status(s->app, &st);
     app_send_status(s->app, &st);
 }
 
