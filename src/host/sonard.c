@@ -280,7 +280,8 @@ int main(int argc, char **argv)
         io.line_break = source_link_break;
         io.user = &s.link;
     } else if (s.opt.coprocessor != NULL) {
-        if (source_coproc_parse(&s.coproc, s.opt.coprocessor, &s.opt, err, sizeof(err)) != HOST_OK) {
+        struct source_coproc_config cc = {s.opt.baud, &s.opt.device, &s.opt.pipeline, (uint16_t)s.opt.coproc_beams};
+        if (source_coproc_parse(&s.coproc, s.opt.coprocessor, &cc, err, sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }

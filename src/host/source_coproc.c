@@ -13,12 +13,12 @@
 #define say(s, ...) ((s)->app != NULL ? app_say((s)->app, __VA_ARGS__) : (void)0)
 #define warn(s, ...) ((s)->app != NULL ? app_warn((s)->app, __VA_ARGS__) : (void)0)
 
-static int build_config(struct source_coproc *s, const struct sonard_options *o, char *err, size_t errlen)
+static int build_config(struct source_coproc *s, const struct source_coproc_config *cc, char *err, size_t errlen)
 {
     uint8_t msg[400];
     sonar_config_t c;
     int n;
-    msg_config(&o->device, &o->pipeline, (uint16_t)o->coproc_beams, &c);
+    msg_config(cc->device, cc->pipeline, cc->beam_every, &c);
     n = sonar_config_t_encode(msg, 0, (int)sizeof(msg), &c);
     if (n < 0 || (s->config_len = sonar_cpf_encode(s->config, sizeof(s->config), SONAR_CPF_CONFIG, msg, (uint16_t)n)) < 0) {
         snprintf(err, errlen, "--coprocessor: the configuration does not fit a frame");
@@ -27,16 +27,16 @@ static int build_config(struct source_coproc *s, const struct sonard_options *o,
     return HOST_OK;
 }
 
-int source_coproc_parse(struct source_coproc *s, const char *url, const struct sonard_options *o, char *err, size_t errlen)
+int source_coproc_parse(struct source_coproc *s, const char *url, const struct source_coproc_config *cc, char *err, size_t errlen)
 {
     memset(s, 0, sizeof(*s));
     s->config_at = INT64_MAX;
     sonar_cpf_parser_init(&s->parser);
-    if (link_parse(&s->link, "--coprocessor", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, o->baud, err,
+    if (link_parse(&s->link, "--coprocessor", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, cc->baud, err,
                    errlen) != HOST_OK)
         return HOST_ERR_CONFIG;
     link_describe(&s->link, s->desc, sizeof(s->desc));
-    return build_config(s, o, err, errlen);
+    return build_config(s, cc, err, errlen);
 }
 
 static void send_config(struct source_coproc *s, int64_t now)

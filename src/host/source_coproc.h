@@ -5,7 +5,8 @@
 #include "app.h"
 #include "link.h"
 #include "live.h"
-#include "options.h"
+#include "sonar/pipeline.h"
+#include "sonar/ping360.h"
 #include "sonar/cpframe.h"
 
 #define COPROC_CONFIG_RETRY_US 2000000 /* no reply: send the configuration again */
@@ -25,11 +26,19 @@ struct source_coproc {
     char why[256];          /* the refusal */
 };
 
+/* What the firmware is configured with (borrowed for the call: the frame is built at once). */
+struct source_coproc_config {
+    long baud;                                   /* the link's bit rate (serial), as --baud */
+    const struct sonar_ping360_config *device;   /* acquisition */
+    const struct sonar_pipeline_config *pipeline; /* filters, background, detector */
+    uint16_t beam_every;                          /* --coprocessor-beams: every Nth raw beam sent up, 0 none */
+};
+
 /*
- * url as for --sonar; the configuration frame is built from o (acquisition, filters, detector,
- * --coprocessor-beams). Returns HOST_OK or HOST_ERR_CONFIG with err naming what is wrong.
+ * url as for --sonar; the configuration frame is built from cc. Returns HOST_OK or
+ * HOST_ERR_CONFIG with err naming what is wrong.
  */
-HOST_CHECK int source_coproc_parse(struct source_coproc *s, const char *url, const struct sonard_options *o, char *err,
+HOST_CHECK int source_coproc_parse(struct source_coproc *s, const char *url, const struct source_coproc_config *cc, char *err,
                                    size_t errlen);
 
 /* The live loop's view of it (the firmware's status frames are republished as SONAR_STATUS). */

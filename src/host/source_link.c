@@ -13,7 +13,7 @@
 int source_link_parse(struct source_link *s, const char *url, long baud, char *err, size_t errlen)
 {
     memset(s, 0, sizeof(*s));
-    if (link_parse(&s->link, "--sonar", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, baud, err, errlen) != 0)
+    if (link_parse(&s->link, "--sonar", url, LINK_ALLOW_SERIAL | LINK_ALLOW_UDP | LINK_ALLOW_TCP, baud, err, errlen) != HOST_OK)
         return HOST_ERR_CONFIG;
     link_describe(&s->link, s->desc, sizeof(s->desc));
     return HOST_OK;
@@ -102,7 +102,7 @@ static void on_link(struct source_link *s, int ev, const char *err, int64_t now)
     switch (ev) {
     case LINK_EV_UP:
         link_describe(&s->link, s->desc, sizeof(s->desc));
-        if (app_link_up(s->app, now) != SONAR_OK)
+        if (app_link_up(s->app, now) != HOST_OK)
             drop(s, now, "write failed");
         break;
     case LINK_EV_FAILED:
