@@ -192,7 +192,7 @@ int sonar_background_apply_world(struct sonar_background *bg, const struct sonar
     return sonar_background_apply_world_keep(bg, ray, in, fg, n, NULL, 0);
 }
 
-/* Long (one screen and a half): the footprint, the comparison and the update read and write the same grid cells in one
+/* Long: one screen and a half, because the footprint, the comparison and the update read and write the same grid cells in one
    pass per beam, the hot path of a moving vehicle; split, each part would walk the footprint again. */
 int sonar_background_apply_world_keep(struct sonar_background *bg, const struct sonar_bg_ray *ray, const uint8_t *in,
                                       uint8_t *fg, uint16_t n, const struct sonar_bg_disc *keep, uint8_t nkeep)

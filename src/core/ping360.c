@@ -144,16 +144,20 @@ static int send_request(struct sonar_ping360 *d, int64_t now)
     return d->io.send(d->io.user, buf, (size_t)n);
 }
 
-static int send_probe(struct sonar_ping360 *d, int64_t now)
+/* A general_request for device_information: the probe, and in passive mode the hello. */
+static int send_info_request(struct sonar_ping360 *d)
 {
     uint8_t buf[16];
     int n = sonar_ping_encode_general_request(buf, sizeof(buf), SONAR_PING_DEVICE_INFORMATION);
-    if (n < 0)
-        return n;
+    return n < 0 ? n : d->io.send(d->io.user, buf, (size_t)n);
+}
+
+static int send_probe(struct sonar_ping360 *d, int64_t now)
+{
     d->state = SONAR_P360_PROBING;
     d->sent_at = now;
     d->deadline = now + PROBE_TIMEOUT_US;
-    return d->io.send(d->io.user, buf, (size_t)n);
+    return send_info_request(d);
 }
 
 static int send_motor_off(struct sonar_ping360 *d, int64_t now)
@@ -169,13 +173,9 @@ static int send_motor_off(struct sonar_ping360 *d, int64_t now)
 /* Passive: a device_information request, the one message that changes nothing on the head; a bridge counts its sender as a client. */
 static int send_hello(struct sonar_ping360 *d, int64_t now)
 {
-    uint8_t buf[16];
-    int n = sonar_ping_encode_general_request(buf, sizeof(buf), SONAR_PING_DEVICE_INFORMATION);
-    if (n < 0)
-        return n;
     d->last_hello = now;
     d->counters.hellos++;
-    return d->io.send(d->io.user, buf, (size_t)n);
+    return send_info_request(d);
 }
 
 int sonar_ping360_connected(struct sonar_ping360 *d, int64_t now)
@@ -194,18 +194,42 @@ int sonar_ping360_connected(struct sonar_ping360 *d, int64_t now)
     return send_probe(d, now);
 }
 
+/* 1 with *info when f is our device's device_information; another device's (a bridge relays every device's replies to every client) is counted, 0. */
+static int own_info(struct sonar_ping360 *d, const struct sonar_ping_frame *f, struct sonar_ping_device_info *info)
+{
+    if (sonar_ping_decode_device_info(f, info) != SONAR_OK)
+        return 0;
+    if (info->device_type != 0 && info->device_type != SONAR_PING_DEVICE_PING360) {
+        d->counters.foreign++;
+        return 0;
+    }
+    return 1;
+}
+
+/* The probe answered: the firmware known, scanning (or auto_transmit on firmware newer than 3.3.0) starts. */
+static int probed(struct sonar_ping360 *d, const struct sonar_ping_device_info *info, int64_t now, struct sonar_ping360_event *ev)
+{
+    int newer = info->fw_major > 3 || (info->fw_major == 3 && (info->fw_minor > 3 || (info->fw_minor == 3 && info->fw_patch > 0)));
+    d->info = *info;
+    d->have_info = 1;
+    d->attempts = 0;
+    d->nack_run = 0;
+    d->backoff_us = BACKOFF_MIN_US;
+    d->state = d->cfg.use_auto && newer ? SONAR_P360_AUTO : SONAR_P360_SCANNING;
+    ev->kind = SONAR_P360_EV_READY;
+    if (d->state == SONAR_P360_SCANNING && d->io.next_angle != NULL)
+        d->angle = d->from = (uint16_t)(d->io.next_angle(d->io.plan_user, now) % SONAR_GRAD_TURN);
+    return send_request(d, now);
+}
+
 /* Passive: every reply at whatever angle and settings the driving program chose. */
 static int passive_frame(struct sonar_ping360 *d, const struct sonar_ping_frame *f, int64_t now, struct sonar_ping360_event *ev)
 {
     struct sonar_ping360_data data;
     if (f->id == SONAR_PING_DEVICE_INFORMATION) {
         struct sonar_ping_device_info info;
-        if (sonar_ping_decode_device_info(f, &info) != SONAR_OK)
+        if (!own_info(d, f, &info))
             return SONAR_OK;
-        if (info.device_type != 0 && info.device_type != SONAR_PING_DEVICE_PING360) {
-            d->counters.foreign++;
-            return SONAR_OK;
-        }
         d->info = info;
         if (!d->have_info)
             ev->kind = SONAR_P360_EV_READY;
@@ -294,27 +318,9 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
     switch (f->id) {
     case SONAR_PING_DEVICE_INFORMATION: {
         struct sonar_ping_device_info info;
-        int newer;
-        if (sonar_ping_decode_device_info(f, &info) != SONAR_OK)
+        if (!own_info(d, f, &info) || d->state != SONAR_P360_PROBING)
             return SONAR_OK;
-        /* A bridge relays every device's replies to every client: another type is not ours. */
-        if (info.device_type != 0 && info.device_type != SONAR_PING_DEVICE_PING360) {
-            d->counters.foreign++;
-            return SONAR_OK;
-        }
-        if (d->state != SONAR_P360_PROBING)
-            return SONAR_OK;
-        d->info = info;
-        d->have_info = 1;
-        d->attempts = 0;
-        d->nack_run = 0;
-        d->backoff_us = BACKOFF_MIN_US;
-        newer = info.fw_major > 3 || (info.fw_major == 3 && (info.fw_minor > 3 || (info.fw_minor == 3 && info.fw_patch > 0)));
-        d->state = d->cfg.use_auto && newer ? SONAR_P360_AUTO : SONAR_P360_SCANNING;
-        ev->kind = SONAR_P360_EV_READY;
-        if (d->state == SONAR_P360_SCANNING && d->io.next_angle != NULL)
-            d->angle = d->from = (uint16_t)(d->io.next_angle(d->io.plan_user, now) % SONAR_GRAD_TURN);
-        return send_request(d, now);
+        return probed(d, &info, now, ev);
     }
     case SONAR_PING360_DEVICE_DATA:
     case SONAR_PING360_AUTO_DEVICE_DATA: {

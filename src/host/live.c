@@ -18,6 +18,8 @@ static int64_t now_us(const struct app *a)
     return app_mono_us(a);
 }
 
+/* Long: the one event loop (signals, the source, its aux descriptors, status ticks, the stop's deadline) reads as one poll cycle;
+   issue 36 asks for one loop around every link, which will take the source and aux parts out. */
 int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
              live_reload_fn reload, void *reload_user)
 {

@@ -255,6 +255,31 @@ static int given(const struct sonard_options *o, const char *name)
     return k >= 0 && opt_was_given(&o->given, (size_t)k);
 }
 
+/* The settings that follow --background unless given: the warm-up, and the study's detector rules with its median background. */
+static void mode_defaults(struct sonard_options *o)
+{
+    /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
+    if (!given(o, "bg-warmup"))
+        o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
+    /* The study's median background goes with its rules, unless they are given: its configuration replays as it always has. */
+    {
+        struct sonar_pipeline_config d;
+        sonar_pipeline_defaults(&d);
+        if (o->pipeline.background.mode == SONAR_BACKGROUND_RANGE)
+            sonar_pipeline_study_rules(&d.detector);
+        if (!given(o, "threshold-mode"))
+            o->pipeline.detector.threshold_mode = d.detector.threshold_mode;
+        if (!given(o, "min-points"))
+            o->pipeline.detector.min_points = d.detector.min_points;
+        if (!given(o, "max-extent"))
+            o->pipeline.detector.max_extent_m = d.detector.max_extent_m;
+        if (!given(o, "max-aspect"))
+            o->pipeline.detector.max_aspect = d.detector.max_aspect;
+        if (!given(o, "min-area"))
+            o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
+    }
+}
+
 /* --passive: a live sonar, and none of the options that command the head (whoever drives it chooses them). */
 static int check_passive(struct sonard_options *o, char *err, size_t errlen)
 {
@@ -285,26 +310,7 @@ static int check_passive(struct sonard_options *o, char *err, size_t errlen)
 static int check_whole(struct sonard_options *o, char *err, size_t errlen)
 {
     const char *why;
-    /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
-    if (!given(o, "bg-warmup"))
-        o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
-    /* The study's median background goes with its rules, unless they are given: its configuration replays as it always has. */
-    {
-        struct sonar_pipeline_config d;
-        sonar_pipeline_defaults(&d);
-        if (o->pipeline.background.mode == SONAR_BACKGROUND_RANGE)
-            sonar_pipeline_study_rules(&d.detector);
-        if (!given(o, "threshold-mode"))
-            o->pipeline.detector.threshold_mode = d.detector.threshold_mode;
-        if (!given(o, "min-points"))
-            o->pipeline.detector.min_points = d.detector.min_points;
-        if (!given(o, "max-extent"))
-            o->pipeline.detector.max_extent_m = d.detector.max_extent_m;
-        if (!given(o, "max-aspect"))
-            o->pipeline.detector.max_aspect = d.detector.max_aspect;
-        if (!given(o, "min-area"))
-            o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
-    }
+    mode_defaults(o);
     if (check_passive(o, err, errlen) != HOST_OK)
         return HOST_ERR_CONFIG;
     if (o->pose_lcm != NULL && o->replay != NULL) {

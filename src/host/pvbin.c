@@ -63,6 +63,8 @@ static void say(FILE *errf, const char *fmt, ...)
     va_end(ap);
 }
 
+/* Long: one pass over the log's records (header, time, Ping frames, rows out), each step naming its byte for a clear
+   error; they share the reader's position, so they stay in one function. */
 int pvbin_convert(const uint8_t *buf, size_t size, const char *name, double start, double c, FILE *out, FILE *errf,
                   struct pvbin_stats *st)
 {

@@ -242,6 +242,8 @@ static int run_replay(struct sonard *s)
     return used == 0 ? 1 : 0;
 }
 
+/* Long: the order of setting up (options, source, app, sinks, pose, MAVLink, background) and tearing down is the program's
+   whole story, told once here; each step is a call, and the error paths must unwind what came before. */
 int main(int argc, char **argv)
 {
     static struct sonard s;

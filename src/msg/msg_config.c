@@ -3,6 +3,19 @@
 
 #include <string.h>
 
+/* The CFAR rules, both ways: one struct of the detector's, mapped in one place each way. */
+static void cfar_out(const struct sonar_cfar_config *f, sonar_config_t *c)
+{
+    c->cfar_across = (int8_t)f->across;
+    c->cfar_cut = (int8_t)f->cut;
+    c->cfar_guard = (int8_t)f->guard;
+    c->cfar_train = (int8_t)f->train;
+    c->cfar_rank16 = (int8_t)f->rank16;
+    c->cfar_scale = f->scale;
+    c->cfar_floor = f->floor;
+}
+
+
 void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipeline_config *p, uint16_t beam_every,
                 sonar_config_t *c)
 {
@@ -26,13 +39,7 @@ void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipelin
     c->bg_step = (int8_t)p->background.step;
     c->bg_margin = (int8_t)p->background.margin;
     c->threshold_mode = (int8_t)p->detector.threshold_mode;
-    c->cfar_across = (int8_t)p->detector.cfar.across;
-    c->cfar_cut = (int8_t)p->detector.cfar.cut;
-    c->cfar_guard = (int8_t)p->detector.cfar.guard;
-    c->cfar_train = (int8_t)p->detector.cfar.train;
-    c->cfar_rank16 = (int8_t)p->detector.cfar.rank16;
-    c->cfar_scale = p->detector.cfar.scale;
-    c->cfar_floor = p->detector.cfar.floor;
+    cfar_out(&p->detector.cfar, c);
     c->threshold_k = p->detector.threshold_k;
     c->min_threshold = p->detector.min_threshold;
     c->max_clusters = p->detector.max_clusters;
@@ -70,6 +77,17 @@ static uint8_t to_u8(int32_t v, uint8_t bad)
     return v < 0 || v > 255 ? bad : (uint8_t)v;
 }
 
+static void cfar_in(const sonar_config_t *c, struct sonar_cfar_config *f)
+{
+    f->across = to_u8(c->cfar_across, 255);
+    f->cut = to_u8(c->cfar_cut, 255);
+    f->guard = to_u8(c->cfar_guard, 255);
+    f->train = to_u8(c->cfar_train, 0);
+    f->rank16 = to_u8(c->cfar_rank16, 255);
+    f->scale = c->cfar_scale;
+    f->floor = to_u8(c->cfar_floor, 255);
+}
+
 static uint16_t to_u16(int32_t v, uint16_t bad)
 {
     return v < 0 || v > 65535 ? bad : (uint16_t)v;
@@ -99,13 +117,7 @@ void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_
     p->background.step = to_u8(c->bg_step, 0);
     p->background.margin = to_u8(c->bg_margin, 255);
     p->detector.threshold_mode = to_u8(c->threshold_mode, 255);
-    p->detector.cfar.across = to_u8(c->cfar_across, 255);
-    p->detector.cfar.cut = to_u8(c->cfar_cut, 255);
-    p->detector.cfar.guard = to_u8(c->cfar_guard, 255);
-    p->detector.cfar.train = to_u8(c->cfar_train, 0);
-    p->detector.cfar.rank16 = to_u8(c->cfar_rank16, 255);
-    p->detector.cfar.scale = c->cfar_scale;
-    p->detector.cfar.floor = to_u8(c->cfar_floor, 255);
+    cfar_in(c, &p->detector.cfar);
     p->detector.threshold_k = c->threshold_k;
     p->detector.min_threshold = to_u8(c->min_threshold, 255);
     p->detector.max_clusters = to_u8(c->max_clusters, 0);
