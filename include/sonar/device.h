@@ -83,6 +83,10 @@ uint32_t sonar_device_down(struct sonar_device *d, int64_t now);
 /* The Ping360's firmware version as probed (0.0.0 until then): fw[0] major, fw[1] minor, fw[2] patch. */
 void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3]);
 
+/* A record as the pipeline takes it (samples borrowed from r; a gain outside 0..255 becomes unknown, -1): host and firmware alike. */
+struct sonar_beam; /* pipeline.h */
+void sonar_device_beam(const struct sonar_record *r, struct sonar_beam *b);
+
 /* The driver's settings as validated at init (read-only; sonar_device_set_gain changes the gain). */
 const struct sonar_ping360_config *sonar_device_config(const struct sonar_device *d);
 

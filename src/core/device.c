@@ -151,3 +151,13 @@ int sonar_device_stop(struct sonar_device *d, int64_t now)
 {
     return sonar_ping360_stop(&d->drv, now);
 }
+
+void sonar_device_beam(const struct sonar_record *r, struct sonar_beam *b)
+{
+    b->utime = r->utime;
+    b->angle = r->angle;
+    b->n = r->n;
+    b->range_m = r->range_m;
+    b->samples = r->samples;
+    b->gain = (int16_t)(r->gain >= 0 && r->gain <= 255 ? r->gain : -1);
+}

@@ -437,7 +437,7 @@ int sonar_ping360_stop(struct sonar_ping360 *d, int64_t now)
     if (d == NULL)
         return SONAR_ERR_ARG;
     /* Passive: the head is not ours to stop. */
-    if (d->state == SONAR_P360_DOWN || d->state == SONAR_P360_STOPPED || d->state == SONAR_P360_PASSIVE || d->cfg.passive) {
+    if (d->state == SONAR_P360_DOWN || d->state == SONAR_P360_STOPPED || d->cfg.passive) {
         d->state = SONAR_P360_STOPPED;
         d->deadline = NO_DEADLINE;
         return SONAR_OK;

@@ -212,12 +212,7 @@ int app_push(struct app *a, const struct sonar_record *b)
     beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
     app_background_first_beam(a, b);
-    pb.gain = (int16_t)(b->gain >= 0 && b->gain <= 255 ? b->gain : -1); /* the pipeline restarts its background on a change */
-    pb.utime = b->utime;
-    pb.angle = b->angle;
-    pb.n = b->n;
-    pb.range_m = b->range_m;
-    pb.samples = b->samples;
+    sonar_device_beam(b, &pb); /* with its gain: the pipeline restarts its background on a change */
     t0 = a->clock.mono_ns(a->clock.user);
     {
         uint32_t changes = a->pipe.geometry_changes, gains = a->pipe.gain_restarts;

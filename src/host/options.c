@@ -283,26 +283,24 @@ static void mode_defaults(struct sonard_options *o)
 /* --passive: a live sonar, and none of the options that command the head (whoever drives it chooses them). */
 static int check_passive(struct sonard_options *o, char *err, size_t errlen)
 {
+    /* Whoever drives the head chooses these; sonard takes them from each reply. */
+    static const char *const head[] = {"mode", "sector", "step", "gain", "scan", "frequency", "samples",
+                                       "transmit-duration", "range"};
+    size_t i;
     o->device.passive = (uint8_t)(o->passive != 0);
     if (!o->device.passive)
         return HOST_OK;
-    {
-        /* Whoever drives the head chooses these; sonard takes them from each reply. */
-        static const char *const head[] = {"mode", "sector", "step", "gain", "scan", "frequency", "samples",
-                                           "transmit-duration", "range"};
-        size_t i;
-        if (o->sonar == NULL) {
-            snprintf(err, errlen, "--passive listens to a live sonar: it goes with --sonar");
+    if (o->sonar == NULL) {
+        snprintf(err, errlen, "--passive listens to a live sonar: it goes with --sonar");
+        return HOST_ERR_CONFIG;
+    }
+    for (i = 0; i < sizeof head / sizeof head[0]; i++)
+        if (given(o, head[i])) {
+            snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
             return HOST_ERR_CONFIG;
         }
-        for (i = 0; i < sizeof head / sizeof head[0]; i++)
-            if (given(o, head[i])) {
-                snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
-                return HOST_ERR_CONFIG;
-            }
-        if (!given(o, "sweep-gap"))
-            o->pipeline.sweep_gap_s = 2.0f;
-    }
+    if (!given(o, "sweep-gap"))
+        o->pipeline.sweep_gap_s = 2.0f;
     return HOST_OK;
 }
 

@@ -84,12 +84,7 @@ static void beam_in(struct fw *f, struct sonar_record *r, int64_t now)
         msg_beam(r, &m); /* no pose: the vehicle's is the host's, which fills it in when it records the beam */
         host_send(f, SONAR_CPF_BEAM, sonar_beam_t_encode(MSG(f), 0, MSG_CAP, &m));
     }
-    b.utime = r->utime;
-    b.angle = r->angle;
-    b.n = r->n;
-    b.range_m = r->range_m;
-    b.samples = r->samples;
-    b.gain = (int16_t)(r->gain >= 0 && r->gain <= 255 ? r->gain : -1); /* a change restarts the background, as on the host */
+    sonar_device_beam(r, &b);
     if (sonar_pipeline_push(&f->pipe, &b) != SONAR_OK)
         f->rejected++; /* bad geometry from the device: not processed, counted in status */
 }
