@@ -129,7 +129,7 @@ feed "tcp:127.0.0.1:$((PORT + 8))" --pace fast
     > "$T/hup.jsonl" 2> "$T/hup.err" & SPID=$!
 ( sleep 60; kill -KILL $SPID 2>/dev/null ) & WDOG=$!
 waitlines "$T/hup.jsonl" 3
-printf 'range = 12\nmin-points = 60000\n' > "$T/hup.conf"
+printf 'range = 12\nmin-points = 60000\ngain = 2\n' > "$T/hup.conf"
 kill -HUP $SPID; n1=$(lines "$T/hup.jsonl")
 waitlines "$T/hup.jsonl" $((n1 + 4))
 printf 'range = 12\nmin-points = many\n' > "$T/hup.conf"
@@ -142,6 +142,8 @@ endfeed
 check "SIGHUP: detections before the reload" sh -c "sed -n '3,${n1}p' '$T/hup.jsonl' | grep -q '\"detections\":\\[{'"
 check "SIGHUP: none from the second sweep after it (min-points 60000), the link kept" \
     sh -c "sed -n '$((n1 + 2)),\$p' '$T/hup.jsonl' | grep -q '\"detections\":\\[{' && exit 1; grep -q 'reconnects 0' '$T/hup.err' && test $rc -eq 0"
+check "SIGHUP: a setting SIGHUP cannot change is named: gain applies after a restart" \
+    grep -q "SIGHUP: gain changed: applies after a restart; the running value stays" "$T/hup.err"
 check "SIGHUP: a bad file is named with its line; the running settings stay" \
     sh -c "grep -q \"hup.conf:2: --min-points: 'many' is not a whole number\" '$T/hup.err' && grep -q 'the running settings stay' '$T/hup.err' && test \$(sed -n '$((n2 + 2)),\$p' '$T/hup.jsonl' | wc -l) -ge 1"
 

@@ -194,5 +194,29 @@ check "a port out of range: exit 2 before anything runs, named" sh -c "test $rc 
 "$B/sonard" --replay "$T/pool.csv" --mavlink "udpin:127.0.0.1:$((PORT + 6))" > /dev/null 2> "$T/rep.err"; rc=$?
 check "--mavlink with --replay: exit 2, said why" sh -c "test $rc -eq 2 && grep -q -- '--mavlink URL goes with --sonar' '$T/rep.err'"
 
+# 6. A reload (SIGHUP) turns the frame by 90 degrees and moves --min-range: OBSTACLE_DISTANCE takes both from the
+# pipeline beam by beam, so from the sweep the new settings take over at, the map and the detections agree.
+printf 'range = 12\nstep = 2\nangle-offset = 0\nmin-range = 0.5\n' > "$T/hup.conf"
+"$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 12))" --scene pool --pace x4 --max-seconds 120 2> /dev/null & FEEDPID=$!
+$PY tests/mavlink_check.py --port $((PORT + 13)) --seconds 90 --listen-only --out "$T/hup.rep" --od-log "$T/hup.od" > /dev/null 2>&1 & CHK=$!
+sleep 0.3
+# Not under timeout(1), which forwards only the first SIGHUP; a watchdog bounds it instead.
+"$B/sonard" --config "$T/hup.conf" --sonar "tcp:127.0.0.1:$((PORT + 12))" --json --no-lcm --log-level warn \
+    --mavlink "udpin:127.0.0.1:$((PORT + 13))" > "$T/hup.jsonl" 2> "$T/hup.err" & SONARD=$!
+( sleep 100; kill -KILL $SONARD 2>/dev/null ) & WDOG=$!
+lines() { wc -l < "$1" 2>/dev/null || echo 0; }
+waitlines() { i=0; while [ "$(lines "$1")" -lt "$2" ] && [ $i -lt 1200 ]; do sleep 0.05; i=$((i + 1)); done; }
+waitlines "$T/hup.jsonl" 5
+printf 'range = 12\nstep = 2\nangle-offset = 100\nmin-range = 2\n' > "$T/hup.conf"
+kill -HUP $SONARD; n1=$(lines "$T/hup.jsonl")
+waitlines "$T/hup.jsonl" $((n1 + 4))
+kill -TERM $SONARD; wait $SONARD; rc=$?
+kill $WDOG $CHK $FEEDPID 2>/dev/null; wait $CHK $FEEDPID 2>/dev/null; FEEDPID=""
+check "SIGHUP: sonard keeps running through the reload and exits 0 on SIGTERM, nothing said amiss" \
+    sh -c "test $rc -eq 0 && ! grep -q . '$T/hup.err'"
+check "SIGHUP: OBSTACLE_DISTANCE and the detections turn together by angle-offset 100 gradians; min_distance 50 -> 200 cm" \
+    $PY tests/mavlink_reload_check.py "$T/hup.jsonl" "$T/hup.od" $n1
+sed 's/^/    /' "$T/out"
+
 echo "mavlink: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -60,6 +60,8 @@ def main():
     ap.add_argument("--router", type=int, metavar="PORT",
                     help="also a router: the autopilot (sonar-feed) sends to this port, everything is passed both ways, "
                          "and its poses are kept, so each face is scored from where the vehicle is (a moving vehicle)")
+    ap.add_argument("--od-log", metavar="FILE",
+                    help="every OBSTACLE_DISTANCE as a JSON line: receive time (s since the epoch), min, max, offset, distances")
     ap.add_argument("--listen-only", action="store_true",
                     help="no autopilot: only a ground station's HEARTBEAT (sysid 255), to be answered")
     a = ap.parse_args()
@@ -84,6 +86,7 @@ def main():
         router = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         router.bind(("127.0.0.1", a.router))
         router.setblocking(False)
+    od_log = open(a.od_log, "w", buffering=1) if a.od_log else None
     t0 = time.time()
     next_hb = next_pose = next_junk = t0
     counts, bad = {}, 0
@@ -153,6 +156,9 @@ def main():
                         ardupilot.obstacle_distance(m, got)
                         zeros += sum(1 for x in m.distances if x == 0)
                         od_abs.append(time.time())
+                        if od_log is not None:
+                            od_log.write(json.dumps({"t": od_abs[-1], "min": m.min_distance, "max": m.max_distance,
+                                                     "offset": m.angle_offset, "distances": list(m.distances)}) + "\n")
                         od.append({"t": got, "distances": list(m.distances), "min": m.min_distance, "max": m.max_distance,
                                    "increment": m.increment, "increment_f": m.increment_f, "angle_offset": m.angle_offset,
                                    "frame": m.frame, "sensor_type": m.sensor_type, "sysid": m.get_srcSystem(),

@@ -448,10 +448,11 @@ static void test_ignored_arcs(void **state)
     }
 }
 
-/* A reload's angle-offset reaches the obstacle map (the detections turn by it too); a min-range too far is refused, nothing changed. */
+/* A reload's angle-offset and min-range reach the obstacle map through the pipeline (the detections turn by them too); a min-range too far is refused. */
 static void test_retune(void **state)
 {
     struct mav_config mc;
+    struct sonar_pipeline_config pc;
     uint8_t buf[MAVLINK_MAX_PACKET_LEN];
     mavlink_message_t msg, rbuf;
     mavlink_status_t st, rst;
@@ -462,10 +463,13 @@ static void test_retune(void **state)
     (void)state;
     default_cfg(&mc);
     setup_cfg(&mc);
-    assert_int_equal(mav_retune(&m, 0.0f, 150.0f, err, sizeof(err)), HOST_ERR_CONFIG);
+    assert_int_equal(mav_check_min_range(150.0f, err, sizeof(err)), HOST_ERR_CONFIG);
     assert_string_equal(err, "--min-range 150: too far for the obstacle map (0..100 m)");
-    assert_true(m.cfg.angle_offset == 0.0f);
-    assert_int_equal(mav_retune(&m, 100.0f, 1.0f, err, sizeof(err)), HOST_OK); /* 100 gradians: 90 degrees */
+    assert_int_equal(mav_check_min_range(100.0f, err, sizeof(err)), HOST_OK);
+    sonar_pipeline_defaults(&pc);
+    pc.detector.angle_offset = 100.0f; /* 100 gradians: 90 degrees */
+    pc.detector.min_range_m = 1.0f;
+    assert_int_equal(app_reconfigure(app, &pc, err, sizeof(err)), HOST_OK); /* no sweep open: at once */
     for (pass = 0; pass < 2; pass++)
         for (a = 0; a < 400; a++)
             beam_at(wall + (int64_t)(pass * 400 + a) * 10000, (uint16_t)a, pass == 1 && a >= 10 && a < 16);

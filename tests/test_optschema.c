@@ -129,6 +129,26 @@ static void argv_refusals_are_named(void **state)
     }
 }
 
+/* A reload: only rows without SIGHUP whose values changed, given or dropped, are named (custom rows too). */
+static void restart_needed_names_what_reload_cannot_change(void **state)
+{
+    struct opts a, b;
+    struct opt_given ga, gb;
+    char err[160], names[64];
+    int action;
+    (void)state;
+    assert_int_equal(parse(&a, &ga, &action, err, sizeof(err), 6, "--count", "5", "--level", "2", "--even", "4"), HOST_OK);
+    assert_int_equal(parse(&b, &gb, &action, err, sizeof(err), 4, "--count", "5", "--level", "7"), HOST_OK);
+    assert_int_equal(opt_restart_needed(spec, schema.count, &ga, &gb, names, sizeof(names)), 1);
+    assert_string_equal(names, "even"); /* level has SIGHUP; count is the same */
+    assert_int_equal(parse(&b, &gb, &action, err, sizeof(err), 7, "--count", "6", "--even", "4", "--range", "2",
+                           "--verbose"), HOST_OK);
+    assert_int_equal(opt_restart_needed(spec, schema.count, &ga, &gb, names, sizeof(names)), 3);
+    assert_string_equal(names, "verbose, count, range");
+    assert_int_equal(opt_restart_needed(spec, schema.count, &ga, &gb, names, 12), 3);
+    assert_string_equal(names, "verbose,...");
+}
+
 static int read_text(const char *text, struct opts *o, char *err, size_t n)
 {
     static char pool[256];
@@ -207,6 +227,7 @@ int main(void)
         cmocka_unit_test(argv_refusals_are_named),
         cmocka_unit_test(files_fill_and_refuse_by_line),
         cmocka_unit_test(help_and_docs_come_from_the_rows),
+        cmocka_unit_test(restart_needed_names_what_reload_cannot_change),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -50,6 +50,30 @@ static void test_first_look_that_stands_is_structure_after_structure_s(void **st
     assert_int_equal(s.detections, 4);
 }
 
+/* A reload's new angle offset turns the places with the frame: the ladder, turned 90 degrees, is still structure there. */
+static void test_turned_with_the_frame(void **state)
+{
+    uint8_t is[1];
+    int k;
+    (void)state;
+    assert_int_equal(sonar_structure_init(&s, 10.0f), SONAR_OK);
+    for (k = 0; k < 6; k++) {
+        struct sonar_structure_obs o = at(0.0f, 8.0f, k < 2, k);
+        assert_true(sweep(&o, 1, k, is) >= 0);
+    }
+    assert_int_equal(is[0], 1);
+    sonar_structure_turn(&s, 90.0f); /* 8 m to starboard becomes 8 m astern */
+    {
+        struct sonar_structure_obs o = at(-8.0f, 0.0f, 0, k);
+        assert_int_equal(sweep(&o, 1, k, is), 1);
+        assert_int_equal(is[0], 1);
+    }
+    {
+        struct sonar_structure_obs o = at(0.0f, 8.0f, 0, k + 1); /* where it was: nothing learnt there now */
+        assert_int_equal(sweep(&o, 1, k + 1, is), 0);
+    }
+}
+
 static void test_what_came_in_later_is_never_structure(void **state)
 {
     uint8_t is[1];
@@ -162,6 +186,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_first_look_that_stands_is_structure_after_structure_s),
         cmocka_unit_test(test_what_came_in_later_is_never_structure),
+        cmocka_unit_test(test_turned_with_the_frame),
         cmocka_unit_test(test_comes_and_goes_is_never_structure),
         cmocka_unit_test(test_off_means_never),
         cmocka_unit_test(test_forgotten_evicted_restarted),

@@ -117,6 +117,33 @@ static void test_confirm_velocity_and_one_id(void **state)
     assert_int_equal(tk.deleted, 0);
 }
 
+/* A reload's new angle offset: the track turns with the frame, keeps its ID and goes on with the turned detections. */
+static void test_turned_with_the_frame(void **state)
+{
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 12; s++) {
+        struct sonar_tracker_obs o;
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 10000000);
+        o.utime = (int64_t)s * 10000000 + 5000000;
+        o.x_m = 2.0f + 0.5f * (float)((double)o.utime * 1e-6); /* forward at 0.5 m/s */
+        o.y_m = 1.0f;
+        if (s >= 6) { /* the frame turned 90 degrees clockwise: forward is now to starboard */
+            o.y_m = o.x_m;
+            o.x_m = -1.0f;
+        }
+        if (s == 6)
+            sonar_tracker_turn(&tk, 90.0f, NULL);
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        assert_int_equal(tk.t[0].id, 1);
+    }
+    assert_true(fabsf(tk.t[0].vx) < 0.02f);
+    assert_true(fabsf(tk.t[0].vy - 0.5f) < 0.02f);
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+}
+
 /* Gone: coasting, then deleted after max_misses; a new object later gets a new ID. */
 static void test_coast_delete_and_ids_never_reused(void **state)
 {
@@ -709,6 +736,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_assignment_is_optimal),
         cmocka_unit_test(test_confirm_velocity_and_one_id),
+        cmocka_unit_test(test_turned_with_the_frame),
         cmocka_unit_test(test_coast_delete_and_ids_never_reused),
         cmocka_unit_test(test_crossing_targets_keep_ids),
         cmocka_unit_test(test_sector_out_of_view_is_not_a_miss),

@@ -24,10 +24,11 @@
 #define SONAR_OBS_SECTORS 72
 #define SONAR_OBS_SECTOR_DEG 5
 #define SONAR_OBS_UNKNOWN 65535u    /* not scanned within the age limit */
+#define SONAR_OBSTACLE_MAX_RANGE_M 100.0f /* min_range_m at most: OBSTACLE_DISTANCE's min_distance is a uint16 in cm */
 #define SONAR_OBS_PASS_US 1000000   /* beams into one sector within this of each other are one pass: the nearest wins */
 
 struct sonar_obstacle_config {
-    float min_range_m;  /* echoes nearer are not reported (ring-down, the mount), 0..100 m */
+    float min_range_m;  /* echoes nearer are not reported (ring-down, the mount), 0..SONAR_OBSTACLE_MAX_RANGE_M */
     uint8_t margin;     /* an echo exceeds the floor f by f * margin / 16 ... , 0..64 */
     uint8_t min_level;  /* ... and by at least this many grey levels, 1..255 */
 };

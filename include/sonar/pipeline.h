@@ -171,6 +171,13 @@ void sonar_pipeline_restart_background(struct sonar_pipeline *p);
 SONAR_CHECK int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipeline_config *cfg);
 
 /*
+ * The output frame of the configuration running now (a reload's takes over with the next sweep):
+ * *angle_offset in gradians added to every head angle, *min_range_m in metres. A sink that places
+ * beams as the detections are placed reads them here for each beam, so both turn together.
+ */
+void sonar_pipeline_frame(const struct sonar_pipeline *p, float *angle_offset, float *min_range_m);
+
+/*
  * Where the vehicle was (kept by pointer, read at each sweep's end; NULL: no pose, everything in
  * the body frame). With poses, each detection whose time has a pose gains its north_m, east_m;
  * a sweep in which every detection and the last beam have one is tracked in the world frame (the

@@ -72,6 +72,12 @@ SONAR_CHECK int sonar_structure_tune(struct sonar_structure *s, float structure_
 void sonar_structure_restart(struct sonar_structure *s);
 
 /*
+ * The output frame turned by deg degrees clockwise (a reload's new angle offset): every place turns
+ * about the sonar with it, so the structure learnt stays where its echoes will now be reported.
+ */
+void sonar_structure_turn(struct sonar_structure *s, float deg);
+
+/*
  * One sweep's detections (n <= SONAR_MAX_CLUSTERS; obs may be NULL when n is 0) at the sweep's end
  * utime: each joins or starts a place, places are promoted and forgotten, and is_structure[i] is
  * set to 1 for a detection at a structure place (else 0). Returns how many are structure, or

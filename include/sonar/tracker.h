@@ -150,6 +150,14 @@ void sonar_tracker_predict(const struct sonar_track *t, int64_t utime, float *x_
  */
 void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p, int to_world);
 
+/*
+ * The sonar's output frame turned by deg degrees clockwise (a reload's new angle offset): body-frame
+ * tracks turn about the sonar, world-frame ones about the vehicle at pose at (positions, where they
+ * last moved, velocities), so they stay on the objects the turned beams will now place there. A
+ * world-frame tracker with at NULL is left as it is (no pose: nowhere to turn about).
+ */
+void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_pose *at);
+
 /* "tentative", "confirmed", "coasting", or "?" for anything else. */
 const char *sonar_track_state_str(int state);
 

@@ -25,7 +25,7 @@ static void reset(struct sonar_obstacle *o)
 
 int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_config *cfg)
 {
-    if (o == NULL || cfg == NULL || !(cfg->min_range_m >= 0.0f && cfg->min_range_m <= 100.0f) || cfg->margin > 64 ||
+    if (o == NULL || cfg == NULL || !(cfg->min_range_m >= 0.0f && cfg->min_range_m <= SONAR_OBSTACLE_MAX_RANGE_M) || cfg->margin > 64 ||
         cfg->min_level < 1)
         return SONAR_ERR_ARG;
     memset(o, 0, sizeof(*o));
@@ -36,7 +36,7 @@ int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_co
 
 int sonar_obstacle_set_min_range(struct sonar_obstacle *o, float min_range_m)
 {
-    if (o == NULL || !(min_range_m >= 0.0f && min_range_m <= 100.0f))
+    if (o == NULL || !(min_range_m >= 0.0f && min_range_m <= SONAR_OBSTACLE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
     o->cfg.min_range_m = min_range_m;
     return SONAR_OK;

@@ -333,15 +333,32 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     return SONAR_OK;
 }
 
+/* What the pipeline keeps in its output frame turns with a new angle offset: the structure places and the tracks. */
+static void turn_frame(struct sonar_pipeline *p, float deg)
+{
+    struct sonar_pose q;
+    sonar_structure_turn(&p->st, deg);
+    if (p->trk.world && p->poses != NULL && sonar_pose_at(p->poses, sonar_detector_utime(&p->det), &q))
+        sonar_tracker_turn(&p->trk, deg, &q);
+    else
+        sonar_tracker_turn(&p->trk, deg, NULL);
+}
+
 /* Moves to p->next at a sweep boundary (no sweep open). */
 static int switch_config(struct sonar_pipeline *p)
 {
     const struct sonar_pipeline_config *old = p->cfg, *c = p->next;
     int r, fresh;
+    float turn = (c->detector.angle_offset - old->detector.angle_offset) * (float)SONAR_DEG_PER_GRAD;
     p->next = NULL;
+    /* A new angle offset re-declares the mount: a world grid learnt through the old one lies turned about the
+       vehicle, so it is learnt afresh; a per-angle model is by head angle and stays. */
     fresh = c->median != old->median || c->median2d != old->median2d || c->max_step != old->max_step ||
-            c->background.mode != old->background.mode || c->background.warmup != old->background.warmup;
+            c->background.mode != old->background.mode || c->background.warmup != old->background.warmup ||
+            (turn != 0.0f && p->bg->world);
     p->cfg = c;
+    if (turn != 0.0f)
+        turn_frame(p, turn);
     if ((r = sonar_detector_set_config(&p->det, &c->detector)) != SONAR_OK)
         return r;
     /* Tracks survive a reload; turning tracking on starts a fresh tracker (IDs from 1). */
@@ -367,6 +384,12 @@ int sonar_pipeline_reconfigure(struct sonar_pipeline *p, const struct sonar_pipe
         return SONAR_ERR_ARG;
     p->next = cfg;
     return p->open ? SONAR_OK : switch_config(p);
+}
+
+void sonar_pipeline_frame(const struct sonar_pipeline *p, float *angle_offset, float *min_range_m)
+{
+    *angle_offset = p->cfg->detector.angle_offset;
+    *min_range_m = p->cfg->detector.min_range_m;
 }
 
 void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_ring *poses)

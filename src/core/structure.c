@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "sonar/pose.h"
+
 static int valid_s(float structure_s)
 {
     return structure_s == 0.0f || (structure_s >= 1.0f && structure_s <= (float)SONAR_STRUCTURE_S_MAX);
@@ -30,6 +32,15 @@ void sonar_structure_restart(struct sonar_structure *s)
 {
     s->n = 0;
     s->restarts++;
+}
+
+void sonar_structure_turn(struct sonar_structure *s, float deg)
+{
+    unsigned k;
+    for (k = 0; k < s->n; k++) {
+        float x = s->p[k].x, y = s->p[k].y;
+        sonar_pose_rotate(deg, x, y, &s->p[k].x, &s->p[k].y);
+    }
 }
 
 unsigned sonar_structure_count(const struct sonar_structure *s)

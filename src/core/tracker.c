@@ -90,6 +90,27 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
     tk->reframes++;
 }
 
+void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_pose *at)
+{
+    int world = tk->world;
+    uint8_t k;
+    if (world && at == NULL)
+        return;
+    if (world)
+        sonar_tracker_reframe(tk, at, 0);
+    for (k = 0; k < tk->n; k++) {
+        struct sonar_track *t = &tk->t[k];
+        float x = t->px, y = t->py, vx = t->vx, vy = t->vy, ax = t->ax, ay = t->ay;
+        sonar_pose_rotate(deg, x, y, &t->px, &t->py);
+        sonar_pose_rotate(deg, ax, ay, &t->ax, &t->ay);
+        sonar_pose_rotate(deg, vx, vy, &t->vx, &t->vy);
+    }
+    if (world) {
+        sonar_tracker_reframe(tk, at, 1);
+        tk->reframes -= 2; /* a turn, not a change of frame */
+    }
+}
+
 const char *sonar_track_state_str(int state)
 {
     switch (state) {

@@ -283,6 +283,11 @@ const struct sonar_pose_ring *app_poses(const struct app *a)
     return &a->poses;
 }
 
+void app_frame(const struct app *a, float *angle_offset, float *min_range_m)
+{
+    sonar_pipeline_frame(&a->pipe, angle_offset, min_range_m);
+}
+
 int app_pose_at(const struct app *a, int64_t t, struct sonar_pose *q)
 {
     return sonar_pose_at(&a->poses, t, q);

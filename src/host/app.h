@@ -149,6 +149,9 @@ int app_pose_at(const struct app *a, int64_t t, struct sonar_pose *q);
 /* Every pose source's samples, read-only (sonar_pose_at and the ring's counters). */
 const struct sonar_pose_ring *app_poses(const struct app *a);
 
+/* The output frame now (sonar_pipeline_frame): angle offset in gradians, min range in metres. */
+void app_frame(const struct app *a, float *angle_offset, float *min_range_m);
+
 /* Ends the open sweep (end of a recording, shutdown). Returns HOST_OK or a core error. */
 HOST_CHECK int app_finish(struct app *a);
 

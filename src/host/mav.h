@@ -33,8 +33,6 @@ struct mav_config {
     uint8_t send_3d;        /* 1: OBSTACLE_DISTANCE_3D for each confirmed track */
     uint8_t n_ignore;       /* arcs of the vehicle's own echoes, ignore[i] = {from, to} in degrees clockwise from forward */
     float ignore[MAV_MAX_IGNORE][2];
-    float angle_offset;     /* gradians: the pipeline's, so beams fall in the sectors the detections use */
-    float min_range_m;      /* the pipeline's --min-range; at least the ring-down's SONAR_PIPE_NEAR_M */
 };
 
 /* Counters, all since the start. */
@@ -72,6 +70,7 @@ struct mav {
         unsigned char b[1024];
     } rx, tx;
     struct sonar_obstacle obs;
+    float min_range_m;          /* the pipeline's --min-range the map holds now (app_frame) */
     struct app_sink sink;       /* filtered beams into the map; tracks out as OBSTACLE_DISTANCE_3D */
     int64_t t0_us;              /* monotonic start, for time_boot_ms */
     int64_t next_hb, next_od;
@@ -102,13 +101,17 @@ struct mav {
 HOST_CHECK int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
 
 /*
- * A reload's pipeline settings the obstacle map shares: angle_offset (gradians) and min_range_m
- * (at least SONAR_PIPE_NEAR_M, at most 100 m), from the next beam on, the map kept. Returns
- * HOST_OK, or HOST_ERR_CONFIG with err naming the value (nothing changed).
+ * Whether the obstacle map can take a --min-range of min_range_m metres (0..100 m): HOST_OK, or
+ * HOST_ERR_CONFIG with err naming the value. sonard asks it before a reload's settings are taken.
  */
-HOST_CHECK int mav_retune(struct mav *m, float angle_offset, float min_range_m, char *err, size_t errlen);
+HOST_CHECK int mav_check_min_range(float min_range_m, char *err, size_t errlen);
 
-/* Binds the app: adds the sink (HOST_OK or SONAR_ERR_FULL). Open with the live loop (mav_live). */
+/*
+ * Binds the app: adds the sink. The map takes the pipeline's output frame (angle offset, min
+ * range) from the app at each beam (app_frame), so it turns with the detections when a reload
+ * takes over. Returns HOST_OK, HOST_ERR_CONFIG (the app's min range too far: mav_check_min_range
+ * says why) or SONAR_ERR_FULL. Open with the live loop (mav_live).
+ */
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);
 
 /* The loop's view: a descriptor to read, timers for HEARTBEAT and OBSTACLE_DISTANCE; it never blocks the sonar. */

@@ -199,8 +199,11 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
 int mav_sink_beam(void *self, const struct sonar_record *b)
 {
     struct mav *m = self;
-    float bearing = ((float)b->angle + m->cfg.angle_offset) * (float)SONAR_DEG_PER_GRAD;
+    float bearing, angle_offset;
     struct sonar_pose q;
+    if (mav_follow_frame(m, &angle_offset) != HOST_OK)
+        return HOST_ERR_CONFIG; /* a min range the map cannot take: refused before a reload, so not reached */
+    bearing = ((float)b->angle + angle_offset) * (float)SONAR_DEG_PER_GRAD;
     m->last_beam_us = app_wall_us(m->app);
     if (ignored(m, bearing))
         return HOST_OK; /* the vehicle's own echoes never enter the map */

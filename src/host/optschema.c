@@ -56,6 +56,30 @@ int opt_was_given(const struct opt_given *g, size_t i)
     return i < OPT_GIVEN_ROWS && ((g->w[i / 64] >> (i % 64)) & 1u) != 0;
 }
 
+unsigned opt_restart_needed(const struct opt_spec *spec, size_t count, const struct opt_given *a, const struct opt_given *b,
+                            char *out, size_t cap)
+{
+    size_t i, used = 0;
+    unsigned n = 0;
+    if (cap > 0)
+        out[0] = '\0';
+    for (i = 0; i < count && i < OPT_GIVEN_ROWS; i++) {
+        const char *va = opt_was_given(a, i) ? a->value[i] : NULL, *vb = opt_was_given(b, i) ? b->value[i] : NULL;
+        int w;
+        if (spec[i].reload || spec[i].type == OPT_SECTION || spec[i].type == OPT_ACTION ||
+            (va == NULL && vb == NULL) || (va != NULL && vb != NULL && strcmp(va, vb) == 0))
+            continue;
+        n++;
+        if (used >= cap)
+            continue;
+        w = snprintf(out + used, cap - used, "%s%s", n > 1 ? ", " : "", spec[i].name);
+        used += w > 0 ? (size_t)w : 0;
+        if (used >= cap && cap > 4)
+            memcpy(out + cap - 4, "...", 4);
+    }
+    return n;
+}
+
 int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, struct opt_given *given, char *err, size_t errlen)
 {
     const struct opt_spec *o = &s->spec[i];
@@ -91,8 +115,10 @@ int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, s
     case OPT_CUSTOM: r = o->parse(base, v, err, errlen); break;
     default: break;
     }
-    if (r == HOST_OK && given != NULL && i < OPT_GIVEN_ROWS)
+    if (r == HOST_OK && given != NULL && i < OPT_GIVEN_ROWS) {
         given->w[i / 64] |= (uint64_t)1 << (i % 64);
+        given->value[i] = v != NULL ? v : "1";
+    }
     return r;
 }
 

@@ -43,12 +43,20 @@ struct opt_spec {
 #define OPT_UNKNOWN_KEPT 4 /* unknown file keys named in full; more are counted */
 struct opt_given {
     uint64_t w[OPT_GIVEN_ROWS / 64];
+    const char *value[OPT_GIVEN_ROWS];         /* each row's last value as given (argv or the file pool; "1" a flag) */
     unsigned unknown;                          /* file keys no row knows, skipped (a newer or older version's) */
     char unknown_said[OPT_UNKNOWN_KEPT][160];  /* "PATH:LINE: unknown key 'k' (did you mean 'range'?)" */
 };
 
 /* Whether row i was applied. */
 int opt_was_given(const struct opt_given *g, size_t i);
+
+/*
+ * The rows without SIGHUP (reload 0) whose values differ between two parses, by name, comma
+ * separated into out (cap bytes, truncated with "..."): what a reload cannot change. Returns how many.
+ */
+unsigned opt_restart_needed(const struct opt_spec *spec, size_t count, const struct opt_given *a, const struct opt_given *b,
+                            char *out, size_t cap);
 
 /* The table and the struct it fills. */
 struct opt_schema {

@@ -105,21 +105,24 @@ static int reload(void *user)
     }
     if (shows(s, APP_WARN))
         options_say_unknown(&s->reload, stderr);
-    /* The obstacle map turns beams by the same angle-offset as the detections: both change together, or neither. */
-    if (s->have_mav && s->reload.pipeline.detector.min_range_m > 100.0f) {
-        fprintf(stderr, "sonard: SIGHUP: --min-range %g: too far for the obstacle map (0..100 m); the running settings stay\n",
-                (double)s->reload.pipeline.detector.min_range_m);
+    /* The obstacle map takes angle-offset and min-range from the pipeline beam by beam (app_frame), so both turn
+       together with the sweep the new settings take over at; a min range the map cannot take refuses the reload. */
+    if (s->have_mav && mav_check_min_range(s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
     }
     if (app_reconfigure(s->app, &s->reload.pipeline, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
     }
-    if (s->have_mav && mav_retune(&s->mav, s->reload.pipeline.detector.angle_offset,
-                                  s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK)
-        fprintf(stderr, "sonard: SIGHUP: %s\n", err); /* checked above: not reached */
-    if (memcmp(&s->reload.device, &s->opt.device, sizeof(s->opt.device)) != 0)
-        fprintf(stderr, "sonard: SIGHUP: device settings (range, sector, gain, ...) apply after a restart\n");
+    {
+        char names[200];
+        const struct opt_schema *sc = options_schema();
+        unsigned n = opt_restart_needed(sc->spec, sc->count, &s->opt.given, &s->reload.given, names, sizeof(names));
+        if (n > 0)
+            fprintf(stderr, "sonard: SIGHUP: %s changed: %s after a restart; the running value%s stay%s\n", names,
+                    n == 1 ? "applies" : "apply", n == 1 ? "" : "s", n == 1 ? "s" : "");
+    }
     if (shows(s, APP_INFO))
         fprintf(stderr, "sonard: SIGHUP: %d config file%s re-read; filter and detector settings apply from the next sweep\n",
                 s->reload.nconfigs, s->reload.nconfigs == 1 ? "" : "s");
@@ -329,9 +332,8 @@ int main(int argc, char **argv)
         mc.send_3d = s.opt.mav_3d;
         mc.n_ignore = s.opt.n_ignore;
         memcpy(mc.ignore, s.opt.ignore, sizeof(mc.ignore));
-        mc.angle_offset = s.opt.pipeline.detector.angle_offset;
-        mc.min_range_m = s.opt.pipeline.detector.min_range_m;
-        if (mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, s.app) != HOST_OK) {
+        if (mav_check_min_range(s.opt.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK ||
+            mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, s.app) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }
