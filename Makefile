@@ -426,7 +426,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline scan gain structure
+MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline scan gain structure
 # The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)
@@ -435,7 +435,7 @@ $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h sr
 
 # The same cases on the STM32F405 (QEMU netduinoplus2) at its grid (200 x 500), those that do not assume the default
 # grid's 1200 samples (median, background, cfar) or need more than its 192 KiB (ping, cpframe, detector, pipeline).
-MCU_UNIT_F405 = ping360 geometry sweep kmeans hull detector_stages tracker pose obstacle scan gain structure
+MCU_UNIT_F405 = ping360 device geometry sweep kmeans hull detector_stages tracker pose obstacle scan gain structure
 $(BUILD)/mcu/f405/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_f405.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c tests/mcu/f405_test.ld
 	@mkdir -p $(dir $@)
 	$(ARM_CC) $(WARN) $(ARM_M4F) $(F405_GRID) -O2 -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Itests/mcu -Isrc/msg \

@@ -26,6 +26,14 @@ static int fake_send(void *user, const uint8_t *buf, size_t len)
     return 0;
 }
 
+static int full_send(void *user, const uint8_t *buf, size_t len)
+{
+    (void)user;
+    (void)buf;
+    (void)len;
+    return SONAR_ERR_SPACE;
+}
+
 static uint16_t planned(void *user, int64_t now)
 {
     (void)user;
@@ -114,10 +122,57 @@ static void test_device_through_its_api(void **state)
     assert_int_equal(sonar_device_state(&d), SONAR_P360_STOPPED);
 }
 
+/* One reconnect policy for host and firmware: a probe that cannot go out, a silent head, a transport lost. */
+static void test_reconnect_policy(void **state)
+{
+    static struct sonar_device d;
+    struct sonar_ping360_config c;
+    struct sonar_ping360_io full = {full_send, NULL, NULL, NULL, NULL}, io = {fake_send, NULL, NULL, NULL, NULL};
+    struct sonar_device_event ev;
+    int64_t t = 1000000, lost_at = 0;
+    uint32_t first = 0;
+    (void)state;
+    memset(&c, 0, sizeof(c));
+    c.range_m = 10.0f;
+    c.speed_of_sound = 1500.0f;
+    c.frequency = 750;
+    c.step = 1;
+    c.full_circle = 1;
+    /* The output full: tried again soon; then a reconnect is due at that time, and the deadline says so. */
+    assert_int_equal(sonar_device_init(&d, &c, &full), SONAR_OK);
+    assert_int_equal(sonar_device_reconnect_at(&d), 0);
+    assert_int_equal(sonar_device_up(&d, t), SONAR_ERR_SPACE);
+    assert_true(sonar_device_reconnect_at(&d) == t + SONAR_DEVICE_SPACE_RETRY_US);
+    assert_true(sonar_device_deadline(&d) <= t + SONAR_DEVICE_SPACE_RETRY_US);
+    /* A head that never answers: the driver gives up with its backoff, and that is when to reconnect. */
+    assert_int_equal(sonar_device_init(&d, &c, &io), SONAR_OK);
+    assert_int_equal(sonar_device_up(&d, t), SONAR_OK);
+    assert_int_equal(sonar_device_reconnect_at(&d), 0);
+    for (; t < 60000000 && lost_at == 0; t += 10000)
+        if (sonar_device_poll(&d, t, &ev) == 1 && ev.kind == SONAR_P360_EV_LINK_LOST) {
+            lost_at = t;
+            first = ev.backoff_us;
+        }
+    assert_true(lost_at > 0 && first > 0);
+    assert_true(sonar_device_reconnect_at(&d) == lost_at + first);
+    /* The transport lost after that: the next delay, never 0, and at least the first (it backs off). */
+    {
+        uint32_t next = sonar_device_down(&d, t);
+        assert_true(next >= first);
+        assert_true(sonar_device_reconnect_at(&d) == t + next);
+    }
+    /* Up again: nothing pending. A transport lost before the driver had any backoff: SONAR_DEVICE_RETRY_US or its own. */
+    assert_int_equal(sonar_device_up(&d, t), SONAR_OK);
+    assert_int_equal(sonar_device_reconnect_at(&d), 0);
+    assert_int_equal(sonar_device_init(&d, &c, &io), SONAR_OK);
+    assert_true(sonar_device_down(&d, t) > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_device_through_its_api),
+        cmocka_unit_test(test_reconnect_policy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -37,10 +37,21 @@ struct sonar_device_event {
     uint32_t backoff_us;        /* SONAR_P360_EV_LINK_LOST: reconnect after this */
 };
 
+/*
+ * The reconnect policy, one for host and firmware: after a loss, the transport is opened again
+ * (sonar_device_up) after the driver's backoff (doubling to 5 s while nothing answers), or after
+ * SONAR_DEVICE_RETRY_US when the driver has none yet; a probe that could not be sent because the
+ * output was full is tried again after SONAR_DEVICE_SPACE_RETRY_US, any other send error after
+ * SONAR_DEVICE_RETRY_US.
+ */
+#define SONAR_DEVICE_RETRY_US 1000000
+#define SONAR_DEVICE_SPACE_RETRY_US 100000
+
 struct sonar_device {
     struct sonar_ping_parser parser;
     struct sonar_ping360 drv;
     uint32_t backoff_us;   /* the delay before reconnecting after the last loss; 0 until one */
+    int64_t reconnect_at;  /* when to open the transport again (us); 0: nothing pending */
 };
 
 /*
@@ -70,15 +81,27 @@ SONAR_CHECK int sonar_device_bytes(struct sonar_device *d, const uint8_t **in, s
 /* Runs the driver's timers at now (us). Returns 1 with *ev filled, as sonar_device_bytes, or 0. */
 SONAR_CHECK int sonar_device_poll(struct sonar_device *d, int64_t now, struct sonar_device_event *ev);
 
-/* The transport opened: fresh framing (the counters carry on), then the probe. Returns SONAR_OK or the send error. */
+/*
+ * The transport opened: fresh framing (the counters carry on), then the probe. Returns SONAR_OK or
+ * the send error (then sonar_device_reconnect_at says when to try again).
+ */
 SONAR_CHECK int sonar_device_up(struct sonar_device *d, int64_t now);
 
 /*
  * The transport was lost: fresh framing; a driver that had not given up itself counts a
- * reconnect. Returns the reconnect delay in us: the one the driver gave with its LINK_LOST, or
- * its next backoff, or 0 when neither happened yet (the caller's default).
+ * reconnect. Returns the reconnect delay in us (never 0): the one the driver gave with its
+ * LINK_LOST, or its next backoff, or SONAR_DEVICE_RETRY_US when neither happened yet; the same
+ * time is sonar_device_reconnect_at's.
  */
 uint32_t sonar_device_down(struct sonar_device *d, int64_t now);
+
+/*
+ * When to open the transport again (us on the caller's clock), or 0 when nothing is pending: set
+ * by a LINK_LOST event, sonar_device_down and a probe that could not be sent, by the policy above;
+ * cleared when sonar_device_up's probe goes out. A UART that cannot be reopened calls
+ * sonar_device_up then; a host reopens its socket or port with sonar_device_down's delay.
+ */
+int64_t sonar_device_reconnect_at(const struct sonar_device *d);
 
 /* The Ping360's firmware version as probed (0.0.0 until then): fw[0] major, fw[1] minor, fw[2] patch. */
 void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3]);
@@ -99,7 +122,7 @@ SONAR_CHECK int sonar_device_set_gain(struct sonar_device *d, int gain);
 /* A scan planner choosing each stepping request's angle (struct sonar_ping360_io's next_angle; NULL: the driver's own sweep). */
 void sonar_device_set_planner(struct sonar_device *d, uint16_t (*next_angle)(void *plan_user, int64_t now), void *plan_user);
 
-/* When sonar_device_poll is due next (us); INT64_MAX when nothing is pending. */
+/* When sonar_device_poll (or a reconnect) is due next (us); INT64_MAX when nothing is pending. */
 int64_t sonar_device_deadline(const struct sonar_device *d);
 
 /* Stops the head (motor_off; nothing in passive mode). Returns SONAR_OK or the send error; sonar_device_state says STOPPED when done. */

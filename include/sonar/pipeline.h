@@ -206,6 +206,42 @@ SONAR_CHECK int sonar_pipeline_track(struct sonar_pipeline *p, const struct sona
  */
 unsigned sonar_pipeline_targets(const struct sonar_pipeline *p, int64_t utime, struct sonar_scan_target *out, unsigned max);
 
+/* ---- What a host reads (pipeline_read.c); p must be initialised. ---- */
+
+/* The configuration running now (a pending reload's takes over with the next sweep). */
+const struct sonar_pipeline_config *sonar_pipeline_running(const struct sonar_pipeline *p);
+
+/* The last sweep's detections (valid until the next sweep ends). */
+const struct sonar_detections *sonar_pipeline_detections(const struct sonar_pipeline *p);
+
+/* The tracker, or NULL when the running configuration does not track. */
+const struct sonar_tracker *sonar_pipeline_tracker(const struct sonar_pipeline *p);
+
+/* The vehicle's pose at utime (us) from the poses set (sonar_pipeline_set_poses): 1 with *q, else 0. */
+int sonar_pipeline_pose_at(const struct sonar_pipeline *p, int64_t utime, struct sonar_pose *q);
+
+/* The pose to bring a world-frame track last seen at utime into the body frame: the one then, else the last sweep's. */
+void sonar_pipeline_track_pose(const struct sonar_pipeline *p, int64_t utime, struct sonar_pose *q);
+
+/* The beams' geometry now: *n samples over *range_m metres (0 and 0 before the first beam). */
+void sonar_pipeline_geometry(const struct sonar_pipeline *p, uint16_t *n, float *range_m);
+
+/* The beams' gain now (0 low, 1 normal, 2 high), -1 while unknown. */
+int sonar_pipeline_gain(const struct sonar_pipeline *p);
+
+/* Backgrounds restarted because the beams' gain changed; sweeps cut because their range or samples did. */
+uint32_t sonar_pipeline_gain_restarts(const struct sonar_pipeline *p);
+uint32_t sonar_pipeline_geometry_changes(const struct sonar_pipeline *p);
+
+/* Places promoted to structure since the start (a count that only grows), and those that are structure now. */
+uint32_t sonar_pipeline_structure_promoted(const struct sonar_pipeline *p);
+unsigned sonar_pipeline_structure_count(const struct sonar_pipeline *p);
+
+/* The learnt background as a recorded-background image (sonar_bgfile_write, with the caller's meta): its length or an error. */
+struct sonar_bgfile_meta; /* bgfile.h */
+SONAR_CHECK int32_t sonar_pipeline_save_background(const struct sonar_pipeline *p, const struct sonar_bgfile_meta *m,
+                                                   uint8_t *out, size_t cap);
+
 /* Ends the open sweep (end of a recording, or shutdown): flushes the 2-D median, calls on_sweep. */
 SONAR_CHECK int sonar_pipeline_finish(struct sonar_pipeline *p);
 

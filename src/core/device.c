@@ -17,6 +17,21 @@ int sonar_device_init(struct sonar_device *d, const struct sonar_ping360_config 
     return sonar_ping360_init(&d->drv, cfg, io);
 }
 
+/* The probe went out (nothing pending), or when to try again: the policy in device.h. */
+static int probed(struct sonar_device *d, int r, int64_t now)
+{
+    d->reconnect_at = r == SONAR_OK ? 0 : now + (r == SONAR_ERR_SPACE ? SONAR_DEVICE_SPACE_RETRY_US : SONAR_DEVICE_RETRY_US);
+    return r;
+}
+
+/* A loss: reconnect after backoff_us, or after SONAR_DEVICE_RETRY_US when the driver has none yet. */
+static uint32_t lost(struct sonar_device *d, uint32_t backoff_us, int64_t now)
+{
+    d->backoff_us = backoff_us != 0 ? backoff_us : SONAR_DEVICE_RETRY_US;
+    d->reconnect_at = now + d->backoff_us;
+    return d->backoff_us;
+}
+
 int sonar_device_reconfigure(struct sonar_device *d, const struct sonar_ping360_config *cfg, int64_t now)
 {
     struct sonar_ping360 fresh;
@@ -25,19 +40,17 @@ int sonar_device_reconfigure(struct sonar_device *d, const struct sonar_ping360_
         return r;
     fresh.counters = d->drv.counters;
     d->drv = fresh;
-    return sonar_ping360_connected(&d->drv, now);
+    return probed(d, sonar_ping360_connected(&d->drv, now), now);
 }
 
 /* A driver event for the caller: a beam becomes a raw record at the settings it was taken with. */
-static int event(struct sonar_device *d, const struct sonar_ping360_event *pe, struct sonar_device_event *ev)
+static int event(struct sonar_device *d, const struct sonar_ping360_event *pe, int64_t now, struct sonar_device_event *ev)
 {
     struct sonar_record *b = &ev->beam;
     if (pe->kind == SONAR_P360_EV_NONE)
         return 0;
     ev->kind = pe->kind;
-    ev->backoff_us = pe->backoff_us;
-    if (pe->kind == SONAR_P360_EV_LINK_LOST)
-        d->backoff_us = pe->backoff_us;
+    ev->backoff_us = pe->kind == SONAR_P360_EV_LINK_LOST ? lost(d, pe->backoff_us, now) : pe->backoff_us;
     memset(b, 0, sizeof(*b));
     if (pe->kind == SONAR_P360_EV_BEAM) {
         const struct sonar_ping360_data *p = &pe->data;
@@ -62,7 +75,7 @@ int sonar_device_bytes(struct sonar_device *d, const uint8_t **in, size_t *len, 
         struct sonar_ping360_event pe;
         if (sonar_ping360_handle(&d->drv, &f, now, &pe) != SONAR_OK)
             pe.kind = SONAR_P360_EV_NONE; /* a request that did not fit: its timeout sends it again */
-        if (event(d, &pe, ev))
+        if (event(d, &pe, now, ev))
             return 1;
     }
     return 0;
@@ -73,7 +86,7 @@ int sonar_device_poll(struct sonar_device *d, int64_t now, struct sonar_device_e
     struct sonar_ping360_event pe;
     if (sonar_ping360_poll(&d->drv, now, &pe) != SONAR_OK)
         return 0;
-    return event(d, &pe, ev);
+    return event(d, &pe, now, ev);
 }
 
 /* Fresh framing for a new connection; the counters carry on. */
@@ -87,7 +100,7 @@ static void reframe(struct sonar_device *d)
 int sonar_device_up(struct sonar_device *d, int64_t now)
 {
     reframe(d);
-    return sonar_ping360_connected(&d->drv, now);
+    return probed(d, sonar_ping360_connected(&d->drv, now), now);
 }
 
 uint32_t sonar_device_down(struct sonar_device *d, int64_t now)
@@ -98,7 +111,12 @@ uint32_t sonar_device_down(struct sonar_device *d, int64_t now)
         sonar_ping360_link_lost(&d->drv, now);
         d->backoff_us = d->drv.backoff_us;
     }
-    return d->backoff_us;
+    return lost(d, d->backoff_us, now);
+}
+
+int64_t sonar_device_reconnect_at(const struct sonar_device *d)
+{
+    return d->reconnect_at;
 }
 
 void sonar_device_firmware(const struct sonar_device *d, uint8_t fw[3])
@@ -144,7 +162,8 @@ void sonar_device_set_planner(struct sonar_device *d, uint16_t (*next_angle)(voi
 
 int64_t sonar_device_deadline(const struct sonar_device *d)
 {
-    return sonar_ping360_deadline(&d->drv);
+    int64_t t = sonar_ping360_deadline(&d->drv);
+    return d->reconnect_at != 0 && d->reconnect_at < t ? d->reconnect_at : t;
 }
 
 int sonar_device_stop(struct sonar_device *d, int64_t now)

@@ -89,14 +89,14 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
     app_gain_sweep(a, d->sweep);
-    if (a->pipe.st.promoted != a->structure_said) {
-        a->structure_said = a->pipe.st.promoted;
+    if (sonar_pipeline_structure_promoted(&a->pipe) != a->structure_said) {
+        unsigned n = sonar_pipeline_structure_count(&a->pipe);
+        a->structure_said = sonar_pipeline_structure_promoted(&a->pipe);
         app_say(a, "structure: %u place%s learnt as structure at sweep %u (there since the first look and still for "
                    "%.0f s): learnt into the background, reported as structure, not objects",
-                sonar_structure_count(&a->pipe.st), sonar_structure_count(&a->pipe.st) == 1 ? "" : "s", (unsigned)d->sweep,
-                (double)a->pipe.cfg->structure_s);
+                n, n == 1 ? "" : "s", (unsigned)d->sweep, (double)sonar_pipeline_running(&a->pipe)->structure_s);
     }
-    to_sinks(a, d, a->pipe.cfg->track ? &a->pipe.trk : NULL);
+    to_sinks(a, d, sonar_pipeline_tracker(&a->pipe));
 }
 
 int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipeline_config *pcfg,
@@ -215,21 +215,22 @@ int app_push(struct app *a, const struct sonar_record *b)
     sonar_device_beam(b, &pb); /* with its gain: the pipeline restarts its background on a change */
     t0 = a->clock.mono_ns(a->clock.user);
     {
-        uint32_t changes = a->pipe.geometry_changes, gains = a->pipe.gain_restarts;
-        int16_t was_gain = a->pipe.last_gain;
-        float was_m = a->pipe.range_m;
-        uint16_t was_n = a->pipe.n;
+        uint32_t changes = sonar_pipeline_geometry_changes(&a->pipe), gains = sonar_pipeline_gain_restarts(&a->pipe);
+        int was_gain = sonar_pipeline_gain(&a->pipe);
+        float was_m;
+        uint16_t was_n;
+        sonar_pipeline_geometry(&a->pipe, &was_n, &was_m);
         if ((r = sonar_pipeline_push(&a->pipe, &pb)) != SONAR_OK) {
             a->beams_rejected++;
             return r;
         }
-        a->last_gain = a->pipe.last_gain;
-        if (a->pipe.gain_restarts != gains) {
+        a->last_gain = (int16_t)sonar_pipeline_gain(&a->pipe);
+        if (sonar_pipeline_gain_restarts(&a->pipe) != gains) {
             a->bg_restarts++;
             app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
-                    "afresh over its warm-up (structure too)", (int)pb.gain, (double)pb.utime * 1e-6, (int)was_gain);
+                    "afresh over its warm-up (structure too)", (int)pb.gain, (double)pb.utime * 1e-6, was_gain);
         }
-        if (a->pipe.geometry_changes != changes)
+        if (sonar_pipeline_geometry_changes(&a->pipe) != changes)
             app_say(a, "range: %u samples over %.2f m from the beam at %.3f s (was %u over %.2f m): the sweep was cut "
                     "there and the background (and its structure) starts afresh",
                     pb.n, (double)pb.range_m, (double)pb.utime * 1e-6, was_n, (double)was_m);
@@ -249,7 +250,7 @@ void app_detections(struct app *a, const struct sonar_detections *d)
      */
     if (sonar_pipeline_track(&a->pipe, d) != SONAR_OK)
         a->beams_rejected++;
-    to_sinks(a, &a->pipe.out, a->pipe.cfg->track ? &a->pipe.trk : NULL);
+    to_sinks(a, sonar_pipeline_detections(&a->pipe), sonar_pipeline_tracker(&a->pipe));
 }
 
 void app_forward(struct app *a, const struct sonar_record *b)
@@ -296,7 +297,7 @@ int app_pose_at(const struct app *a, int64_t t, struct sonar_pose *q)
 int app_reconfigure(struct app *a, const struct sonar_pipeline_config *pcfg, char *err, size_t errlen)
 {
     /* The spare slot is the one the pipeline is not running on (it may hold a pending reload). */
-    struct sonar_pipeline_config *spare = a->pipe.cfg == &a->pcfg[0] ? &a->pcfg[1] : &a->pcfg[0];
+    struct sonar_pipeline_config *spare = sonar_pipeline_running(&a->pipe) == &a->pcfg[0] ? &a->pcfg[1] : &a->pcfg[0];
     struct sonar_pipeline_config c = *pcfg;
     const char *why;
     c.on_beam = on_stage;

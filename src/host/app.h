@@ -199,7 +199,7 @@ int app_link_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us
 
 /*
  * Live link: the transport opened (probe the device: HOST_OK or the send error), or was lost
- * (fresh framing; returns the reconnect delay in us, 0 when the device gave none).
+ * (fresh framing; returns the reconnect delay in us, never 0: sonar_device_down's policy).
  */
 HOST_CHECK int app_link_up(struct app *a, int64_t now_us);
 uint32_t app_link_down(struct app *a, int64_t now_us);

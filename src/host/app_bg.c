@@ -8,7 +8,7 @@
 
 int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen)
 {
-    const struct sonar_pipeline_config *c = a->pipe.cfg;
+    const struct sonar_pipeline_config *c = sonar_pipeline_running(&a->pipe);
     struct sonar_bgfile_meta m;
     const char *why;
     if (sonar_bgfile_check(img, len, &m, &why) != SONAR_OK) {
@@ -53,22 +53,23 @@ void app_background_first_beam(struct app *a, const struct sonar_record *b)
 
 int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen)
 {
-    const struct sonar_pipeline_config *c = a->pipe.cfg;
+    const struct sonar_pipeline_config *c = sonar_pipeline_running(&a->pipe);
     struct sonar_bgfile_meta m;
+    float range_m;
     int32_t r;
-    m.n = a->pipe.n;
+    sonar_pipeline_geometry(&a->pipe, &m.n, &range_m);
     m.mode = c->background.mode;
     m.median = c->median2d ? 1 : c->median;
     m.median2d = c->median2d;
     m.gain = a->last_gain >= 0 && a->last_gain <= 2 ? (uint8_t)a->last_gain : SONAR_BGFILE_GAIN_UNKNOWN;
-    m.range_mm = (uint32_t)lrint((double)a->pipe.range_m * 1e3);
+    m.range_mm = (uint32_t)lrint((double)range_m * 1e3);
     m.sound_mm_s = 0;
     m.sweeps = a->sweeps;
     if (m.n == 0 || m.range_mm == 0) {
         snprintf(err, errlen, "background: no beam yet, nothing learnt to save");
         return SONAR_ERR_STATE;
     }
-    r = sonar_bgfile_write(a->pipe.bg, &m, out, cap);
+    r = sonar_pipeline_save_background(&a->pipe, &m, out, cap);
     if (r == SONAR_ERR_STATE)
         snprintf(err, errlen, "background: nothing to save (a world-frame model, tied to where the vehicle was, or a "
                               "mode without per-angle rows)");

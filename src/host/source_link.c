@@ -43,7 +43,7 @@ static int link_device_state(const struct source_link *s)
     return d != NULL ? sonar_device_state(d) : SONAR_P360_DOWN;
 }
 
-/* Gives the link up: closed now, reopened after the device's backoff (serial auto-baud: the next rate at once). */
+/* Gives the link up: closed now, reopened after the device's delay (sonar_device_down's policy; serial auto-baud: the next rate at once). */
 static void drop(struct source_link *s, int64_t now, const char *why)
 {
     int state = link_device_state(s);
@@ -59,8 +59,6 @@ static void drop(struct source_link *s, int64_t now, const char *why)
         say(s, "no answer; trying %ld baud", s->link.baud);
         return;
     }
-    if (backoff == 0)
-        backoff = LINK_RETRY_US;
     link_lost(&s->link, now, backoff);
     warn(s, "link lost (%s); reconnecting in %.2f s", why, backoff * 1e-6);
 }
@@ -106,7 +104,7 @@ static void on_link(struct source_link *s, int ev, const char *err, int64_t now)
             drop(s, now, "write failed");
         break;
     case LINK_EV_FAILED:
-        warn(s, "%s; retrying in 1 s", err);
+        warn(s, "%s; retrying in %g s", err, LINK_RETRY_US * 1e-6);
         break;
     case LINK_EV_DATA:
         read_link(s, now);

@@ -20,7 +20,7 @@ struct fw {
     struct sonar_background *bg;     /* the pipeline's, in the board's large bank (BOARD_LARGE) */
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
-    int64_t next_status, reconnect_at;
+    int64_t next_status;
     /* One frame buffer: messages are encoded at its payload offset and framed in place (4 KB less RAM). */
     uint8_t out[SONAR_CPF_MAX_PAYLOAD + SONAR_CPF_OVERHEAD];
 };
@@ -91,10 +91,17 @@ static void beam_in(struct fw *f, struct sonar_record *r, int64_t now)
 
 static void on_event(struct fw *f, struct sonar_device_event *ev, int64_t now)
 {
+    /* A LINK_LOST needs nothing here: the device keeps when to probe again (sonar_device_reconnect_at). */
     if (ev->kind == SONAR_P360_EV_BEAM)
         beam_in(f, &ev->beam, now);
-    else if (ev->kind == SONAR_P360_EV_LINK_LOST)
-        f->reconnect_at = now + ev->backoff_us; /* a UART cannot be reopened: probe again after the backoff */
+}
+
+/* Opens the Ping360 again (a UART cannot be reopened: the probe is the reconnect). One that cannot go out is
+   tried again when the device's policy says (sonar_device_reconnect_at). */
+static void probe(struct fw *f, int64_t now)
+{
+    int r = sonar_device_up(&f->dev, now);
+    (void)r;
 }
 
 static void status(struct fw *f, int64_t now)
@@ -103,7 +110,7 @@ static void status(struct fw *f, int64_t now)
     sonar_status_t m;
     memset(&st, 0, sizeof(st));
     st.utime = now;
-    st.link_state = f->dev.drv.state;
+    st.link_state = sonar_device_state(&f->dev);
     st.link = "coprocessor:uart0";
     sonar_status_fill(&st, &f->dev, &f->pipe);
     st.sweeps = f->sweeps;
@@ -153,7 +160,7 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
         return;
     }
     if (memcmp(&d, &f->dcfg, sizeof(d)) != 0) {
-        /* New acquisition settings: the counters carry on, the probe starts again. */
+        /* New acquisition settings: the counters carry on, the probe starts again (or when the device says). */
         int r = sonar_device_reconfigure(&f->dev, &d, now);
         if (r == SONAR_ERR_ARG || r == SONAR_ERR_RANGE) {
             f->config_errors++;
@@ -161,8 +168,6 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
             return;
         }
         f->dcfg = d;
-        if (r != SONAR_OK)
-            f->reconnect_at = now + 100000;
     }
     /* A configuration restarts processing: the open sweep is dropped, the background relearns and
      * sweeps count from 0, so everything after the reply comes from the new settings. */
@@ -225,19 +230,15 @@ int main(void)
     if (sonar_pipeline_init(&f.pipe, f.bg, &f.pcfg) != SONAR_OK || sonar_device_init(&f.dev, &f.dcfg, &io) != SONAR_OK)
         return 1;
     now = board_micros();
-    if (sonar_device_up(&f.dev, now) != SONAR_OK)
-        f.reconnect_at = now;
+    probe(&f, now);
     f.next_status = now + STATUS_US;
     for (;;) {
         struct sonar_device_event ev;
         now = board_micros();
         sonar_in(&f, now);
         host_in(&f, now);
-        if (f.reconnect_at != 0 && now >= f.reconnect_at) {
-            f.reconnect_at = 0;
-            if (sonar_device_up(&f.dev, now) != SONAR_OK)
-                f.reconnect_at = now + 100000;
-        }
+        if (sonar_device_reconnect_at(&f.dev) != 0 && now >= sonar_device_reconnect_at(&f.dev))
+            probe(&f, now);
         if (sonar_device_poll(&f.dev, now, &ev) == 1)
             on_event(&f, &ev, now);
         if (now >= f.next_status) {

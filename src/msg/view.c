@@ -5,31 +5,30 @@
 
 void msg_view_of(const struct sonar_pipeline *p, struct msg_view *v)
 {
-    const struct sonar_detections *d = &p->out;
+    const struct sonar_detections *d = sonar_pipeline_detections(p);
+    const struct sonar_tracker *tk = sonar_pipeline_tracker(p);
     uint8_t i;
     memset(v, 0, sizeof(*v));
-    v->world = p->out.world && p->trk.world;
-    if (p->poses != NULL)
-        v->have_pose = (uint8_t)sonar_pose_at(p->poses, d->utime, &v->pose);
+    v->world = d->world && tk != NULL && tk->world;
+    v->have_pose = (uint8_t)sonar_pipeline_pose_at(p, d->utime, &v->pose);
     for (i = 0; i < d->count; i++) {
         struct sonar_pose q;
-        if (p->poses != NULL && sonar_pose_at(p->poses, d->det[i].utime, &q)) {
+        if (sonar_pipeline_pose_at(p, d->det[i].utime, &q)) {
             sonar_pose_to_world(&q, d->det[i].x_m, d->det[i].y_m, &v->det_north[i], &v->det_east[i]);
             v->det_world[i] = 1;
         }
     }
-    for (i = 0; i < p->trk.n && p->cfg->track; i++) {
-        const struct sonar_track *t = &p->trk.t[i];
+    for (i = 0; tk != NULL && i < tk->n; i++) {
+        const struct sonar_track *t = &tk->t[i];
         struct sonar_pose q;
-        if (!p->trk.world) {
+        if (!tk->world) {
             v->trk_x[i] = t->px;
             v->trk_y[i] = t->py;
             v->trk_vx[i] = t->vx;
             v->trk_vy[i] = t->vy;
             continue;
         }
-        if (!sonar_pose_at(p->poses, t->utime, &q))
-            q = p->last_pose; /* a track last seen before the poses kept: the latest pose */
+        sonar_pipeline_track_pose(p, t->utime, &q); /* last seen before the poses kept: the latest sweep's */
         sonar_pose_to_body(&q, t->px, t->py, &v->trk_x[i], &v->trk_y[i]);
         sonar_pose_rotate(-q.yaw_deg, t->vx, t->vy, &v->trk_vx[i], &v->trk_vy[i]);
     }
