@@ -130,8 +130,7 @@ check "STM32F405: the painted stack stays within its 8 KiB (stack_used on SONAR_
     "$T/f405.status"
 sed 's/^/    /' "$T/out"
 # The F405's own grid: 500 samples at 2-gradian steps with --min-points 10, over the pool's posts and buoy appearing
-# (sweeps 2 and 3). Before the record became the pipeline's beam in one place (sonar_device_beam) its sweeps here
-# differed from the replay's.
+# (sweeps 2 and 3): a scene a review found the F405 differing from the replay on (docs/coprocessor.md).
 OPTS_KEPT=$OPTS
 OPTS="--range 12 --samples 500 --step 2 --min-points 10 --sector 100:300"
 run f405b 6
