@@ -137,7 +137,7 @@ assert got and got == conf[:len(got)] and len(got) >= len(conf) - 1, (got, conf)
 "$B/sonar-feed" --listen "tcp:127.0.0.1:$((PORT + 7))" --scene faces --max-seconds 60 2> /dev/null & FEEDPID=$!
 sleep 0.3
 timeout 30 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 7))" --range 8 --step 4 --json --no-lcm \
-    --mavlink "udpin:127.0.0.1:$((PORT + 8))" --ignore-sector 80:100 --ignore-sector 355:2 > "$T/faces.jsonl" 2> "$T/faces.err" & SONARD=$!
+    --mavlink "udpin:127.0.0.1:$((PORT + 8))" --ignore-deg 80:100 --ignore-sector 355:2 > "$T/faces.jsonl" 2> "$T/faces.err" & SONARD=$!
 $PY tests/mavlink_check.py --port $((PORT + 8)) --seconds 18 --truth "$T/faces.json" --out "$T/faces.rep" > "$T/fchk.out" 2>&1 &
 CHK=$!
 sleep 13
@@ -151,12 +151,14 @@ import json; r = json.load(open('$T/faces.rep'))
 f = r['faces'][0]
 print('  forward face: %s m, nearest surface %.2f m' % (f['got'], f['want']))
 assert f['got'] is not None and abs(f['err']) <= 0.1, f"
-check "--ignore-sector 80:100 and 355:2 (across forward): those sectors unknown (65535), the others scanned" $PY -c "
+check "--ignore-deg 80:100 and the old name --ignore-sector 355:2 (across forward): those sectors unknown (65535), the others scanned" $PY -c "
 import json; r = json.load(open('$T/faces.rep'))
 d, off = r['od_last'], -20
 masked = [j for j in range(72) if (80 <= (5 * j + off) % 360 <= 100) or ((5 * j + off) % 360 >= 355 or (5 * j + off) % 360 <= 2)]
 assert len(masked) == 7 and all(d[j] == 65535 for j in masked), [(j, d[j]) for j in masked]
 assert all(d[j] != 65535 for j in range(72) if j not in masked), d"
+check "the old name --ignore-sector is said deprecated, with its new name" \
+    grep -q "warning: ignore-sector is deprecated: it is now ignore-deg (taken as that)" "$T/faces.err"
 check "unplugged: OBSTACLE_DISTANCE stops within 1 s, so the autopilot marks the sonar NoData within 1.5 s" sh -c "
     $PY -c \"
 import json; r = json.load(open('$T/faces.rep')); t = float(open('$T/unplug').read())

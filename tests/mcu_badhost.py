@@ -45,10 +45,10 @@ def main():
     c.range_m, c.speed_of_sound, c.samples, c.gain, c.frequency = 12.0, 1500.0, 200, 0, 750
     c.start_angle, c.stop_angle, c.step, c.full_circle, c.use_auto = 100, 300, 2, False, False
     c.median, c.median2d, c.max_step, c.bg_mode, c.bg_warmup, c.bg_step, c.bg_margin = 5, 0, 20, 1, 2, 1, 8
-    c.threshold_k, c.min_threshold, c.max_clusters, c.iterations, c.link_beams = 3.0, 16, 8, 10, 9  # 9: out of range
-    c.min_points, c.link_m, c.track_points, c.beam_every = 20, 0.15, 10, 0
+    c.threshold_k, c.min_threshold, c.max_clusters, c.iterations, c.join_beams = 3.0, 16, 8, 10, 9  # 9: out of range
+    c.min_points, c.join_m, c.track_points, c.beam_every = 20, 0.15, 10, 0
     bad = c.encode()
-    c.link_beams = 2
+    c.join_beams = 2
     good = c.encode()
     ok = True
     s = socket.create_connection(("127.0.0.1", a.port), timeout=5)
@@ -62,7 +62,7 @@ def main():
     ok &= not got
     s.sendall(cpframe.encode(16, bad))
     got, _ = replies(s, 5.0)
-    named = bool(got) and got[0].startswith("error:") and "link_beams: 1..8" in got[0]
+    named = bool(got) and got[0].startswith("error:") and "join_beams: 1..8" in got[0]
     print(("PASS" if named else "FAIL") + ": an out-of-range configuration is refused, naming the field:", got)
     ok &= named
     s.sendall(cpframe.encode(16, good))

@@ -119,7 +119,7 @@ static void setup_app(long max_sweeps, uint8_t stages)
     src.app = app;
     app_set_link(app, src.desc);
     src.link.fd = sv[0];
-    assert_int_equal(app_link_up(app, fake_ns / 1000), SONAR_OK);
+    assert_int_equal(app_device_up(app, fake_ns / 1000), SONAR_OK);
 }
 
 static void teardown_app(void)
@@ -295,9 +295,9 @@ static void test_reconfigure_at_the_next_sweep_and_bad_config_kept_out(void **st
     for (i = 0; i < 90; i++)
         (void)step(0, 0);
     assert_int_equal(cap.dets[1], 1);
-    p.detector.link_beams = 9;
+    p.detector.join_beams = 9;
     assert_int_equal(app_reconfigure(app, &p, err, sizeof(err)), HOST_ERR_CONFIG);
-    assert_non_null(strstr(err, "link_beams: 1..8"));
+    assert_non_null(strstr(err, "join_beams: 1..8"));
     p = pipe_cfg();
     p.detector.min_points = 60000; /* nothing is that big */
     assert_int_equal(app_reconfigure(app, &p, err, sizeof(err)), HOST_OK);

@@ -27,9 +27,9 @@ static struct sonar_detector_config cfg(void)
     c.min_threshold = 16;
     c.max_clusters = 8;
     c.iterations = 10;
-    c.link_beams = 2;
+    c.join_beams = 2;
     c.min_points = 20;
-    c.link_m = 0.15f;
+    c.join_m = 0.15f;
     return c;
 }
 
@@ -170,7 +170,7 @@ static void test_run_overflow_counted(void **state)
             fg[a][s] = 250; /* isolated cells: 300 runs a beam */
     c.min_threshold = 100;
     c.threshold_k = 0.0f;
-    /* every kept cell is within link_m of the next: one group */
+    /* every kept cell is within join_m of the next: one group */
     assert_int_equal(run_sweep(&c), 1);
     assert_int_equal(out.runs, SONAR_MAX_RUNS);
     assert_int_equal(out.det[0].points, SONAR_MAX_RUNS);
@@ -420,8 +420,8 @@ static void test_linking_matches_brute_force(void **state)
             fg[rand() % 400][rand() % N] = 200;
         c.threshold_k = 0.0f;
         c.min_threshold = 100;
-        c.link_beams = (uint8_t)(1 + rand() % 4);
-        c.link_m = (float)(rand() % 31) / 100.0f;
+        c.join_beams = (uint8_t)(1 + rand() % 4);
+        c.join_m = (float)(rand() % 31) / 100.0f;
         c.min_points = 25;
         c.max_clusters = SONAR_MAX_CLUSTERS;
         c.iterations = 1;
@@ -442,12 +442,12 @@ static void test_linking_matches_brute_force(void **state)
                 }
         assert_true(n <= SONAR_MAX_RUNS);
         assert_int_equal(out.runs, n);
-        gap = (uint32_t)((double)c.link_m * N / (double)RANGE);
+        gap = (uint32_t)((double)c.join_m * N / (double)RANGE);
         for (i = 0; i < n; i++)
             for (j = 0; j < i; j++) {
                 int db = abs(br[i].beam - br[j].beam);
                 int lo = br[i].s > br[j].s ? br[i].s : br[j].s, hi = br[i].e < br[j].e ? br[i].e : br[j].e;
-                if ((db <= c.link_beams || 400 - db <= c.link_beams) && lo <= hi + 1 + (int)gap) {
+                if ((db <= c.join_beams || 400 - db <= c.join_beams) && lo <= hi + 1 + (int)gap) {
                     int ri = bfind(i), rj = bfind(j);
                     if (ri != rj)
                         br[ri].parent = rj;
@@ -486,7 +486,7 @@ static void test_bad_input(void **state)
     c.max_clusters = 0;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
     c = cfg();
-    c.link_m = 11.0f;
+    c.join_m = 11.0f;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
 

@@ -26,9 +26,9 @@ static struct sonar_detector_config cfg(void)
     c.min_threshold = 16; /* T = 16 with k = 0 over a dark sweep */
     c.max_clusters = 8;
     c.iterations = 10;
-    c.link_beams = 1;
+    c.join_beams = 1;
     c.min_points = 4;
-    c.link_m = 0.0f;
+    c.join_m = 0.0f;
     return c;
 }
 
@@ -95,32 +95,32 @@ static void test_link_by_beams_and_gap(void **state)
 {
     struct sonar_detector_config c = cfg();
     (void)state;
-    c.link_beams = 1;
-    c.link_m = 0.3f; /* 3 samples at 10 m / 100 */
+    c.join_beams = 1;
+    c.join_m = 0.3f; /* 3 samples at 10 m / 100 */
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
     add(10, 10, 14, 40);               /* run 0 */
     add(11, 17, 20, 40);               /* run 1: 2 samples' gap from run 0: linked */
     add(12, 40, 44, 40);               /* run 2: far in range: not linked */
     add(13, 0, -1, 0);                 /* an empty beam: linking counts beams of the sweep, not gradians */
-    add(14, 40, 44, 40);               /* run 3: two beams after run 2 with link_beams 1: not linked */
+    add(14, 40, 44, 40);               /* run 3: two beams after run 2 with join_beams 1: not linked */
     add(15, 36, 41, 40);               /* run 4: overlaps run 3 in range, next beam */
     memset(beam, 0, sizeof(beam));
     beam[30] = beam[31] = 40;          /* run 5: 4 samples short of run 4 (gap 3): only through run 6 */
     beam[33] = beam[34] = 40;          /* run 6: 1 sample from run 4 and from run 5 */
     assert_int_equal(det.nruns, 5);
     assert_int_equal(sonar_detector_add(&det, 16, beam, N, RANGE, 0), SONAR_OK);
-    sonar_det_link(&det);
+    sonar_det_join(&det);
     assert_int_equal(sonar_det_find(det.runs, 1), sonar_det_find(det.runs, 0));
     assert_int_not_equal(sonar_det_find(det.runs, 2), sonar_det_find(det.runs, 1));
     assert_int_not_equal(sonar_det_find(det.runs, 3), sonar_det_find(det.runs, 2));
     assert_int_equal(sonar_det_find(det.runs, 3), sonar_det_find(det.runs, 4)); /* adjacent beams, touching */
     assert_int_equal(sonar_det_find(det.runs, 6), sonar_det_find(det.runs, 4)); /* beam 16's run 6: to beam 15's */
     assert_int_equal(sonar_det_find(det.runs, 5), sonar_det_find(det.runs, 6)); /* run 5: to its neighbour */
-    c.link_m = 0.0f;
+    c.join_m = 0.0f;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
     add(10, 10, 14, 40);
     add(11, 17, 20, 40); /* no gap allowed now */
-    sonar_det_link(&det);
+    sonar_det_join(&det);
     assert_int_not_equal(sonar_det_find(det.runs, 1), sonar_det_find(det.runs, 0));
 }
 
@@ -140,7 +140,7 @@ static void test_seed_keeps_largest_groups_and_cuts_wide_ones(void **state)
     add(60, 50, 55, 40);  /* 6 cells: noise */
     add(70, 60, 89, 40);  /* 30 cells */
     add(80, 10, 21, 40);  /* 12 cells: beyond max_clusters */
-    sonar_det_link(&det);
+    sonar_det_join(&det);
     k = sonar_det_seed(&det, centres, part, &groups);
     assert_int_equal(groups, 3);       /* groups big enough to seed */
     assert_int_equal(k, 2);            /* the two largest */
@@ -153,11 +153,11 @@ static void test_seed_keeps_largest_groups_and_cuts_wide_ones(void **state)
     c = cfg();
     c.max_extent_m = 2.0f;
     c.split_points = 5;
-    c.link_beams = 1;
+    c.join_beams = 1;
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
     for (a = 50; a < 150; a++)
         add((uint16_t)a, 48, 52, 40);
-    sonar_det_link(&det);
+    sonar_det_join(&det);
     k = sonar_det_seed(&det, centres, part, &groups);
     assert_int_equal(groups, 1);
     assert_true(k >= 7 && k <= SONAR_MAX_CLUSTERS);
@@ -273,7 +273,7 @@ static void test_cuts_equal_plain_ones(void **state)
         float range = trial == 0 ? (float)SONAR_DET_DISTANCE_MAX : 1.0f + (float)(rand() % 1000) / 10.0f;
         c.max_clusters = (uint8_t)(1 + rand() % SONAR_MAX_CLUSTERS);
         c.min_points = (uint16_t)(1 + rand() % 10);
-        c.link_beams = (uint8_t)(1 + rand() % 3);
+        c.join_beams = (uint8_t)(1 + rand() % 3);
         c.max_extent_m = range / (float)(2 + rand() % 40);
         c.split_points = 1;
         assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
@@ -290,7 +290,7 @@ static void test_cuts_equal_plain_ones(void **state)
                 b[rand() % n] = 40;
             assert_int_equal(sonar_detector_add(&det, (uint16_t)(s * 400 / nb), b, (uint16_t)n, range, s), SONAR_OK);
         }
-        sonar_det_link(&det);
+        sonar_det_join(&det);
         memcpy(&plain, &det, sizeof(det));
         kg = sonar_det_seed(&det, cg, pg, &groups);
         plain.cfg.max_extent_m = 0.0f; /* groups only: the reference cuts them */
@@ -320,7 +320,7 @@ static void test_emit_rules_and_detection(void **state)
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
     for (a = 0; a < 5; a++)
         add((uint16_t)a, 40, 49, 60); /* 5 beams x 10 cells at 4..5 m around angle 2 */
-    sonar_det_link(&det);
+    sonar_det_join(&det);
     assert_int_equal(sonar_det_seed(&det, centres, part, &groups), 1);
     sonar_det_clusters(&det, 1, &cl);
     assert_int_equal(cl.nbeams, 5);

@@ -413,7 +413,7 @@ static void test_pose_held(void **state)
     }
 }
 
-/* --ignore-sector: the vehicle's own echoes never enter the map, and the arc goes out unknown. */
+/* --ignore-deg: the vehicle's own echoes never enter the map, and the arc goes out unknown. */
 static void test_ignored_arcs(void **state)
 {
     struct mav_config mc;

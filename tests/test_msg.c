@@ -87,7 +87,7 @@ static void status_round_trip(void **state)
     s.driver.nacks = 108;
     s.driver.reconnects = 109;
     s.driver.beams = 110;
-    s.driver.stale = 111;
+    s.driver.off_angle = 111;
     s.sweeps = 112;
     s.beams_rejected = 113;
     s.rows_bad = 114;
@@ -209,11 +209,11 @@ static void odd_config(struct sonar_ping360_config *d, struct sonar_pipeline_con
     p->detector.min_threshold = 33;
     p->detector.max_clusters = 7;
     p->detector.iterations = 9;
-    p->detector.link_beams = 3;
+    p->detector.join_beams = 3;
     p->detector.min_points = 21;
     p->detector.min_area_m2 = 0.125f;
     p->structure_s = 45.0f;
-    p->detector.link_m = 0.7f;
+    p->detector.join_m = 0.7f;
     p->detector.angle_offset = 100.0f;
     p->detector.min_beams = 2;
     p->detector.max_extent_m = 4.5f;

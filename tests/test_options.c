@@ -29,7 +29,7 @@ static void test_defaults(void **state)
     assert_string_equal(o.replay, "x.csv");
     assert_int_equal(o.pipeline.median, 5);
     assert_int_equal(o.pipeline.background.warmup, 2);
-    assert_int_equal(o.pipeline.detector.link_beams, 2);
+    assert_int_equal(o.pipeline.detector.join_beams, 2);
     assert_true(o.range_m < 0.0);
     assert_string_equal(o.channel_prefix, "");
     assert_int_equal(o.stage, SONAR_STAGE_FOREGROUND);
@@ -169,7 +169,7 @@ static void test_names_unique_and_help_lists_all(void **state)
         if (strstr(buf, want) == NULL)
             fail_msg("--help lacks %s", want);
     }
-    assert_non_null(strstr(buf, "--link-beams N"));
+    assert_non_null(strstr(buf, "--join-beams N"));
     assert_non_null(strstr(buf, "1..8 beams (default 2) [SIGHUP]"));
 }
 
@@ -215,7 +215,7 @@ static void test_config_files(void **state)
     {
         const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
-        assert_non_null(strstr(err, "bad.conf:3: --link-beams: '9' is not a whole number in 1..8 beams"));
+        assert_non_null(strstr(err, "bad.conf:3: --join-beams: '9' is not a whole number in 1..8 beams"));
     }
     /* keys of another version (or slips) are named and skipped; the rest of the file applies */
     bad = write_file("unknown.conf", "rnage = 20\nmin-points = 9\nradar-mode = on\n");
@@ -340,7 +340,7 @@ static void test_markdown_has_every_row(void **state)
         if (strstr(buf, want) == NULL)
             fail_msg("docs lack %s", want);
     }
-    assert_non_null(strstr(buf, "| `link-beams` | 1..8 beams | 2 | yes |"));
+    assert_non_null(strstr(buf, "| `join-beams` | 1..8 beams | 2 | yes |"));
 }
 
 /*

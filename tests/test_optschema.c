@@ -49,7 +49,7 @@ static const struct opt_spec spec[] = {
     {"help", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "this text", NULL, NULL},
     {"config", "FILE", OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "read FILE first", NULL, NULL},
 };
-static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "test"};
+static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "test", NULL, 0};
 
 static int parse(struct opts *o, struct opt_given *g, int *action, char *err, size_t n, int argc, ...)
 {

@@ -202,7 +202,7 @@ static void test_planner_chooses_angles(void **state)
         assert_int_equal(plan_at[i], 2000 + 40000 * (int64_t)i);
     }
     assert_int_equal(last_angle(), 0);
-    /* a reply for another angle than requested: stale, the planner not asked */
+    /* a reply for another angle than requested: off_angle, the planner not asked */
     f = reply(51, 0);
     assert_int_equal(sonar_ping360_handle(&drv, &f, 300000, &ev), SONAR_OK);
     assert_int_equal(ev.kind, SONAR_P360_EV_NONE);
@@ -334,7 +334,7 @@ static void test_nacks_and_stale_replies(void **state)
     f = reply(123, 0);
     assert_int_equal(sonar_ping360_handle(&drv, &f, 3000, &ev), SONAR_OK);
     assert_int_equal(ev.kind, SONAR_P360_EV_NONE);
-    assert_int_equal(drv.counters.stale, 1);
+    assert_int_equal(drv.counters.off_angle, 1);
     /* NACK: sent again at once; three in a row: probe again */
     payload[0] = (uint8_t)(SONAR_PING360_TRANSDUCER & 0xff);
     payload[1] = (uint8_t)(SONAR_PING360_TRANSDUCER >> 8);
@@ -419,7 +419,7 @@ static void test_passive_listens_only(void **state)
     assert_int_equal(sonar_ping360_handle(&drv, &f, 4000, &ev), SONAR_OK);
     assert_int_equal(ev.kind, SONAR_P360_EV_BEAM);
     assert_int_equal(drv.counters.beams, 3);
-    assert_int_equal(drv.counters.stale, 0);
+    assert_int_equal(drv.counters.off_angle, 0);
     /* silence: idle once after 1.5 s, a request each second, never a link loss */
     for (i = 1; i <= 40; i++) {
         int64_t now = 4000 + (int64_t)i * 100000;
@@ -462,7 +462,7 @@ static void test_auto_mode_and_fallback(void **state)
     /* a stall: auto_transmit is sent again */
     assert_int_equal(sonar_ping360_poll(&drv, sonar_ping360_deadline(&drv), &ev), SONAR_OK);
     assert_int_equal(w.id[(w.n - 1) % 64], SONAR_PING360_AUTO_TRANSMIT);
-    /* stepping replies are stale in auto mode */
+    /* stepping replies are off-angle in auto mode */
     f = reply(4, 0);
     assert_int_equal(sonar_ping360_handle(&drv, &f, 9000000, &ev), SONAR_OK);
     assert_int_equal(ev.kind, SONAR_P360_EV_NONE);

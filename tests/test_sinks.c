@@ -154,7 +154,7 @@ static void test_lcm_detections_and_status(void **state)
     st.link = "tcp:127.0.0.1:9";
     st.parser.oversize = 3;
     st.parser.bytes_dropped = 1234;
-    st.driver.stale = 5;
+    st.driver.off_angle = 5;
     st.rows_bad = 6;
     st.sink_errors = 8;
     st.beams_rejected = 9;
@@ -167,7 +167,7 @@ static void test_lcm_detections_and_status(void **state)
     assert_string_equal(ms.link, "tcp:127.0.0.1:9");
     assert_int_equal(ms.oversize, 3);
     assert_int_equal(ms.bytes_dropped, 1234);
-    assert_int_equal(ms.stale, 5);
+    assert_int_equal(ms.off_angle, 5);
     assert_int_equal(ms.rows_bad, 6);
     assert_int_equal(ms.sink_errors, 8);
     assert_int_equal(ms.beams_rejected, 9);

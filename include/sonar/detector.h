@@ -12,7 +12,7 @@
 
 /*
  * A beam's foreground cells above the threshold are stored as runs (contiguous samples of one
- * beam). At the end of a sweep, runs that touch (within link_beams beams and link_m metres of
+ * beam). At the end of a sweep, runs that touch (within join_beams beams and join_m metres of
  * range gap) form groups; groups smaller than min_points cells (track_points, when tracking is
  * on) are noise and dropped. Each remaining group (at most max_clusters, the largest first) seeds
  * one k-means centre at its centroid; a group wider than max_extent_m, when split_points is set,
@@ -45,8 +45,8 @@ enum sonar_det_threshold {
 #define SONAR_DET_K_MAX 20            /* threshold_k 0..20 */
 #define SONAR_DET_MIN_THRESHOLD_MAX 254
 #define SONAR_DET_ITERATIONS_MAX 100
-#define SONAR_DET_LINK_BEAMS_MAX 8
-#define SONAR_DET_LINK_M_MAX 10       /* metres */
+#define SONAR_DET_JOIN_BEAMS_MAX 8
+#define SONAR_DET_JOIN_M_MAX 10       /* metres */
 #define SONAR_DET_ANGLE_OFFSET_MAX 400 /* gradians, either sign */
 #define SONAR_DET_DISTANCE_MAX 1000   /* max_extent_m and min_range_m, metres */
 #define SONAR_DET_ASPECT_MIN 0.1      /* max_aspect: 0 (off) or 0.1..100 */
@@ -69,9 +69,9 @@ struct sonar_detector_config {
     uint8_t min_threshold; /* floor of T, 0..254 */
     uint8_t max_clusters;  /* 1..SONAR_MAX_CLUSTERS */
     uint8_t iterations;    /* Lloyd rounds at most, 1..100 */
-    uint8_t link_beams;    /* beams apart that may still join a group, 1..8 */
+    uint8_t join_beams;    /* beams apart that may still join a group, 1..8 */
     uint16_t min_points;   /* cells a detection needs, 1..65535 */
-    float link_m;          /* range gap bridged inside a group, metres, 0..10 */
+    float join_m;          /* range gap bridged inside a group, metres, 0..10 */
     float angle_offset;    /* gradians added to every angle of the output frame, -400..400 */
     uint8_t min_beams;     /* beams a detection must span, 0..255 (0 or 1: any) */
     float max_extent_m;    /* detections wider than this (hull diameter, metres) are structure; 0 = no limit */
@@ -150,7 +150,7 @@ struct sonar_detector {
 
 /*
  * Checks every field against the ranges above. Returns NULL when cfg is valid, else a static
- * string naming the first bad field and its rule, e.g. "link_beams: 1..8". cfg must not be NULL.
+ * string naming the first bad field and its rule, e.g. "join_beams: 1..8". cfg must not be NULL.
  */
 const char *sonar_detector_config_check(const struct sonar_detector_config *cfg);
 

@@ -59,7 +59,7 @@ struct sonar_ping360_counters {
     uint32_t nacks;      /* NACKs received */
     uint32_t reconnects; /* links declared lost */
     uint32_t beams;      /* beams delivered */
-    uint32_t stale;      /* replies for another angle than requested (late or duplicate) */
+    uint32_t off_angle;  /* replies for another angle than requested (late or duplicate) */
     uint32_t foreign;    /* frames of another device on the link (a Ping1D behind the same bridge), ignored */
     uint32_t hellos;     /* passive: device_information requests sent so a bridge relays to us (none move the head) */
     uint32_t idles;      /* passive: times the beams stopped for SONAR_P360_IDLE_US (the driving program quiet) */

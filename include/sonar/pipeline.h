@@ -114,7 +114,7 @@ struct sonar_pipeline {
 
 /*
  * Checks every field, the background's and the detector's included. Returns NULL when cfg is
- * valid, else a static string naming the first bad field and its rule ("detector.link_beams: 1..8").
+ * valid, else a static string naming the first bad field and its rule ("detector.join_beams: 1..8").
  */
 const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg);
 

@@ -1,4 +1,4 @@
-/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> links (detector_link.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_accept.c); no heap. */
+/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> links (detector_join.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_accept.c); no heap. */
 #include "sonar/detector.h"
 
 #include <math.h>
@@ -22,12 +22,12 @@ const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
         return "max_clusters: 1..SONAR_MAX_CLUSTERS (" SONAR_STR(SONAR_MAX_CLUSTERS) ")";
     if (c->iterations < 1 || c->iterations > SONAR_DET_ITERATIONS_MAX)
         return "iterations: 1.." SONAR_STR(SONAR_DET_ITERATIONS_MAX);
-    if (c->link_beams < 1 || c->link_beams > SONAR_DET_LINK_BEAMS_MAX)
-        return "link_beams: 1.." SONAR_STR(SONAR_DET_LINK_BEAMS_MAX);
+    if (c->join_beams < 1 || c->join_beams > SONAR_DET_JOIN_BEAMS_MAX)
+        return "join_beams: 1.." SONAR_STR(SONAR_DET_JOIN_BEAMS_MAX);
     if (c->min_points < 1)
         return "min_points: 1..65535";
-    if (!(c->link_m >= 0.0f && c->link_m <= (float)SONAR_DET_LINK_M_MAX))
-        return "link_m: 0.." SONAR_STR(SONAR_DET_LINK_M_MAX) " metres";
+    if (!(c->join_m >= 0.0f && c->join_m <= (float)SONAR_DET_JOIN_M_MAX))
+        return "join_m: 0.." SONAR_STR(SONAR_DET_JOIN_M_MAX) " metres";
     if (!(c->angle_offset >= -(float)SONAR_DET_ANGLE_OFFSET_MAX && c->angle_offset <= (float)SONAR_DET_ANGLE_OFFSET_MAX))
         return "angle_offset: -" SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) ".." SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) " gradians";
     if (!(c->min_area_m2 >= 0.0f && c->min_area_m2 <= (float)SONAR_DET_AREA_MAX))
@@ -105,7 +105,7 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
     out->count = 0;
     out->world = 0;
     if (d->nruns > 0) {
-        sonar_det_link(d);
+        sonar_det_join(d);
         k = sonar_det_seed(d, c, part, &out->groups);
     }
     if (k > 0 && sonar_kmeans_lloyd_within(d->pts, d->nruns, d->labels, c, part, k, d->cfg.iterations) > 0) {

@@ -11,8 +11,8 @@ struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, u
 /* Union-find root of run i (path halving). */
 uint16_t sonar_det_find(struct sonar_detector_run *r, uint16_t i);
 
-/* Stage 2, detector_link.c: unites touching runs (link_beams, link_m), across the start angle on a full turn. */
-void sonar_det_link(struct sonar_detector *d);
+/* Stage 2, detector_join.c: unites touching runs (join_beams, join_m), across the start angle on a full turn. */
+void sonar_det_join(struct sonar_detector *d);
 
 /*
  * Stage 3, detector_group.c: groups -> k centres c, part[j] = the group of centre j, labels = each

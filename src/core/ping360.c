@@ -244,7 +244,7 @@ static int passive_frame(struct sonar_ping360 *d, const struct sonar_ping_frame 
         sonar_ping_decode_data(f, &data) != SONAR_OK)
         return SONAR_OK;
     if (data.data_length == 0) {
-        d->counters.stale++;
+        d->counters.off_angle++;
         return SONAR_OK;
     }
     d->counters.beams++;
@@ -330,7 +330,7 @@ int sonar_ping360_handle(struct sonar_ping360 *d, const struct sonar_ping_frame 
             return SONAR_OK;
         /* Trust the reply, not the request, but only a reply to what is pending counts. */
         if (data.is_auto != want_auto || data.data_length == 0 || (!want_auto && data.angle != d->angle)) {
-            d->counters.stale++;
+            d->counters.off_angle++;
             return SONAR_OK;
         }
         measured(d, now - d->sent_at);

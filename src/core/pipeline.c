@@ -31,7 +31,7 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.min_threshold = 16;
     cfg->detector.max_clusters = 8;
     cfg->detector.iterations = 10;
-    cfg->detector.link_beams = 2;
+    cfg->detector.join_beams = 2;
     cfg->detector.min_points = 12;
     /*
      * Half the cells' area of the smallest object in the scenes (a 0.1 m post through the 2-degree beam
@@ -39,7 +39,7 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
      * and 1-gradian steps as at 500 and 3, where 12 cells is ten times the area (docs/results.md).
      */
     cfg->detector.min_area_m2 = 0.05f;
-    cfg->detector.link_m = 0.15f;
+    cfg->detector.join_m = 0.15f;
     cfg->detector.max_extent_m = 3.5f;
     cfg->detector.max_aspect = 2.0f;
     cfg->detector.track_points = 10;

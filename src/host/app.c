@@ -151,7 +151,7 @@ void app_set_log(struct app *a, app_log_fn log, void *user)
 int app_add_sink(struct app *a, struct app_sink *s)
 {
     if (a->nsinks >= APP_MAX_SINKS)
-        return SONAR_ERR_FULL;
+        return HOST_ERR_FULL;
     s->errors = s->n_beams = s->n_detections = s->n_statuses = 0;
     a->sinks[a->nsinks++] = s;
     return HOST_OK;
@@ -167,7 +167,7 @@ int app_pose(struct app *a, const struct sonar_pose *p, const char **why)
         *why = r->out_of_order != ooo ? "not later than the pose before it"
                : r->jumps != jumps   ? "a jump from the pose before it (faster than 50 m/s or 720 deg/s)"
                                      : "a value that is not a number or is beyond 10^6 m";
-    return SONAR_ERR_RANGE;
+    return HOST_ERR_REFUSED;
 }
 
 /* The beam's pose: the source's (kept for the detections too), else looked up; says when it goes stale or comes back. */
@@ -222,7 +222,7 @@ int app_push(struct app *a, const struct sonar_record *b)
         sonar_pipeline_geometry(&a->pipe, &was_n, &was_m);
         if ((r = sonar_pipeline_push(&a->pipe, &pb)) != SONAR_OK) {
             a->beams_rejected++;
-            return r;
+            return host_err_of(r);
         }
         a->last_gain = (int16_t)sonar_pipeline_gain(&a->pipe);
         if (sonar_pipeline_gain_restarts(&a->pipe) != gains) {
@@ -276,7 +276,7 @@ void app_send_status(struct app *a, const struct sonar_status *s)
 
 int app_finish(struct app *a)
 {
-    return sonar_pipeline_finish(&a->pipe);
+    return host_err_of(sonar_pipeline_finish(&a->pipe));
 }
 
 const struct sonar_pose_ring *app_poses(const struct app *a)

@@ -48,7 +48,8 @@ enum app_level { APP_ERROR = 0, APP_WARN = 1, APP_INFO = 2, APP_DEBUG = 3 };
 /* Messages for people (stderr in sonard, so the journal under systemd); NULL to drop them. */
 typedef void (*app_log_fn)(void *user, int level, const char *fmt, va_list ap);
 
-enum app_link_event { APP_LINK_NONE = 0, APP_LINK_LOST = 1, APP_LINK_STOPPED = 2 };
+/* What the device core said, for a live source: nothing, give the link up (reconnect after app_device_down), stopped. */
+enum app_device_event { APP_DEVICE_NONE = 0, APP_DEVICE_LOST = 1, APP_DEVICE_STOPPED = 2 };
 
 /*
  * The app: opaque outside app*.c (app_internal.h). Caller-allocated, no heap: an app lives in a
@@ -110,7 +111,7 @@ void app_warn(const struct app *a, const char *fmt, ...)
 /* What the status calls the source ("tcp:127.0.0.1:5000", "replay:FILE"); kept by pointer. */
 void app_set_link(struct app *a, const char *desc);
 
-/* Adds a sink (kept by pointer). Returns HOST_OK or SONAR_ERR_FULL. */
+/* Adds a sink (kept by pointer). Returns HOST_OK or HOST_ERR_FULL. */
 HOST_CHECK int app_add_sink(struct app *a, struct app_sink *s);
 
 /* The i-th sink added, or NULL past the last. */
@@ -119,7 +120,7 @@ const struct app_sink *app_sink_at(const struct app *a, unsigned i);
 /*
  * One raw beam from any source: every sink taking raw beams gets it, then it goes through the
  * pipeline (its foreground to sinks taking that stage, its sweep's detections to every sink).
- * Returns HOST_OK, or SONAR_ERR_ARG when the pipeline refused it (counted; the sinks had it).
+ * Returns HOST_OK, or HOST_ERR_REFUSED when the pipeline refused it (counted; the sinks had it).
  */
 HOST_CHECK int app_push(struct app *a, const struct sonar_record *b);
 
@@ -138,7 +139,7 @@ void app_send_status(struct app *a, const struct sonar_status *s);
 /*
  * One sample of the vehicle's pose from any source (MAVLink, LCM, a pose file, a recording's
  * rows). Beams look their pose up by time from these (sonar_pose_at), and so do detections.
- * Returns HOST_OK, or SONAR_ERR_RANGE when the ring refused it (out of order, a jump, a bad
+ * Returns HOST_OK, or HOST_ERR_REFUSED when the ring refused it (out of order, a jump, a bad
  * value: counted in the ring, the reason in why when why is not NULL).
  */
 HOST_CHECK int app_pose(struct app *a, const struct sonar_pose *p, const char **why);
@@ -180,7 +181,7 @@ HOST_CHECK int app_background_load(struct app *a, const uint8_t *img, size_t len
 
 /*
  * The learnt model as a bgfile.h image into out (cap bytes). Returns its length, or < 0 with err
- * saying why: SONAR_ERR_STATE (no beam yet, or the model is in the world frame), SONAR_ERR_SPACE.
+ * saying why: HOST_ERR_STATE (no beam yet, or the model is in the world frame), HOST_ERR_REFUSED (out too small).
  */
 HOST_CHECK int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen);
 
@@ -191,25 +192,25 @@ const struct sonar_pipeline *app_pipeline(const struct app *a);
 const struct sonar_device *app_device(const struct app *a);
 
 /*
- * Live link: bytes as they arrived. Frames go to the device core; its beams to app_push. Returns
- * APP_LINK_NONE, APP_LINK_LOST (give the link up: app_link_down says when to reconnect) or
- * APP_LINK_STOPPED (motor_off acknowledged). Stops early, with bytes left, on LOST or STOPPED.
+ * The device on a live link: bytes as they arrived. Frames go to the device core; its beams to app_push. Returns
+ * APP_DEVICE_NONE, APP_DEVICE_LOST (give the link up: app_device_down says when to reconnect) or
+ * APP_DEVICE_STOPPED (motor_off acknowledged). Stops early, with bytes left, on LOST or STOPPED.
  */
-int app_link_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us);
+int app_device_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us);
 
 /*
- * Live link: the transport opened (probe the device: HOST_OK or the send error), or was lost
+ * The device on a live link: the transport opened (probe the device: HOST_OK or the send error), or was lost
  * (fresh framing; returns the reconnect delay in us, never 0: sonar_device_down's policy).
  */
-HOST_CHECK int app_link_up(struct app *a, int64_t now_us);
-uint32_t app_link_down(struct app *a, int64_t now_us);
+HOST_CHECK int app_device_up(struct app *a, int64_t now_us);
+uint32_t app_device_down(struct app *a, int64_t now_us);
 
-/* Live link: driver timers. Returns as app_link_bytes. app_deadline: when to call it next (us). */
-int app_link_poll(struct app *a, int64_t now_us);
+/* The device on a live link: driver timers. Returns as app_device_bytes. app_deadline: when to call it next (us). */
+int app_device_poll(struct app *a, int64_t now_us);
 int64_t app_deadline(const struct app *a);
 
-/* Live link: motor_off. Returns 1 when already stopped (nothing to wait for), 0 when waiting, < 0 on error. */
-int app_link_stop(struct app *a, int64_t now_us);
+/* The device on a live link: motor_off. Returns 1 when already stopped (nothing to wait for), 0 when waiting, < 0 on error. */
+int app_device_stop(struct app *a, int64_t now_us);
 
 /* Collects the counters into *s and sends it to every sink (app_send_status). link_state: the driver's, or SONAR_P360_CONNECTING. */
 void app_report_status(struct app *a, int link_state, struct sonar_status *s);

@@ -67,7 +67,7 @@ int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char
     m.sweeps = a->sweeps;
     if (m.n == 0 || m.range_mm == 0) {
         snprintf(err, errlen, "background: no beam yet, nothing learnt to save");
-        return SONAR_ERR_STATE;
+        return HOST_ERR_STATE;
     }
     r = sonar_pipeline_save_background(&a->pipe, &m, out, cap);
     if (r == SONAR_ERR_STATE)
@@ -75,5 +75,5 @@ int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char
                               "mode without per-angle rows)");
     else if (r < 0)
         snprintf(err, errlen, "background: %s", sonar_err_str(r));
-    return r;
+    return r < 0 ? host_err_of(r) : r;
 }

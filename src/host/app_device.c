@@ -30,7 +30,7 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         app_say(a, "Ping360 firmware %u.%u.%u on %s", fw[0], fw[1], fw[2], a->link);
         if (sonar_device_state(&a->dev) == SONAR_P360_PASSIVE) {
             app_say(a, "passive: using the beams another program draws; sending nothing that moves or sets the head");
-            return APP_LINK_NONE;
+            return APP_DEVICE_NONE;
         }
         app_say(a, "scanning (%s)", streaming ? "auto_transmit" : "stepping");
         if (a->have_scan && streaming && !a->scan_said) {
@@ -38,13 +38,13 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
                        "sweeping (use --mode step to follow)");
             a->scan_said = 1;
         }
-        return APP_LINK_NONE;
+        return APP_DEVICE_NONE;
     }
     case SONAR_P360_EV_IDLE:
         a->passive_idle = 1;
         app_warn(a, "passive: no beam for %.1f s: the program driving the head stopped, or the bridge dropped us "
                     "(asking the device again each second)", SONAR_P360_IDLE_US * 1e-6);
-        return APP_LINK_NONE;
+        return APP_DEVICE_NONE;
     case SONAR_P360_EV_BEAM:
         ev->beam.utime = app_wall_us(a); /* a live beam is timed by its receipt */
         if (sonar_device_state(&a->dev) == SONAR_P360_PASSIVE)
@@ -52,44 +52,44 @@ static int on_event(struct app *a, struct sonar_device_event *ev)
         if (a->have_gain_auto && !a->gain_off)
             sonar_gain_beam(&a->gain, ev->beam.samples, ev->beam.n, (uint8_t)ev->beam.gain);
         if (app_push(a, &ev->beam) != HOST_OK)
-            return APP_LINK_NONE; /* counted in beams_rejected; the sinks still had the raw beam */
-        return APP_LINK_NONE;
+            return APP_DEVICE_NONE; /* counted in beams_rejected; the sinks still had the raw beam */
+        return APP_DEVICE_NONE;
     case SONAR_P360_EV_LINK_LOST:
-        return APP_LINK_LOST;
+        return APP_DEVICE_LOST;
     case SONAR_P360_EV_STOPPED:
-        return APP_LINK_STOPPED;
+        return APP_DEVICE_STOPPED;
     default:
-        return APP_LINK_NONE;
+        return APP_DEVICE_NONE;
     }
 }
 
-int app_link_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us)
+int app_device_bytes(struct app *a, const uint8_t *buf, size_t len, int64_t now_us)
 {
     const uint8_t *in = buf;
     struct sonar_device_event ev;
     while (sonar_device_bytes(&a->dev, &in, &len, now_us, &ev) == 1) {
         int r = on_event(a, &ev);
-        if (r != APP_LINK_NONE)
+        if (r != APP_DEVICE_NONE)
             return r;
     }
-    return APP_LINK_NONE;
+    return APP_DEVICE_NONE;
 }
 
-int app_link_up(struct app *a, int64_t now_us)
+int app_device_up(struct app *a, int64_t now_us)
 {
     return sonar_device_up(&a->dev, now_us);
 }
 
-uint32_t app_link_down(struct app *a, int64_t now_us)
+uint32_t app_device_down(struct app *a, int64_t now_us)
 {
     return sonar_device_down(&a->dev, now_us);
 }
 
-int app_link_poll(struct app *a, int64_t now_us)
+int app_device_poll(struct app *a, int64_t now_us)
 {
     struct sonar_device_event ev;
     if (!a->have_dev || sonar_device_poll(&a->dev, now_us, &ev) != 1)
-        return APP_LINK_NONE;
+        return APP_DEVICE_NONE;
     return on_event(a, &ev);
 }
 
@@ -98,7 +98,7 @@ int64_t app_deadline(const struct app *a)
     return a->have_dev ? sonar_device_deadline(&a->dev) : INT64_MAX;
 }
 
-int app_link_stop(struct app *a, int64_t now_us)
+int app_device_stop(struct app *a, int64_t now_us)
 {
     int r = sonar_device_stop(&a->dev, now_us);
     if (r != SONAR_OK)

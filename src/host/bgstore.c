@@ -83,7 +83,7 @@ int bgstore_save(const struct app *a, const char *path, char *err, size_t errlen
     int32_t len = app_background_image(a, image, sizeof(image), err, errlen);
     int fd, e;
     if (len < 0)
-        return len == SONAR_ERR_STATE ? SONAR_ERR_STATE : HOST_ERR_IO;
+        return len == HOST_ERR_STATE ? HOST_ERR_STATE : HOST_ERR_IO;
     if ((size_t)snprintf(tmp, sizeof(tmp), "%s.tmp.%ld", path, (long)getpid()) >= sizeof(tmp)) {
         snprintf(err, errlen, "--background-save %s: the path is too long", path);
         return HOST_ERR_IO;

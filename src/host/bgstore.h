@@ -19,7 +19,7 @@ HOST_CHECK int bgstore_load(struct app *a, const char *path, char *err, size_t e
  * Writes the app's learnt model to path: into path.tmp.PID beside it, fsync'd, then renamed over
  * path (and the folder fsync'd), so a reader sees the old file or the new one, never a part. On any
  * failure the temporary file is removed and path is as it was. Returns HOST_OK, HOST_ERR_IO (err
- * with errno's text) or SONAR_ERR_STATE (nothing learnt yet, or a world-frame model: err says so).
+ * with errno's text) or HOST_ERR_STATE (nothing learnt yet, or a world-frame model: err says so).
  */
 HOST_CHECK int bgstore_save(const struct app *a, const char *path, char *err, size_t errlen);
 

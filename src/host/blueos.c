@@ -209,7 +209,7 @@ int blueos_parse_sensors(const char *body, size_t len, struct blueos_sensors *ou
     struct walk w;
     int c, rc;
     if (body == NULL || out == NULL)
-        return SONAR_ERR_ARG;
+        return HOST_ERR_CONFIG;
     memset(out, 0, sizeof *out);
     memset(&w, 0, sizeof w);
     w.s = body;

@@ -292,7 +292,7 @@ static int64_t link_timers(struct link *l, int64_t now_us)
 int link_next_baud(struct link *l)
 {
     if (!l->autobaud)
-        return SONAR_ERR_RANGE;
+        return HOST_ERR_FULL;
     l->baud_index = (l->baud_index + 1) % NRATES;
     l->baud = rates[l->baud_index];
     return l->baud_index == 0 ? -1 : 0;
@@ -385,4 +385,57 @@ const char *link_describe(const struct link *l, char *buf, size_t n)
         snprintf(buf, n, strchr(l->host, ':') ? "%s:[%s]:%s" : "%s:%s:%s", l->kind == LINK_UDP ? "udp" : l->kind == LINK_TCP ? "tcp" : "udpin",
                  l->host, l->port);
     return buf;
+}
+
+/* What the link reads goes to the owner; a read that says closed is a loss, unless it is a UDP socket's soft error. */
+static void serve_read(struct link *l, int64_t now, const struct link_endpoint_ops *ops, void *owner)
+{
+    uint8_t buf[4096];
+    int reads;
+    for (reads = 0; reads < LINK_READS; reads++) {
+        ssize_t n = link_read(l, buf, sizeof(buf));
+        if (n < 0) {
+            if (!(ops->udp_errors_soft && l->kind != LINK_SERIAL))
+                ops->lost(owner, now, "closed");
+            return;
+        }
+        if (n == 0 || !ops->bytes(owner, buf, (size_t)n, now))
+            return;
+    }
+}
+
+static void serve(struct link *l, int ev, const char *err, int64_t now, const struct link_endpoint_ops *ops, void *owner)
+{
+    switch (ev) {
+    case LINK_EV_UP:
+        ops->up(owner, now);
+        break;
+    case LINK_EV_FAILED:
+        ops->failed(owner, err, now);
+        break;
+    case LINK_EV_DATA:
+        serve_read(l, now, ops, owner);
+        break;
+    case LINK_EV_HUNGUP:
+        if (ops->udp_errors_soft && l->kind != LINK_SERIAL)
+            serve_read(l, now, ops, owner);
+        else
+            ops->lost(owner, now, "hung up");
+        break;
+    default:
+        break;
+    }
+}
+
+void link_serve_fd(struct link *l, short revents, int64_t now_us, const struct link_endpoint_ops *ops, void *owner)
+{
+    char err[256];
+    serve(l, link_service_fd(l, revents, now_us, err, sizeof(err)), err, now_us, ops, owner);
+}
+
+int64_t link_serve_timers(struct link *l, int64_t now_us, const struct link_endpoint_ops *ops, void *owner)
+{
+    char err[256];
+    serve(l, link_service_timers(l, now_us, err, sizeof(err)), err, now_us, ops, owner);
+    return link_wake(l);
 }

@@ -93,8 +93,30 @@ HOST_CHECK int link_write(struct link *l, const uint8_t *buf, size_t n);
  */
 void link_line_break(struct link *l, int64_t now_us);
 
-/* Serial auto-baud: moves to the next rate. Returns HOST_OK, or SONAR_ERR_RANGE when every rate was tried (it wraps). */
+/* Serial auto-baud: moves to the next rate. Returns HOST_OK, or HOST_ERR_FULL when every rate was tried (it wraps). */
 HOST_CHECK int link_next_baud(struct link *l);
+
+/*
+ * A link's owner (the sonar's source, the co-processor's, the autopilot's endpoint), as
+ * mavlink-router's Endpoint: the lifecycle and the bounded read loop are link_serve_*'s; the owner
+ * keeps only what is its own, in four callbacks.
+ */
+struct link_endpoint_ops {
+    void (*up)(void *owner, int64_t now_us);                    /* opened or connected: usable now */
+    void (*failed)(void *owner, const char *err, int64_t now_us); /* an open or connect failed; reopened LINK_RETRY_US later */
+    /* n > 0 bytes read (a listener: the sender in the link's from). Returns 1 to read on, 0 to leave the rest for the next wake. */
+    int (*bytes)(void *owner, const uint8_t *buf, size_t n, int64_t now_us);
+    /* Gone (why: "closed", "hung up"): the owner calls link_lost with its own delay, or link_close. */
+    void (*lost)(void *owner, int64_t now_us, const char *why);
+    /* 1: on UDP, an error the socket reports (ICMP: nobody listening there yet) is read and forgotten, not a loss. */
+    uint8_t udp_errors_soft;
+};
+
+/* poll() said revents on l's descriptor: what it means goes to the owner's callbacks (at most LINK_READS reads). */
+void link_serve_fd(struct link *l, short revents, int64_t now_us, const struct link_endpoint_ops *ops, void *owner);
+
+/* l's timers (a reopen when due, a line break's steps), their events to the owner. Returns link_wake afterwards. */
+int64_t link_serve_timers(struct link *l, int64_t now_us, const struct link_endpoint_ops *ops, void *owner);
 
 /* Closes it for good (stopping, exit): it is not reopened. */
 void link_close(struct link *l);

@@ -115,7 +115,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_aux
         }
     }
     /* An interrupted sweep is still worth publishing; a --sweeps run already has all it asked for. */
-    if (interrupted && app_finish(a) != SONAR_OK)
+    if (interrupted && app_finish(a) != HOST_OK)
         fprintf(stderr, "sonard: finishing the last sweep failed\n");
     if (src->ops->state != NULL)
         app_report_status(a, src->ops->state(src->self), &st);

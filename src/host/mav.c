@@ -34,7 +34,7 @@ int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errl
         return HOST_ERR_CONFIG;
     }
     if (cfg->n_ignore > MAV_MAX_IGNORE) {
-        snprintf(err, errlen, "--ignore-sector: at most %d arcs", MAV_MAX_IGNORE);
+        snprintf(err, errlen, "--ignore-deg: at most %d arcs", MAV_MAX_IGNORE);
         return HOST_ERR_CONFIG;
     }
     m->next_interval = INT64_MAX; /* armed when the autopilot's HEARTBEAT is heard */
@@ -120,36 +120,56 @@ int mav_attach(struct mav *m, struct app *a)
 
 /* ---- the live loop's source ---- */
 
-static void mav_read(struct mav *m, int64_t now);
-
-/* What the link did: up (said once it was down), failed (said once; it retries), readable, gone. */
-static void on_link(struct mav *m, int ev, const char *err, int64_t now)
+/* The link's callbacks (link_serve_*): up and failed said once each way, datagrams decoded, a serial port unplugged reopened. */
+static void ep_up(void *self, int64_t now)
 {
-    if (ev == LINK_EV_UP && m->down) {
+    struct mav *m = self;
+    (void)now;
+    if (m->down)
         app_say(m->app, "--mavlink %s: open", m->desc);
-        m->down = 0;
-    } else if (ev == LINK_EV_FAILED && !m->down) {
-        app_warn(m->app, "--mavlink %s: %s; running without the autopilot, retrying every second", m->desc, err);
-        m->down = 1;
-    } else if (ev == LINK_EV_DATA) {
-        mav_read(m, now);
-    } else if (ev == LINK_EV_HUNGUP) {
-        if (m->kind == MAV_SERIAL)
-            link_lost(&m->link, now, LINK_RETRY_US); /* unplugged: opened again in a second */
-        else
-            mav_read(m, now); /* a UDP socket's error (ICMP: nobody there yet) is read and forgotten */
-    }
+    m->down = 0;
 }
+
+static void ep_failed(void *self, const char *err, int64_t now)
+{
+    struct mav *m = self;
+    (void)now;
+    if (!m->down)
+        app_warn(m->app, "--mavlink %s: %s; running without the autopilot, retrying every %g s", m->desc, err,
+                 LINK_RETRY_US * 1e-6);
+    m->down = 1;
+}
+
+static void remember(struct mav *m, const struct sockaddr_storage *a, socklen_t len, int64_t now_mono);
+
+static int ep_bytes(void *self, const uint8_t *buf, size_t n, int64_t now)
+{
+    struct mav *m = self;
+    if (m->kind == MAV_UDPIN)
+        remember(m, &m->link.from, m->link.from_len, now);
+    /* Each datagram its own receive time: two poses read in one wake are not one instant. */
+    mav_bytes(m, buf, n, app_wall_us(m->app));
+    return 1;
+}
+
+/* A UDP socket's errors are soft (the endpoint's ops say so): only a serial port is lost, and opened again in a second. */
+static void ep_lost(void *self, int64_t now, const char *why)
+{
+    struct mav *m = self;
+    (void)why;
+    link_lost(&m->link, now, LINK_RETRY_US);
+}
+
+static const struct link_endpoint_ops endpoint = {ep_up, ep_failed, ep_bytes, ep_lost, 1};
 
 static void mav_start(void *self, struct app *a, int64_t now)
 {
     struct mav *m = self;
-    char err[200];
     (void)a;
     m->t0_us = now;
     m->next_hb = now;
     m->next_od = now;
-    on_link(m, link_service_timers(&m->link, now, err, sizeof(err)), err, now);
+    (void)link_serve_timers(&m->link, now, &endpoint, m);
 }
 
 static int mav_fd(const void *self, short *events)
@@ -175,31 +195,9 @@ static void remember(struct mav *m, const struct sockaddr_storage *a, socklen_t 
     m->peer[slot].seen_us = now_mono;
 }
 
-static void mav_read(struct mav *m, int64_t now)
-{
-    uint8_t buf[2048];
-    int reads;
-    for (reads = 0; reads < LINK_READS; reads++) {
-        /* Each datagram its own receive time: two poses read in one wake are not one instant. */
-        int64_t wall = app_wall_us(m->app);
-        ssize_t r = link_read(&m->link, buf, sizeof(buf));
-        if (r == HOST_ERR_CLOSED && m->kind == MAV_SERIAL) {
-            link_lost(&m->link, now, LINK_RETRY_US); /* unplugged: opened again in a second */
-            return;
-        }
-        if (r <= 0)
-            return; /* udpout: nobody listening there yet (ICMP) is no loss, it may come */
-        if (m->kind == MAV_UDPIN)
-            remember(m, &m->link.from, m->link.from_len, now);
-        mav_bytes(m, buf, (size_t)r, wall);
-    }
-}
-
 static void mav_ready(void *self, short revents, int64_t now)
 {
-    struct mav *m = self;
-    char err[200];
-    on_link(m, link_service_fd(&m->link, revents, now, err, sizeof(err)), err, now);
+    link_serve_fd(&((struct mav *)self)->link, revents, now, &endpoint, self);
 }
 
 static int64_t mav_timers(void *self, int64_t now)
@@ -220,12 +218,11 @@ static int64_t mav_timers(void *self, int64_t now)
             m->next_od = now + period;
     }
     {
-        char err[200];
-        int64_t w = m->next_hb < m->next_od ? m->next_hb : m->next_od;
+        int64_t w = m->next_hb < m->next_od ? m->next_hb : m->next_od, l;
         if (m->next_interval < w)
             w = m->next_interval;
-        on_link(m, link_service_timers(&m->link, now, err, sizeof(err)), err, now);
-        return link_wake(&m->link) < w ? link_wake(&m->link) : w;
+        l = link_serve_timers(&m->link, now, &endpoint, m);
+        return l < w ? l : w;
     }
 }
 

@@ -14,7 +14,7 @@
 #define MAV_PEERS 4                 /* udpin: the senders answered, each for MAV_PEER_US after it was last heard */
 #define MAV_PEER_US 10000000
 #define MAV_POSITION_STALE_US 1000000 /* without LOCAL_POSITION_NED for this long: heading only, at the last position */
-#define MAV_MAX_IGNORE 8              /* --ignore-sector arcs */
+#define MAV_MAX_IGNORE 8              /* --ignore-deg arcs */
 #define MAV_BEAM_STALE_US 950000      /* fail closed: no OBSTACLE_DISTANCE once the newest beam is this old (1 s, less the last message's way) */
 #define MAV_POSE_HOLD_US 5000000      /* a stale pose still places the map's remembered echoes for this long */
 #define MAV_INTERVAL_RETRY_US 5000000 /* SET_MESSAGE_INTERVAL again this often until the pose comes at the rate */
@@ -110,7 +110,7 @@ HOST_CHECK int mav_check_min_range(float min_range_m, char *err, size_t errlen);
  * Binds the app: adds the sink. The map takes the pipeline's output frame (angle offset, min
  * range) from the app at each beam (app_frame), so it turns with the detections when a reload
  * takes over. Returns HOST_OK, HOST_ERR_CONFIG (the app's min range too far: mav_check_min_range
- * says why) or SONAR_ERR_FULL. Open with the live loop (mav_live).
+ * says why) or HOST_ERR_FULL. Open with the live loop (mav_live).
  */
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);
 

@@ -88,7 +88,7 @@ static int64_t max_age(const struct mav *m)
     return (int64_t)(s * 1.2e6);
 }
 
-/* Whether a body bearing (degrees clockwise from forward) lies in an --ignore-sector arc. */
+/* Whether a body bearing (degrees clockwise from forward) lies in an --ignore-deg arc. */
 static int ignored(const struct mav *m, float deg)
 {
     unsigned i;

@@ -85,7 +85,7 @@ static const struct opt_spec spec[] = {
      "no OBSTACLE_DISTANCE while no beam has come for a second, so the autopilot\nmarks the sonar NoData", "off=0|on=1", NULL},
     {"mavlink-3d", "on|off", OPT_CHOICE, 1, 0, F(mav_3d), 0, 0, "on or off", "off",
      "OBSTACLE_DISTANCE_3D for each confirmed track (see docs/mavlink.md first)", "off=0|on=1", NULL},
-    {"ignore-sector", "FROM:TO", OPT_CUSTOM, 1, 0, 0, 0, 0, "degrees clockwise from forward", "none",
+    {"ignore-deg", "FROM:TO", OPT_CUSTOM, 1, 0, 0, 0, 0, "degrees clockwise from forward", "none",
      "the vehicle's own echoes (hull, thrusters, tether): kept out of the obstacle\nmap and sent unknown; repeatable, up to 8", NULL, options_parse_ignore},
     {"pose-lcm", "URL", OPT_STR, 1, 0, F(pose_lcm), 0, 200, "LCM URL", "sonard's --lcm",
      "live: read the vehicle's pose (sonar.pose_t on SONAR_POSE) from this LCM", NULL, NULL},
@@ -168,8 +168,8 @@ static const struct opt_spec spec[] = {
      "a cluster within M of a track's prediction (with --track off: of a\ndetection of the previous sweep) needs only --track-points cells", NULL, NULL},
     {"track-points", "N", OPT_U16, 1, 1, D(track_points), 1, 65535, "cells", "10", "cells a tracked cluster needs", NULL, NULL},
     {"iterations", "N", OPT_U8, 1, 1, D(iterations), 1, SONAR_DET_ITERATIONS_MAX, "rounds", "10", "k-means rounds at most", NULL, NULL},
-    {"link-m", "M", OPT_F32, 1, 1, D(link_m), 0, SONAR_DET_LINK_M_MAX, "metres", "0.15", "range gap still joining one object", NULL, NULL},
-    {"link-beams", "N", OPT_U8, 1, 1, D(link_beams), 1, SONAR_DET_LINK_BEAMS_MAX, "beams", "2", "beams apart still joining one object", NULL, NULL},
+    {"join-m", "M", OPT_F32, 1, 1, D(join_m), 0, SONAR_DET_JOIN_M_MAX, "metres", "0.15", "range gap still joining one object", NULL, NULL},
+    {"join-beams", "N", OPT_U8, 1, 1, D(join_beams), 1, SONAR_DET_JOIN_BEAMS_MAX, "beams", "2", "beams apart still joining one object", NULL, NULL},
     {"max-step", "G", OPT_U16, 1, 1, offsetof(struct sonard_options, pipeline.max_step), 1, SONAR_PIPE_MAX_STEP_MAX,
      "gradians", "20", "an angle move larger than G starts a sweep", NULL, NULL},
     {"sweep-gap", "S", OPT_F32, 1, 1, offsetof(struct sonard_options, pipeline.sweep_gap_s), 0, 3600, "seconds (0: never)",
@@ -207,7 +207,11 @@ static const struct opt_spec spec[] = {
     {"version", NULL, OPT_ACTION, 0, 0, 0, 0, 0, NULL, NULL, "the version", NULL, NULL},
 };
 
-static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "sonard"};
+/* Names that meant two things: --sector is in gradians (the head's), so the arcs in degrees are --ignore-deg; "link" is
+   the transport, so runs that touch join (--join-m, --join-beams). */
+static const struct opt_rename renamed[] = {{"ignore-sector", "ignore-deg"}, {"link-m", "join-m"}, {"link-beams", "join-beams"}};
+static const struct opt_schema schema = {spec, sizeof(spec) / sizeof(spec[0]), "sonard", renamed,
+                                         sizeof(renamed) / sizeof(renamed[0])};
 
 SONAR_STATIC_ASSERT(sizeof(spec) / sizeof(spec[0]) <= OPT_GIVEN_ROWS, given_bits_fit);
 
@@ -385,6 +389,10 @@ void options_say_unknown(const struct sonard_options *o, FILE *f)
                 o->given.unknown_said[i], SONARD_VERSION);
     if (o->given.unknown > OPT_UNKNOWN_KEPT)
         fprintf(f, "sonard: warning: %u more unknown keys skipped\n", o->given.unknown - OPT_UNKNOWN_KEPT);
+    for (i = 0; i < sizeof(renamed) / sizeof(renamed[0]); i++)
+        if (o->given.renamed_used & ((uint32_t)1 << i))
+            fprintf(f, "sonard: warning: %s is deprecated: it is now %s (taken as that)\n", renamed[i].old_name,
+                    renamed[i].name);
 }
 
 int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen)

@@ -14,7 +14,7 @@
 
 #define OPTIONS_MAX_CONFIGS 8
 
-#define SONARD_MAX_IGNORE 8 /* --ignore-sector arcs (mav.h MAV_MAX_IGNORE) */
+#define SONARD_MAX_IGNORE 8 /* --ignore-deg arcs (mav.h MAV_MAX_IGNORE) */
 
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */
@@ -29,7 +29,7 @@ struct sonard_options {
     float mav_pose_rate;        /* ATTITUDE and LOCAL_POSITION_NED asked of the autopilot; 0: never ask */
     uint8_t mav_fail_closed;    /* no OBSTACLE_DISTANCE without a beam for a second */
     uint8_t mav_3d;             /* OBSTACLE_DISTANCE_3D per confirmed track */
-    uint8_t n_ignore;           /* --ignore-sector arcs, degrees clockwise from forward: from, to */
+    uint8_t n_ignore;           /* --ignore-deg arcs, degrees clockwise from forward: from, to */
     float ignore[SONARD_MAX_IGNORE][2];
     int discover;               /* list the network's Ping360s and exit */
     const char *discover_to;    /* NULL: broadcast 255.255.255.255:30303 */

@@ -108,18 +108,18 @@ int options_parse_sector(void *base, const char *v, char *err, size_t n)
     return HOST_OK;
 }
 
-/* --ignore-sector FROM:TO, degrees clockwise from forward (0..360); repeatable, an arc may cross forward. */
+/* --ignore-deg FROM:TO, degrees clockwise from forward (0..360); repeatable, an arc may cross forward. */
 int options_parse_ignore(void *base, const char *v, char *err, size_t n)
 {
     struct sonard_options *o = base;
     double a, b;
     char tail;
     if (sscanf(v, "%lf:%lf%c", &a, &b, &tail) != 2 || !(a >= 0.0 && a <= 360.0 && b >= 0.0 && b <= 360.0)) {
-        snprintf(err, n, "--ignore-sector: '%s' is not FROM:TO in degrees 0..360 clockwise from forward", v);
+        snprintf(err, n, "--ignore-deg: '%s' is not FROM:TO in degrees 0..360 clockwise from forward", v);
         return HOST_ERR_CONFIG;
     }
     if (o->n_ignore >= SONARD_MAX_IGNORE) {
-        snprintf(err, n, "--ignore-sector %s: at most %d arcs", v, SONARD_MAX_IGNORE);
+        snprintf(err, n, "--ignore-deg %s: at most %d arcs", v, SONARD_MAX_IGNORE);
         return HOST_ERR_CONFIG;
     }
     o->ignore[o->n_ignore][0] = (float)a;

@@ -6,25 +6,26 @@
 #include <string.h>
 #include <sys/stat.h>
 
-const char *host_err_str(int err)
-{
-    switch (err) {
-    case HOST_ERR_IO: return "input/output error";
-    case HOST_ERR_CONFIG: return "bad configuration";
-    case HOST_ERR_PUBLISH: return "could not publish";
-    case HOST_ERR_CLOSED: return "link closed";
-    case HOST_ERR_ROW: return "malformed row";
-    default: return sonar_err_str(err);
-    }
-}
-
 int opt_find(const struct opt_schema *s, const char *name)
 {
     size_t i;
     for (i = 0; i < s->count; i++)
         if (s->spec[i].type != OPT_SECTION && strcmp(s->spec[i].name, name) == 0)
             return (int)i;
+    for (i = 0; i < s->nrenamed && i < 32; i++)
+        if (strcmp(s->renamed[i].old_name, name) == 0)
+            return opt_find(s, s->renamed[i].name);
     return -1;
+}
+
+/* opt_find, noting an old name's use in given (said by the program: the old name works, the new one is named). */
+static int find_noting(const struct opt_schema *s, const char *name, struct opt_given *given)
+{
+    size_t k;
+    for (k = 0; given != NULL && k < s->nrenamed && k < 32; k++)
+        if (strcmp(s->renamed[k].old_name, name) == 0)
+            given->renamed_used |= (uint32_t)1 << k;
+    return opt_find(s, name);
 }
 
 static int bad_number(const struct opt_spec *o, const char *v, int whole, char *err, size_t n)
@@ -233,7 +234,7 @@ int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void 
         *eq = '\0';
         k = strip(k);
         v = strip(eq + 1);
-        i = opt_find(s, k);
+        i = find_noting(s, k, given);
         if (i < 0 && given != NULL) {
             unknown_key(s, given, path, ln, k);
             continue;
@@ -295,7 +296,7 @@ int opt_parse_argv(const struct opt_schema *s, int argc, char **argv, void *base
         }
         memcpy(name, arg + 2, nl);
         name[nl] = '\0';
-        if ((i = opt_find(s, name)) < 0) {
+        if ((i = find_noting(s, name, given)) < 0) {
             snprintf(err, errlen, "--%s: unknown option (see --help)", name);
             return HOST_ERR_CONFIG;
         }
@@ -396,4 +397,7 @@ void opt_markdown(const struct opt_schema *s, FILE *f)
         cell(f, o->help);
         fprintf(f, "%s |\n", o->file_ok ? "" : " (command line only)");
     }
+    for (i = 0; i < s->nrenamed; i++)
+        fprintf(f, "\n`%s` is the old name of `%s`: still taken, and said deprecated.\n",
+                s->renamed[i].old_name, s->renamed[i].name);
 }

@@ -44,6 +44,7 @@ struct opt_spec {
 struct opt_given {
     uint64_t w[OPT_GIVEN_ROWS / 64];
     const char *value[OPT_GIVEN_ROWS];         /* each row's last value as given (argv or the file pool; "1" a flag) */
+    uint32_t renamed_used;                     /* bit k: the schema's renamed[k] old name was used */
     unsigned unknown;                          /* file keys no row knows, skipped (a newer or older version's) */
     char unknown_said[OPT_UNKNOWN_KEPT][160];  /* "PATH:LINE: unknown key 'k' (did you mean 'range'?)" */
 };
@@ -58,11 +59,18 @@ int opt_was_given(const struct opt_given *g, size_t i);
 unsigned opt_restart_needed(const struct opt_spec *spec, size_t count, const struct opt_given *a, const struct opt_given *b,
                             char *out, size_t cap);
 
+/* An option renamed: its old name (on the command line or in a file) still works, and is said deprecated. */
+struct opt_rename {
+    const char *old_name, *name;
+};
+
 /* The table and the struct it fills. */
 struct opt_schema {
     const struct opt_spec *spec;
     size_t count;      /* rows, at most 64 */
     const char *prog;  /* for messages */
+    const struct opt_rename *renamed; /* old names still taken (at most 32), or NULL */
+    size_t nrenamed;
 };
 
 /*
@@ -72,7 +80,7 @@ struct opt_schema {
 HOST_CHECK int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, struct opt_given *given, char *err,
                          size_t errlen);
 
-/* The row of a name, or -1. */
+/* The row of a name (an old name of a renamed row too), or -1. */
 int opt_find(const struct opt_schema *s, const char *name);
 
 /*

@@ -22,7 +22,7 @@
 #include "source_replay.h"
 
 /* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
-/* --ignore-sector's arcs are copied whole from the options into the endpoint's config. */
+/* --ignore-deg's arcs are copied whole from the options into the endpoint's config. */
 SONAR_STATIC_ASSERT(SONARD_MAX_IGNORE == MAV_MAX_IGNORE, ignore_arcs_match);
 
 struct sonard {
@@ -165,10 +165,10 @@ static void summary(const struct sonar_status *st)
     fprintf(stderr,
             "sonard: status frames %" PRIu32 " checksum_errors %" PRIu32 " resyncs %" PRIu32 " oversize %" PRIu32
             " bytes_dropped %" PRIu32 " timeouts %" PRIu32 " retries %" PRIu32 " nacks %" PRIu32 " reconnects %" PRIu32
-            " stale %" PRIu32 " foreign %" PRIu32 " beams %" PRIu32 " sweeps %" PRIu32 " beams_rejected %" PRIu32 " sink_errors %" PRIu32 "\n",
+            " off_angle %" PRIu32 " foreign %" PRIu32 " beams %" PRIu32 " sweeps %" PRIu32 " beams_rejected %" PRIu32 " sink_errors %" PRIu32 "\n",
             st->parser.frames, st->parser.checksum_errors, st->parser.resyncs, st->parser.oversize,
             st->parser.bytes_dropped, st->driver.timeouts, st->driver.retries, st->driver.nacks, st->driver.reconnects,
-            st->driver.stale, st->driver.foreign, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
+            st->driver.off_angle, st->driver.foreign, st->driver.beams, st->sweeps, st->beams_rejected, st->sink_errors);
 }
 
 /* What each sink delivered: "sonard: sink lcm: beams B detections D status S errors E". */

@@ -57,7 +57,7 @@ static void lost(struct source_coproc *s, int64_t now, const char *why)
         return;
     }
     link_lost(&s->link, now, LINK_RETRY_US);
-    warn(s, "co-processor link lost (%s); reconnecting in 1 s", why);
+    warn(s, "co-processor link lost (%s); reconnecting in %g s", why, LINK_RETRY_US * 1e-6);
 }
 
 static void on_status(struct source_coproc *s, const sonar_status_t *m)
@@ -134,56 +134,44 @@ static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int6
     }
 }
 
-static void readable(struct source_coproc *s, int64_t now)
+/* The link's callbacks (link_serve_*): up sends the configuration, frames go in, a loss waits LINK_RETRY_US. */
+static void ep_up(void *self, int64_t now)
 {
-    uint8_t buf[4096];
-    int reads;
-    const int was_done = app_done(s->app);
-    for (reads = 0; reads < LINK_READS && !(!was_done && app_done(s->app)) && !s->stopped; reads++) {
-        ssize_t n = link_read(&s->link, buf, sizeof(buf));
-        const uint8_t *in = buf;
-        size_t len;
-        struct sonar_cpf_frame f;
-        if (n < 0) {
-            lost(s, now, "closed");
-            return;
-        }
-        if (n == 0)
-            return;
-        len = (size_t)n;
-        while (sonar_cpf_next(&s->parser, &in, &len, &f) == 1)
-            frame(s, &f, now);
-    }
+    send_config(self, now);
 }
 
-/* What the link did: up (send the configuration), failed (said; it retries), readable, hung up. */
-static void on_link(struct source_coproc *s, int ev, const char *err, int64_t now)
+static void ep_failed(void *self, const char *err, int64_t now)
 {
-    switch (ev) {
-    case LINK_EV_UP:
-        send_config(s, now);
-        break;
-    case LINK_EV_FAILED:
-        warn(s, "%s; retrying in 1 s", err);
-        break;
-    case LINK_EV_DATA:
-        readable(s, now);
-        break;
-    case LINK_EV_HUNGUP:
-        lost(s, now, "hung up");
-        break;
-    default:
-        break;
-    }
+    struct source_coproc *s = self;
+    (void)now;
+    warn(s, "%s; retrying in %g s", err, LINK_RETRY_US * 1e-6);
 }
+
+/* Frames to their owners; reading stops once the app has its sweeps (signals, timers and --sweeps are served). */
+static int ep_bytes(void *self, const uint8_t *buf, size_t n, int64_t now)
+{
+    struct source_coproc *s = self;
+    const int was_done = app_done(s->app);
+    const uint8_t *in = buf;
+    struct sonar_cpf_frame f;
+    while (sonar_cpf_next(&s->parser, &in, &n, &f) == 1)
+        frame(s, &f, now);
+    return !s->stopped && (was_done || !app_done(s->app));
+}
+
+static void ep_lost(void *self, int64_t now, const char *why)
+{
+    lost(self, now, why);
+}
+
+static const struct link_endpoint_ops endpoint = {ep_up, ep_failed, ep_bytes, ep_lost, 0};
 
 static int64_t v_timers(void *self, int64_t now)
 {
     struct source_coproc *s = self;
-    char err[256];
     if (s->link.fd < 0 && s->stopping)
         return INT64_MAX;
-    on_link(s, link_service_timers(&s->link, now, err, sizeof(err)), err, now);
+    (void)link_serve_timers(&s->link, now, &endpoint, s);
     if (s->link.fd >= 0 && !s->link.connecting && !s->configured && now >= s->config_at)
         send_config(s, now); /* the firmware did not answer: the frame may have been lost */
     return s->link.fd >= 0 && !s->configured && s->config_at < link_wake(&s->link) ? s->config_at : link_wake(&s->link);
@@ -206,8 +194,7 @@ static int v_fd(const void *self, short *events)
 static void v_ready(void *self, short revents, int64_t now)
 {
     struct source_coproc *s = self;
-    char err[256];
-    on_link(s, link_service_fd(&s->link, revents, now, err, sizeof(err)), err, now);
+    link_serve_fd(&s->link, revents, now, &endpoint, s);
 }
 
 static void v_stop(void *self, int64_t now)

@@ -48,13 +48,13 @@ static void drop(struct source_link *s, int64_t now, const char *why)
 {
     int state = link_device_state(s);
     int was_probing = state == SONAR_P360_PROBING || state == SONAR_P360_DOWN;
-    uint32_t backoff = app_link_down(s->app, now);
+    uint32_t backoff = app_device_down(s->app, now);
     if (s->stopping) {
         link_close(&s->link);
         s->stopped = 1;
         return;
     }
-    if (was_probing && s->link.autobaud && link_next_baud(&s->link) == 0) {
+    if (was_probing && s->link.autobaud && link_next_baud(&s->link) == HOST_OK) {
         link_lost(&s->link, now, 0);
         say(s, "no answer; trying %ld baud", s->link.baud);
         return;
@@ -65,57 +65,48 @@ static void drop(struct source_link *s, int64_t now, const char *why)
 
 static void handle(struct source_link *s, int ev, int64_t now)
 {
-    if (ev == APP_LINK_LOST)
+    if (ev == APP_DEVICE_LOST)
         drop(s, now, "no reply");
-    else if (ev == APP_LINK_STOPPED)
+    else if (ev == APP_DEVICE_STOPPED)
         s->stopped = 1;
 }
 
-static void read_link(struct source_link *s, int64_t now)
+/* The link's callbacks (link_serve_*): up probes the device, bytes go to it, a loss is dropped with its delay. */
+static void ep_up(void *self, int64_t now)
 {
-    uint8_t buf[4096];
-    int reads;
-    /* Bounded, and it leaves once the app has its sweeps, so signals, timers and --sweeps are served
-     * (while stopping it goes on reading: motor_off's ack comes this way). */
-    const int was_done = app_done(s->app);
-    for (reads = 0; reads < LINK_READS && !(!was_done && app_done(s->app)); reads++) {
-        ssize_t n = link_read(&s->link, buf, sizeof(buf));
-        int ev;
-        if (n < 0) {
-            drop(s, now, "closed");
-            return;
-        }
-        if (n == 0)
-            return;
-        if ((ev = app_link_bytes(s->app, buf, (size_t)n, now)) != APP_LINK_NONE) {
-            handle(s, ev, now);
-            return;
-        }
-    }
+    struct source_link *s = self;
+    link_describe(&s->link, s->desc, sizeof(s->desc));
+    if (app_device_up(s->app, now) != HOST_OK)
+        drop(s, now, "write failed");
 }
 
-/* What the link did: up (probe the device), failed (said; it retries), readable, hung up. */
-static void on_link(struct source_link *s, int ev, const char *err, int64_t now)
+static void ep_failed(void *self, const char *err, int64_t now)
 {
-    switch (ev) {
-    case LINK_EV_UP:
-        link_describe(&s->link, s->desc, sizeof(s->desc));
-        if (app_link_up(s->app, now) != HOST_OK)
-            drop(s, now, "write failed");
-        break;
-    case LINK_EV_FAILED:
-        warn(s, "%s; retrying in %g s", err, LINK_RETRY_US * 1e-6);
-        break;
-    case LINK_EV_DATA:
-        read_link(s, now);
-        break;
-    case LINK_EV_HUNGUP:
-        drop(s, now, "hung up");
-        break;
-    default:
-        break;
-    }
+    struct source_link *s = self;
+    (void)now;
+    warn(s, "%s; retrying in %g s", err, LINK_RETRY_US * 1e-6);
 }
+
+/* Read on until the device has something to say, or until the app has its sweeps, so that signals, timers and
+ * --sweeps are served (while stopping it reads on: motor_off's ack comes this way). */
+static int ep_bytes(void *self, const uint8_t *buf, size_t n, int64_t now)
+{
+    struct source_link *s = self;
+    const int was_done = app_done(s->app);
+    int ev = app_device_bytes(s->app, buf, n, now);
+    if (ev != APP_DEVICE_NONE) {
+        handle(s, ev, now);
+        return 0;
+    }
+    return was_done || !app_done(s->app);
+}
+
+static void ep_lost(void *self, int64_t now, const char *why)
+{
+    drop(self, now, why);
+}
+
+static const struct link_endpoint_ops endpoint = {ep_up, ep_failed, ep_bytes, ep_lost, 0};
 
 void source_link_start(struct source_link *s, struct app *a, int64_t now_us)
 {
@@ -131,24 +122,19 @@ int source_link_fd(const struct source_link *s, short *events)
 
 void source_link_ready(struct source_link *s, short revents, int64_t now)
 {
-    char err[256];
-    int ev = link_service_fd(&s->link, revents, now, err, sizeof(err));
-    on_link(s, ev, err, now);
+    link_serve_fd(&s->link, revents, now, &endpoint, s);
 }
 
 int64_t source_link_timers(struct source_link *s, int64_t now)
 {
-    char err[256];
     int64_t wake, t;
     if (s->link.fd < 0 && s->stopping) {
         s->stopped = 1;
         return INT64_MAX;
     }
     if (s->link.fd >= 0 && !s->link.connecting)
-        handle(s, app_link_poll(s->app, now), now);
-    /* Reopens when due, and steps a line break. */
-    on_link(s, link_service_timers(&s->link, now, err, sizeof(err)), err, now);
-    wake = link_wake(&s->link);
+        handle(s, app_device_poll(s->app, now), now);
+    wake = link_serve_timers(&s->link, now, &endpoint, s); /* reopens when due, steps a line break */
     if (s->link.fd >= 0 && (t = app_deadline(s->app)) < wake)
         wake = t;
     return wake;
@@ -164,7 +150,7 @@ void source_link_stop(struct source_link *s, int64_t now)
     }
     say(s, link_device_state(s) == SONAR_P360_PASSIVE ? "stopping (passive: the head is its driver's; nothing sent)"
                                                       : "stopping: motor_off");
-    r = app_link_stop(s->app, now);
+    r = app_device_stop(s->app, now);
     if (r != 0) /* already stopped, or the request could not be sent */
         s->stopped = 1;
 }

@@ -179,7 +179,7 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
                 fprintf(errf, "%s:%lu: %s; row skipped\n", r->csv.path, r->csv.line, host_err_str(pr));
         }
     }
-    if (app_finish(a) != SONAR_OK && errf != NULL)
+    if (app_finish(a) != HOST_OK && errf != NULL)
         fprintf(errf, "sonard: finishing the last sweep failed\n");
     if (r->progress && errf != NULL)
         show_progress(r, a, errf, t0, size, 1);

@@ -312,7 +312,7 @@ int main(void)
         struct sonar_detection o;
         int64_t t1, t2, t3, t4;
         t1 = board_micros();
-        sonar_det_link(&b.det);
+        sonar_det_join(&b.det);
         t2 = board_micros();
         k = sonar_det_seed(&b.det, c, part, &groups);
         t3 = board_micros();

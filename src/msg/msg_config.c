@@ -44,9 +44,9 @@ void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipelin
     c->min_threshold = p->detector.min_threshold;
     c->max_clusters = p->detector.max_clusters;
     c->iterations = p->detector.iterations;
-    c->link_beams = p->detector.link_beams;
+    c->join_beams = p->detector.join_beams;
     c->min_points = p->detector.min_points;
-    c->link_m = p->detector.link_m;
+    c->join_m = p->detector.join_m;
     c->angle_offset = p->detector.angle_offset;
     c->min_beams = p->detector.min_beams;
     c->max_extent_m = p->detector.max_extent_m;
@@ -122,9 +122,9 @@ void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_
     p->detector.min_threshold = to_u8(c->min_threshold, 255);
     p->detector.max_clusters = to_u8(c->max_clusters, 0);
     p->detector.iterations = to_u8(c->iterations, 0);
-    p->detector.link_beams = to_u8(c->link_beams, 0);
+    p->detector.join_beams = to_u8(c->join_beams, 0);
     p->detector.min_points = to_u16(c->min_points, 0);
-    p->detector.link_m = c->link_m;
+    p->detector.join_m = c->join_m;
     p->detector.angle_offset = c->angle_offset;
     p->detector.min_beams = to_u8(c->min_beams, 255);
     p->detector.max_extent_m = c->max_extent_m;

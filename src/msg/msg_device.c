@@ -64,7 +64,7 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->retries = s->driver.retries;
     m->nacks = s->driver.nacks;
     m->reconnects = s->driver.reconnects;
-    m->stale = s->driver.stale;
+    m->off_angle = s->driver.off_angle;
     m->foreign = s->driver.foreign;
     m->beams = s->driver.beams;
     m->sweeps = s->sweeps;
@@ -144,7 +144,7 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->driver.retries = to_u32(m->retries);
     s->driver.nacks = to_u32(m->nacks);
     s->driver.reconnects = to_u32(m->reconnects);
-    s->driver.stale = to_u32(m->stale);
+    s->driver.off_angle = to_u32(m->off_angle);
     s->driver.foreign = to_u32(m->foreign);
     s->driver.beams = to_u32(m->beams);
     s->sweeps = to_u32(m->sweeps);

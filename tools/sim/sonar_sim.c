@@ -62,7 +62,7 @@ static const struct opt_spec sim_spec[] = {
 
 int main(int argc, char **argv)
 {
-    const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim"};
+    const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim", NULL, 0};
     struct sim_opts o = {"pool", NULL, NULL, NULL, -1, 0, 0};
     const char *scene_name, *csv_path, *truth_path;
     struct scene s;

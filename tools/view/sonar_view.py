@@ -90,7 +90,7 @@ def pack_beam(m):
 
 def status_json(m, hub):
     keys = ["link_state", "link", "fw_major", "fw_minor", "fw_patch", "frames", "checksum_errors", "resyncs",
-            "oversize", "bytes_dropped", "timeouts", "retries", "nacks", "reconnects", "stale", "foreign", "beams", "sweeps",
+            "oversize", "bytes_dropped", "timeouts", "retries", "nacks", "reconnects", "off_angle", "foreign", "beams", "sweeps",
             "beams_rejected", "sink_errors", "last_sweep_s", "beam_us_p50", "beam_us_p99", "tracks", "pose_state",
             "passive", "passive_idle"]
     out = {k: getattr(m, k) for k in keys}

@@ -157,7 +157,7 @@ setInterval(() => {
     h += row("processing a beam p50 / p99", `${st.beam_us_p50.toFixed(1)} / ${st.beam_us_p99.toFixed(1)} µs`);
     h += row("sweeps", st.sweeps);
     h += row("tracks", st.tracks);
-    for (const k of ["checksum_errors", "timeouts", "retries", "nacks", "reconnects", "stale", "beams_rejected", "sink_errors"])
+    for (const k of ["checksum_errors", "timeouts", "retries", "nacks", "reconnects", "off_angle", "beams_rejected", "sink_errors"])
       h += row(k.replace("_", " "), st[k], st[k] > 0 && k !== "retries");
   }
   h += row("beams / s", beamTimes.length);

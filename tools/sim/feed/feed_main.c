@@ -163,7 +163,7 @@ static void usage(const struct opt_schema *s)
 int main(int argc, char **argv)
 {
     static struct feed f;
-    const struct opt_schema schema = {feed_spec, sizeof(feed_spec) / sizeof(feed_spec[0]), "sonar_feed"};
+    const struct opt_schema schema = {feed_spec, sizeof(feed_spec) / sizeof(feed_spec[0]), "sonar_feed", NULL, 0};
     const char *csv, *scene;
     double range, t0;
     char err[256];

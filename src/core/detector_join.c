@@ -1,4 +1,4 @@
-/* detector_link.c -- stage 2: runs that touch become groups (union-find, beam-by-beam sorted merges, wrap-around on full turns); O(runs x link_beams) per sweep. */
+/* detector_join.c -- stage 2: runs that touch become groups (union-find, beam-by-beam sorted merges, wrap-around on full turns); O(runs x join_beams) per sweep. */
 #include "detector_internal.h"
 
 uint16_t sonar_det_find(struct sonar_detector_run *r, uint16_t i)
@@ -34,7 +34,7 @@ static int touch(const struct sonar_detector *d, uint16_t a, uint16_t b, uint32_
  * first meets every touching pair or one that joins the same groups through a neighbour in its own
  * beam (linked below): O(length of both lists).
  */
-static void link_beams(struct sonar_detector *d, uint16_t a, uint16_t ae, uint16_t b, uint16_t be, uint32_t gap)
+static void join_pair(struct sonar_detector *d, uint16_t a, uint16_t ae, uint16_t b, uint16_t be, uint32_t gap)
 {
     while (a < ae && b < be) {
         uint32_t ea = (uint32_t)d->runs[a].start + d->pts[a].w, eb = (uint32_t)d->runs[b].start + d->pts[b].w;
@@ -47,10 +47,10 @@ static void link_beams(struct sonar_detector *d, uint16_t a, uint16_t ae, uint16
     }
 }
 
-void sonar_det_link(struct sonar_detector *d)
+void sonar_det_join(struct sonar_detector *d)
 {
-    uint32_t gap = (uint32_t)((double)d->cfg.link_m * (double)d->n / (double)d->range_m);
-    uint16_t i, e, lb = d->cfg.link_beams;
+    uint32_t gap = (uint32_t)((double)d->cfg.join_m * (double)d->n / (double)d->range_m);
+    uint16_t i, e, lb = d->cfg.join_beams;
     /* Runs are stored beam by beam, each beam's in range order: link each beam to itself and to the lb before it. */
     for (i = 0; i < d->nruns; i = e) {
         uint16_t beam = d->runs[i].beam, p1 = i;
@@ -61,7 +61,7 @@ void sonar_det_link(struct sonar_detector *d)
             uint16_t p0 = (uint16_t)(p1 - 1u), pb = d->runs[p0].beam;
             while (p0 > 0 && d->runs[p0 - 1u].beam == pb)
                 p0--;
-            link_beams(d, p0, p1, i, e, gap);
+            join_pair(d, p0, p1, i, e, gap);
             p1 = p0;
         }
     }
@@ -82,7 +82,7 @@ void sonar_det_link(struct sonar_detector *d)
                 for (b1 = (uint16_t)(b0 + 1u); b1 < a0 && d->runs[b1].beam == bb; b1++)
                     ;
                 if (sonar_frame_gap(d->angles[ab], d->angles[bb]) <= reach)
-                    link_beams(d, b0, b1, a0, a1, gap);
+                    join_pair(d, b0, b1, a0, a1, gap);
                 b0 = b1;
             }
             a1 = a0;
