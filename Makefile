@@ -221,14 +221,15 @@ $(BUILD)/config_doc: tools/build/config_doc.c $(BUILD)/libsonarhost.a $(BUILD)/l
 	$(CC) $(HOST_CFLAGS) $(INPUTS) -o $@ $(LDLIBS)
 
 ## docs: regenerate docs/configuration.md from the option table (src/host/options.c) and docs/sizes.md from sizeof
-docs: $(BUILD)/config_doc
+docs: $(BUILD)/config_doc $(BUILD)/lcm/.stamp
 	$(BUILD)/config_doc docs/configuration.md.in > docs/configuration.md
 	sh tools/build/sizes.sh $(BUILD) > docs/sizes.md
 
-## docs-check: fail when docs/configuration.md differs from what the option table generates
-docs-check: $(BUILD)/config_doc
+## docs-check: fail when docs/configuration.md differs from what the option table generates, docs/sizes.md from sizeof, or a header's RAM figure from either
+docs-check: $(BUILD)/config_doc $(BUILD)/lcm/.stamp
 	@$(BUILD)/config_doc docs/configuration.md.in | diff -u docs/configuration.md - && echo "docs-check: docs/configuration.md matches the option table"
 	@sh tools/build/sizes.sh $(BUILD) | diff -u docs/sizes.md - && echo "docs-check: docs/sizes.md matches sizeof on the M7 and this host"
+	@python3 tools/build/ram_check.py docs/sizes.md
 
 ## e2e: simulate the pool and open-water scenes, replay them, score against the truth
 e2e: all

@@ -1,4 +1,4 @@
-/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: about (SONAR_MAX_ANGLES + 1) * (SONAR_MAX_SAMPLES + 1) B (docs/sizes.md). */
+/* background.h -- per-angle (or per-range) approximate running median of the echo, subtracted and clamped at 0; RAM: sizeof(struct sonar_background) = 481 632 B at the default limits, SONAR_MAX_ANGLES + 1 rows of SONAR_MAX_SAMPLES + 1 B. */
 #ifndef SONAR_BACKGROUND_H
 #define SONAR_BACKGROUND_H
 

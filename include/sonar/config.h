@@ -4,17 +4,17 @@
 
 /*
  * Angular cells of the per-angle background. The head has 400 gradian positions; with fewer
- * cells, angle a maps to cell a * SONAR_MAX_ANGLES / 400. RAM: SONAR_MAX_ANGLES *
- * (SONAR_MAX_SAMPLES + 1) bytes in struct sonar_background (480 400 B at 400 x 1200, plus its other fields:
- * docs/sizes.md has the whole).
+ * cells, angle a maps to cell a * SONAR_MAX_ANGLES / 400. RAM: SONAR_MAX_ANGLES rows of SONAR_MAX_SAMPLES + 1
+ * bytes, SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES + SONAR_MAX_ANGLES = 480 400 B, in
+ * sizeof(struct sonar_background) = 481 632 B.
  */
 #ifndef SONAR_MAX_ANGLES
 #define SONAR_MAX_ANGLES 400
 #endif
 
 /*
- * Samples per beam (the Ping360 sends 200..1200). RAM: the background above, plus
- * (SONAR_MAX_MEDIAN2D + 2) * SONAR_MAX_SAMPLES bytes of beam buffers in struct sonar_pipeline.
+ * Samples per beam (the Ping360 sends 200..1200). RAM: the background above, the 2-D median's rows
+ * (below), and two beams in struct sonar_pipeline: 2 * SONAR_MAX_SAMPLES = 2 400 B.
  */
 #ifndef SONAR_MAX_SAMPLES
 #define SONAR_MAX_SAMPLES 1200
@@ -25,12 +25,12 @@
 #define SONAR_MAX_MEDIAN 9
 #endif
 
-/* Largest K of the K x K median over adjacent beams (3 or 5). RAM: K * (SONAR_MAX_SAMPLES + 28) bytes. */
+/* Largest K of the K x K median over adjacent beams (3 or 5). RAM: sizeof(struct sonar_median2d) = 6 120 B (median.h). */
 #ifndef SONAR_MAX_MEDIAN2D
 #define SONAR_MAX_MEDIAN2D 5
 #endif
 
-/* Largest Ping Protocol payload accepted; Ping360's largest is 1220. RAM: payload + 40 bytes per parser. */
+/* Largest Ping Protocol payload accepted; Ping360's largest is 1220. RAM: SONAR_PING_MAX_PAYLOAD + 40 = 2 088 B a parser. */
 #ifndef SONAR_PING_MAX_PAYLOAD
 #define SONAR_PING_MAX_PAYLOAD 2048
 #endif
@@ -42,7 +42,8 @@
 
 /*
  * Foreground runs (contiguous above-threshold samples of one beam) kept per sweep; more are
- * counted as dropped. RAM: 25 bytes each (24 250 B at 970). The most any recording or scene gives
+ * counted as dropped. RAM: sizeof(struct sonar_point) + sizeof(struct sonar_detector_run) + 1 = 25 B each (a
+ * centre, the run, a label), SONAR_MAX_RUNS * 25 = 24 250 B. The most any recording or scene gives
  * is 904 (AquaScan sonar4 with the per-angle background and global threshold; 422 under the
  * defaults); 970 rather than 1024 leaves room in 512 KB for the CFAR's beam of block sums and the
  * structure rule's places.
@@ -51,7 +52,7 @@
 #define SONAR_MAX_RUNS 970
 #endif
 
-/* Clusters k-means may use per sweep, and detections reported. RAM: 24 + SONAR_MAX_HULL * 8 + 16 bytes each. */
+/* Clusters k-means may use per sweep, and detections reported. RAM: sizeof(struct sonar_detection) = 168 B each. */
 #ifndef SONAR_MAX_CLUSTERS
 #define SONAR_MAX_CLUSTERS 16
 #endif
@@ -68,22 +69,24 @@
 
 /*
  * Places the structure rule keeps (structure.h): where detections at a first look stand, to learn
- * what stood there since. RAM: 32 bytes each (512 B at 16) in struct sonar_pipeline; at most 32.
+ * what stood there since. RAM: sizeof(struct sonar_place) = 40 B each, SONAR_MAX_PLACES * 40 = 640 B, in struct
+ * sonar_pipeline; at most 32.
  */
 #ifndef SONAR_MAX_PLACES
 #define SONAR_MAX_PLACES 16
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: 64 bytes each (2 048 B at 32); an update's
- * SONAR_MAX_CLUSTERS x SONAR_MAX_TRACKS float cost matrix is on the stack (2 048 B).
+ * Tracks the tracker keeps (tracker.h). RAM: sizeof(struct sonar_track) = 64 B each, SONAR_MAX_TRACKS * 64 =
+ * 2 048 B; an update's float cost matrix is on the stack, SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B.
  */
 #ifndef SONAR_MAX_TRACKS
 #define SONAR_MAX_TRACKS 32
 #endif
 
 /*
- * Vehicle poses kept for interpolation (pose.h). RAM: 24 bytes each (24 576 B at 1024), in the
+ * Vehicle poses kept for interpolation (pose.h). RAM: sizeof(struct sonar_pose) = 24 B each,
+ * SONAR_MAX_POSES * 24 = 24 576 B, in the
  * host's app (the pipeline holds a pointer); at one stored every 50 ms they span 51 s, so a
  * detection from early in a 40 s turn still finds its pose. 200 ms samples cut the corner of a
  * heading that reverses at 30 degrees/s by up to 3 degrees, half a metre at 10 m.
@@ -94,7 +97,8 @@
 
 /*
  * Echoes the obstacle map (obstacle.h) remembers: one a beam, so a sweep of 1-gradian beams and a
- * fifth more, as the map ages them after 1.2 sweeps. RAM: 40 bytes each (20 480 B at 512) in
+ * fifth more, as the map ages them after 1.2 sweeps. RAM: sizeof(struct sonar_obstacle_echo) = 40 B each,
+ * SONAR_MAX_OBS_ECHOES * 40 = 20 480 B, in
  * struct sonar_obstacle, which only the host's MAVLink endpoint holds.
  */
 #ifndef SONAR_MAX_OBS_ECHOES

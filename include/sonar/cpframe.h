@@ -1,4 +1,4 @@
-/* cpframe.h -- the co-processor link's frame (docs/coprocessor.md): sync, channel, length, payload, CRC-32; encoder and an incremental, resyncing parser; RAM: struct sonar_cpf_parser ~ SONAR_CPF_MAX_PAYLOAD + 32 B. */
+/* cpframe.h -- the co-processor link's frame (docs/coprocessor.md): sync, channel, length, payload, CRC-32; encoder and an incremental, resyncing parser; RAM: sizeof(struct sonar_cpf_parser) = 4 128 B (one frame). */
 #ifndef SONAR_CPFRAME_H
 #define SONAR_CPFRAME_H
 

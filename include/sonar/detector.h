@@ -1,4 +1,4 @@
-/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: struct sonar_detector, mostly 24 B a run (SONAR_MAX_RUNS; docs/sizes.md). */
+/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: sizeof(struct sonar_detector) = 26 136 B, mostly 25 B a run (SONAR_MAX_RUNS; config.h). */
 #ifndef SONAR_DETECTOR_H
 #define SONAR_DETECTOR_H
 

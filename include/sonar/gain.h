@@ -1,4 +1,4 @@
-/* gain.h -- automatic receiver gain for the Ping360's three settings, from each sweep's raw echo statistics, with hysteresis; RAM: struct sonar_gain, a 256-bin histogram (1 KiB) and a few counters. */
+/* gain.h -- automatic receiver gain for the Ping360's three settings, from each sweep's raw echo statistics, with hysteresis; RAM: sizeof(struct sonar_gain) = 1 064 B, a 256-bin histogram and a few counters. */
 #ifndef SONAR_GAIN_H
 #define SONAR_GAIN_H
 

@@ -1,4 +1,4 @@
-/* median.h -- 1-D median along a beam and K x K median over adjacent beams, bit-exact with OpenCV medianBlur (replicated edges); RAM: struct sonar_median2d, K rows of SONAR_MAX_SAMPLES + K - 1 B and 16 B of metadata each, plus 16 B (docs/sizes.md). */
+/* median.h -- 1-D median along a beam and K x K median over adjacent beams, bit-exact with OpenCV medianBlur (replicated edges); RAM: sizeof(struct sonar_median2d) = 6 120 B, K rows of SONAR_MAX_SAMPLES + K - 1 B and 16 B of metadata each, plus 16 B. */
 #ifndef SONAR_MEDIAN_H
 #define SONAR_MEDIAN_H
 

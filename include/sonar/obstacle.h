@@ -1,4 +1,4 @@
-/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: struct sonar_obstacle = 2 x SONAR_MAX_SAMPLES + 40 x SONAR_MAX_OBS_ECHOES + 72 x 24 B + 48 B (docs/sizes.md). */
+/* obstacle.h -- the autopilot's view: the nearest echo above the noise floor in each 5-degree sector of the sonar frame, walls included, aged by sweeps; RAM: 2 * SONAR_MAX_SAMPLES + SONAR_MAX_OBS_ECHOES * sizeof(struct sonar_obstacle_echo) + 72 * sizeof(struct sonar_obstacle_sector) + 48 = 24 656 B. */
 #ifndef SONAR_OBSTACLE_H
 #define SONAR_OBSTACLE_H
 

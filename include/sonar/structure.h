@@ -1,4 +1,4 @@
-/* structure.h -- static echoes learnt as structure: places where detections stand still since the first look, promoted after structure_s; RAM: struct sonar_structure, 32 B a place (SONAR_MAX_PLACES; docs/sizes.md). */
+/* structure.h -- static echoes learnt as structure: places where detections stand still since the first look, promoted after structure_s; RAM: sizeof(struct sonar_place) = 40 B a place (SONAR_MAX_PLACES), sizeof(struct sonar_structure) = 672 B. */
 #ifndef SONAR_STRUCTURE_H
 #define SONAR_STRUCTURE_H
 

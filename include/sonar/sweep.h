@@ -1,4 +1,4 @@
-/* sweep.h -- finds sweep boundaries in the sequence of beam angles (wrap, jump, direction reversal); RAM: 16 B. */
+/* sweep.h -- finds sweep boundaries in the sequence of beam angles (wrap, jump, direction reversal); RAM: sizeof(struct sonar_sweep) = 16 B. */
 #ifndef SONAR_SWEEP_H
 #define SONAR_SWEEP_H
 

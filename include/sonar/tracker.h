@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: struct sonar_tracker, 64 B a track (SONAR_MAX_TRACKS; docs/sizes.md); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: sizeof(struct sonar_track) = 64 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 2 136 B; stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 

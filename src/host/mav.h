@@ -1,4 +1,4 @@
-/* mav.h -- the autopilot's MAVLink endpoint: its HEARTBEAT, ATTITUDE and LOCAL_POSITION_NED in (the pose asked for at a rate), OBSTACLE_DISTANCE (fail-closed, ArduPilot's faces contiguous), OBSTACLE_DISTANCE_3D and HEARTBEAT out; ~4 KB plus the obstacle map (obstacle.h). */
+/* mav.h -- the autopilot's MAVLink endpoint: its HEARTBEAT, ATTITUDE and LOCAL_POSITION_NED in (the pose asked for at a rate), OBSTACLE_DISTANCE (fail-closed, ArduPilot's faces contiguous), OBSTACLE_DISTANCE_3D and HEARTBEAT out; sizeof(struct mav) = 28 488 B, most of it the obstacle map (obstacle.h). */
 #ifndef SONARD_MAV_H
 #define SONARD_MAV_H
 

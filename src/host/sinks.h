@@ -1,4 +1,4 @@
-/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (~17 KB for LCM), no heap per message. */
+/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 816 B), no heap per message. */
 #ifndef SONARD_SINKS_H
 #define SONARD_SINKS_H
 

@@ -1,4 +1,4 @@
-/* source_coproc.h -- the co-processor source: frames from the firmware on a serial, TCP or UDP link, CRC-checked, decoded and republished through the app's sinks; the options are pushed to it as a sonar.config_t; ~4.2 KB (one frame) plus the link. */
+/* source_coproc.h -- the co-processor source: frames from the firmware on a serial, TCP or UDP link, CRC-checked, decoded and republished through the app's sinks; the options are pushed to it as a sonar.config_t; sizeof(struct source_coproc) = 5 696 B (one frame and the link). */
 #ifndef SONARD_SOURCE_COPROC_H
 #define SONARD_SOURCE_COPROC_H
 

@@ -1,4 +1,4 @@
-/* source_link.h -- the live source: a Ping360 on a serial, UDP or TCP link feeding the app core; reconnect with backoff, serial auto-baud; ~0.5 KB plus a 4 KB read buffer on the stack. */
+/* source_link.h -- the live source: a Ping360 on a serial, UDP or TCP link feeding the app core; reconnect with backoff, serial auto-baud; sizeof(struct source_link) = 768 B, and a 4 KB read buffer on the stack (link_serve_*). */
 #ifndef SONARD_SOURCE_LINK_H
 #define SONARD_SOURCE_LINK_H
 

@@ -1,4 +1,4 @@
-/* main.c -- the co-processor firmware: the core's Ping360 driver and pipeline on UART0, co-processor frames of LCM messages on UART1 (docs/coprocessor.md); no heap, no OS; RAM: struct fw ~ 545 KB at 400 x 1200. */
+/* main.c -- the co-processor firmware: the core's Ping360 driver and pipeline on UART0, co-processor frames of LCM messages on UART1 (docs/coprocessor.md); no heap, no OS; RAM: struct fw (the pipeline, a frame, the device) and the background in the board's large bank, as `make firmware` prints them bank by bank. */
 #include <string.h>
 
 #include "board.h"
@@ -210,8 +210,8 @@ static void sonar_in(struct fw *f, int64_t now)
 
 int main(void)
 {
-    static struct fw f;                          /* ~80 KB: main's own, not a shared global */
-    static struct sonar_background bg BOARD_LARGE; /* ~480 KB at 400 x 1200 */
+    static struct fw f;                          /* main's own, not a shared global */
+    static struct sonar_background bg BOARD_LARGE; /* sizeof(struct sonar_background): docs/sizes.md */
     int64_t now;
     board_init();
     memset(&f, 0, sizeof(f));

@@ -13,6 +13,7 @@
 #include "sonar/gain.h"
 #include "sonar/scan.h"
 #include "sonar/sweep.h"
+#include "sonar/structure.h"
 #include "sonar/tracker.h"
 
 /* One array per struct: sizeof_<header>__<struct>. */
@@ -35,3 +36,13 @@ SIZE(device, sonar_device)
 SIZE(status, sonar_status)
 SIZE(cpframe, sonar_cpf_parser)
 SIZE(pipeline, sonar_pipeline_config)
+/* What the limits in config.h multiply: a run, a detection, a place, a track, a pose, an echo. */
+SIZE(kmeans, sonar_point)
+SIZE(frame, sonar_xy)
+SIZE(detector, sonar_detector_run)
+SIZE(detector, sonar_detection)
+SIZE(structure, sonar_place)
+SIZE(structure, sonar_structure)
+SIZE(pose, sonar_pose)
+SIZE(obstacle, sonar_obstacle_echo)
+SIZE(obstacle, sonar_obstacle_sector)
