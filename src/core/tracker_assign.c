@@ -139,6 +139,67 @@ static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track 
     return d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
 }
 
+/* Squared distance, m^2, from t's prediction to the time of o to where o is. */
+static float pred_d2(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                     int *clipped)
+{
+    float dt = sonar_trk_step_s(tk, t, o->utime, clipped), ex, ey;
+    ex = o->x_m - (t->px + t->vx * dt);
+    ey = o->y_m - (t->py + t->vy * dt);
+    return ex * ex + ey * ey;
+}
+
+/* Whether detection row jj was given a track (a gated pair, not a fresh start). */
+static int assigned(const float (*cost)[SONAR_MAX_TRACKS], const int8_t *row_col, unsigned jj, uint8_t nc)
+{
+    return row_col[jj] >= 0 && (unsigned)row_col[jj] < nc && cost[jj][row_col[jj]] < (float)BIG;
+}
+
+/*
+ * Two objects seen as one: a track whose prediction falls on a detection another track took, much
+ * nearer than the one it was given, is on a merged echo (swimmers crossing); it coasts through it
+ * rather than jumping to a farther detection that is someone else's. A track left without a
+ * detection whose prediction lies on one another track took is merged too, kept from the
+ * manoeuvre pass. Marks them SONAR_TRK_MERGED (no later pass may move them) and unassigns them.
+ */
+static void find_merged(struct sonar_tracker *tk, const float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
+                        const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl, int8_t *row_col, int *clipped)
+{
+    uint8_t i, k;
+    unsigned jj;
+    for (i = 0; i < nl; i++) {
+        float own;
+        if (!assigned(cost, row_col, i, nc))
+            continue;
+        k = (uint8_t)row_col[i];
+        own = pred_d2(tk, &tk->t[cand[k]], &obs[left[i]], clipped);
+        for (jj = 0; jj < nl; jj++) {
+            float d2;
+            if (jj == i || !assigned(cost, row_col, jj, nc))
+                continue;
+            d2 = pred_d2(tk, &tk->t[cand[k]], &obs[left[jj]], clipped);
+            if (d2 < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M && 4.0f * d2 < own) {
+                row_col[i] = -1;
+                tk->t[cand[k]].det = SONAR_TRK_MERGED;
+                break;
+            }
+        }
+    }
+    for (k = 0; k < nc; k++) {
+        struct sonar_track *t = &tk->t[cand[k]];
+        for (jj = 0; jj < nl && row_col[jj] != (int8_t)k; jj++)
+            ;
+        if (jj < nl || t->det == SONAR_TRK_MERGED)
+            continue;
+        for (jj = 0; jj < nl; jj++)
+            if (assigned(cost, row_col, jj, nc) &&
+                pred_d2(tk, t, &obs[left[jj]], clipped) < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M) {
+                t->det = SONAR_TRK_MERGED;
+                break;
+            }
+    }
+}
+
 /*
  * One assignment of detections left[0 .. nl) to tracks cand[0 .. nc) under noise q; each pair
  * gated, each detection free to start a track instead at more than any gated pair costs (S <=
@@ -164,63 +225,10 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
     c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + SONAR_TRK_LOST_M2 / r2);
     hungarian(&c, nl, (unsigned)nc + nl, row_col);
     if (merge)
-        for (i = 0; i < nl; i++) {
-            /*
-             * Two objects seen as one: a track whose prediction falls on a detection another track
-             * took, much nearer than the one it was given, is on a merged echo (swimmers crossing);
-             * it coasts through it rather than jumping to a farther detection that is someone else's.
-             */
-            const struct sonar_track *t;
-            float ex, ey, own, dt;
-            unsigned jj;
-            k = (uint8_t)row_col[i];
-            if (k >= nc || cost[i][k] >= (float)BIG)
-                continue;
-            t = &tk->t[cand[k]];
-            dt = sonar_trk_step_s(tk, t, obs[left[i]].utime, clipped);
-            ex = obs[left[i]].x_m - (t->px + t->vx * dt);
-            ey = obs[left[i]].y_m - (t->py + t->vy * dt);
-            own = ex * ex + ey * ey;
-            for (jj = 0; jj < nl; jj++) {
-                float d2;
-                if (jj == i || row_col[jj] < 0 || (unsigned)row_col[jj] >= nc || cost[jj][row_col[jj]] >= (float)BIG)
-                    continue;
-                dt = sonar_trk_step_s(tk, t, obs[left[jj]].utime, clipped);
-                ex = obs[left[jj]].x_m - (t->px + t->vx * dt);
-                ey = obs[left[jj]].y_m - (t->py + t->vy * dt);
-                d2 = ex * ex + ey * ey;
-                if (d2 < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M && 4.0f * d2 < own) {
-                    row_col[i] = -1;
-                    tk->t[cand[k]].det = SONAR_TRK_MERGED; /* no later pass may move it either */
-                    break;
-                }
-            }
-        }
-    if (merge)
-        for (k = 0; k < nc; k++) {
-            /* Left without a detection, its prediction on one another track took: merged too, kept from the manoeuvre pass. */
-            struct sonar_track *t = &tk->t[cand[k]];
-            unsigned jj;
-            for (jj = 0; jj < nl && row_col[jj] != (int8_t)k; jj++)
-                ;
-            if (jj < nl || t->det == SONAR_TRK_MERGED)
-                continue;
-            for (jj = 0; jj < nl; jj++) {
-                float ex, ey, dt;
-                if (row_col[jj] < 0 || (unsigned)row_col[jj] >= nc || cost[jj][row_col[jj]] >= (float)BIG)
-                    continue;
-                dt = sonar_trk_step_s(tk, t, obs[left[jj]].utime, clipped);
-                ex = obs[left[jj]].x_m - (t->px + t->vx * dt);
-                ey = obs[left[jj]].y_m - (t->py + t->vy * dt);
-                if (ex * ex + ey * ey < SONAR_TRK_MERGE_M * SONAR_TRK_MERGE_M) {
-                    t->det = SONAR_TRK_MERGED;
-                    break;
-                }
-            }
-        }
+        find_merged(tk, (const float (*)[SONAR_MAX_TRACKS])cost, cand, nc, obs, left, nl, row_col, clipped);
     for (i = 0; i < nl; i++) {
         k = (uint8_t)row_col[i];
-        if (row_col[i] >= 0 && k < nc && cost[i][k] < (float)BIG)
+        if (assigned((const float (*)[SONAR_MAX_TRACKS])cost, row_col, i, nc))
             sonar_trk_hit(tk, &tk->t[cand[k]], &obs[left[i]], left[i], q, r2, clipped);
         else
             left[m++] = left[i];

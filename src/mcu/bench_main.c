@@ -240,45 +240,69 @@ static int64_t scan_us(void)
     return (board_micros() - t0) / 400;
 }
 
-int main(void)
+/* The typical sweep's figures: per-beam stages (us over the sweep) and the detection at its end. */
+struct typical {
+    int64_t beam_us, det_us, t_med, t_bg, t_add;
+    int count;
+};
+
+/* Two sweeps seed the background, one sets the threshold; the fourth is timed. 0, or the exit code. */
+static int typical_sweeps(struct bench *b, struct typical *ty)
 {
-    static struct bench b; /* main's own */
-    struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
-    struct sonar_detector_config dc = det_cfg();
-    int64_t t0, beam_us = 0, det_us = 0, worst_us, t_med = 0, t_bg = 0, t_add = 0;
-    int s, i, typical = 0;
-    board_init();
-    b.rng = 42;
-    if (sonar_background_init(&b.bg, &bc) != SONAR_OK || sonar_detector_init(&b.det, &dc) != SONAR_OK)
-        return 1;
-    /* Two sweeps seed the background, one sets the threshold; the fourth is timed. */
+    int64_t t0;
+    int s, i;
     for (s = 0; s < 4; s++) {
-        make_sweep(&b, s);
-        t_med = t_bg = t_add = 0;
+        make_sweep(b, s);
+        ty->t_med = ty->t_bg = ty->t_add = 0;
         t0 = board_micros();
         for (i = 0; i < BENCH_BEAMS; i++) {
             /* Each stage timed too; the clock reads (tens of instructions) are inside the total. */
             int64_t a = board_micros(), m, g;
-            if (sonar_median_1d(b.sweep[i], b.filt, BENCH_N, 5) != SONAR_OK)
+            if (sonar_median_1d(b->sweep[i], b->filt, BENCH_N, 5) != SONAR_OK)
                 return 2;
             m = board_micros();
-            if (sonar_background_apply(&b.bg, (uint16_t)(i * 400 / BENCH_BEAMS), b.filt, b.fg, BENCH_N) != SONAR_OK)
+            if (sonar_background_apply(&b->bg, (uint16_t)(i * 400 / BENCH_BEAMS), b->filt, b->fg, BENCH_N) != SONAR_OK)
                 return 2;
             g = board_micros();
-            if (sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.fg, BENCH_N, 20.0f, 0) != SONAR_OK)
+            if (sonar_detector_add(&b->det, (uint16_t)(i * 400 / BENCH_BEAMS), b->fg, BENCH_N, 20.0f, 0) != SONAR_OK)
                 return 2;
-            t_med += m - a;
-            t_bg += g - m;
-            t_add += board_micros() - g;
+            ty->t_med += m - a;
+            ty->t_bg += g - m;
+            ty->t_add += board_micros() - g;
         }
-        beam_us = board_micros() - t0;
+        ty->beam_us = board_micros() - t0;
         t0 = board_micros();
-        if (sonar_detector_end(&b.det, &b.out) < 0)
+        if (sonar_detector_end(&b->det, &b->out) < 0)
             return 3;
-        det_us = board_micros() - t0;
-        typical = b.out.count;
+        ty->det_us = board_micros() - t0;
+        ty->count = b->out.count;
     }
-    /* The detector's worst case: the run table full, every rule on, wide groups cut into the most pieces. */
+    return 0;
+}
+
+/* The last sweep again under the detector's worst case: the run table full, every rule on, wide groups cut into the most pieces. */
+static int worst_sweep_in(struct bench *b, const struct sonar_detector_config *dc)
+{
+    int i;
+    if (sonar_detector_init(&b->det, dc) != SONAR_OK)
+        return 4;
+    for (i = 0; i < BENCH_BEAMS; i++)
+        if (sonar_detector_add(&b->det, (uint16_t)(i * 400 / BENCH_BEAMS), b->sweep[i], BENCH_N, 20.0f, 0) != SONAR_OK)
+            return 5;
+    return 0;
+}
+
+/* The worst case whole (*worst_us), then stage by stage in sonar_detector_end's order, each put. 0, or the exit code. */
+static int worst_sweep(struct bench *b, int64_t *worst_us)
+{
+    struct sonar_detector_config dc = det_cfg();
+    struct sonar_xy c[SONAR_MAX_CLUSTERS], at;
+    struct sonar_det_cluster cl[SONAR_MAX_CLUSTERS];
+    uint8_t part[SONAR_MAX_CLUSTERS], k, j;
+    uint16_t groups;
+    struct sonar_detection o;
+    int64_t t0, t1, t2, t3, t4;
+    int r;
     dc.min_threshold = 0;
     dc.threshold_k = 0.0f;
     dc.max_clusters = SONAR_MAX_CLUSTERS;
@@ -288,81 +312,71 @@ int main(void)
     dc.min_range_m = 0.5f;
     dc.track_m = 1.0f;
     dc.track_points = 1;
-    if (sonar_detector_init(&b.det, &dc) != SONAR_OK)
-        return 4;
-    for (i = 0; i < BENCH_BEAMS; i++)
-        if (sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.sweep[i], BENCH_N, 20.0f, 0) != SONAR_OK)
-            return 5;
-    put_num("worst_runs", b.det.nruns);
+    if ((r = worst_sweep_in(b, &dc)) != 0)
+        return r;
+    put_num("worst_runs", b->det.nruns);
     t0 = board_micros();
-    if (sonar_detector_end(&b.det, &b.out) < 0)
+    if (sonar_detector_end(&b->det, &b->out) < 0)
         return 6;
-    worst_us = board_micros() - t0;
-    /* The same worst sweep again, stage by stage (the stages sonar_detector_end runs, in its order). */
-    if (sonar_detector_init(&b.det, &dc) != SONAR_OK)
-        return 7;
-    for (i = 0; i < BENCH_BEAMS; i++)
-        if (sonar_detector_add(&b.det, (uint16_t)(i * 400 / BENCH_BEAMS), b.sweep[i], BENCH_N, 20.0f, 0) != SONAR_OK)
-            return 8;
-    {
-        struct sonar_xy c[SONAR_MAX_CLUSTERS], at;
-        struct sonar_det_cluster cl[SONAR_MAX_CLUSTERS];
-        uint8_t part[SONAR_MAX_CLUSTERS], k, j;
-        uint16_t groups;
-        struct sonar_detection o;
-        int64_t t1, t2, t3, t4;
-        t1 = board_micros();
-        sonar_det_join(&b.det);
-        t2 = board_micros();
-        k = sonar_det_seed(&b.det, c, part, &groups);
-        t3 = board_micros();
-        if (sonar_kmeans_lloyd_within(b.det.pts, b.det.nruns, b.det.labels, c, part, k, b.det.cfg.iterations) < 0)
-            return 9;
-        t4 = board_micros();
-        sonar_det_clusters(&b.det, k, cl);
-        for (j = 0; j < k; j++)
-            (void)sonar_det_accept(&b.det, j, &cl[j], 1, &o, &at);
-        put_num("worst_insn_link", (uint64_t)(t2 - t1) * INSN_PER_US);
-        put_num("worst_insn_seed_and_cut", (uint64_t)(t3 - t2) * INSN_PER_US);
-        put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);
-        put_num("worst_insn_rules_hulls", (uint64_t)(board_micros() - t4) * INSN_PER_US);
-        put_num("worst_clusters", k);
-    }
-    {
-        int64_t tu = tracker_us();
-        if (tu < 0)
-            return 5;
-        put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
-    }
-    {
-        int64_t su = scan_us();
-        if (su < 0)
-            return 5;
-        put_num("insn_scan_call", (uint64_t)su * INSN_PER_US);
-    }
+    *worst_us = board_micros() - t0;
+    if ((r = worst_sweep_in(b, &dc)) != 0)
+        return r + 3;
+    t1 = board_micros();
+    sonar_det_join(&b->det);
+    t2 = board_micros();
+    k = sonar_det_seed(&b->det, c, part, &groups);
+    t3 = board_micros();
+    if (sonar_kmeans_lloyd_within(b->det.pts, b->det.nruns, b->det.labels, c, part, k, b->det.cfg.iterations) < 0)
+        return 9;
+    t4 = board_micros();
+    sonar_det_clusters(&b->det, k, cl);
+    for (j = 0; j < k; j++)
+        (void)sonar_det_accept(&b->det, j, &cl[j], 1, &o, &at);
+    put_num("worst_insn_link", (uint64_t)(t2 - t1) * INSN_PER_US);
+    put_num("worst_insn_seed_and_cut", (uint64_t)(t3 - t2) * INSN_PER_US);
+    put_num("worst_insn_kmeans", (uint64_t)(t4 - t3) * INSN_PER_US);
+    put_num("worst_insn_rules_hulls", (uint64_t)(board_micros() - t4) * INSN_PER_US);
+    put_num("worst_clusters", k);
+    return 0;
+}
+
+int main(void)
+{
+    static struct bench b; /* main's own */
+    struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
+    struct sonar_detector_config dc = det_cfg();
+    struct typical ty;
+    int64_t worst_us = 0, tu, su, tp, st[4];
+    int r;
+    board_init();
+    b.rng = 42;
+    if (sonar_background_init(&b.bg, &bc) != SONAR_OK || sonar_detector_init(&b.det, &dc) != SONAR_OK)
+        return 1;
+    if ((r = typical_sweeps(&b, &ty)) != 0 || (r = worst_sweep(&b, &worst_us)) != 0)
+        return r;
+    if ((tu = tracker_us()) < 0 || (su = scan_us()) < 0)
+        return 5;
+    put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
+    put_num("insn_scan_call", (uint64_t)su * INSN_PER_US);
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);
-    put_num("insn_per_beam_global", (uint64_t)beam_us * INSN_PER_US / BENCH_BEAMS);
-    put_num("insn_per_beam_median5", (uint64_t)t_med * INSN_PER_US / BENCH_BEAMS);
-    put_num("insn_per_beam_background", (uint64_t)t_bg * INSN_PER_US / BENCH_BEAMS);
-    put_num("insn_per_beam_stats_runs", (uint64_t)t_add * INSN_PER_US / BENCH_BEAMS);
-    put_num("insn_sweep_detect_typical", (uint64_t)det_us * INSN_PER_US);
-    put_num("typical_detections", (uint64_t)typical);
+    put_num("insn_per_beam_global", (uint64_t)ty.beam_us * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_median5", (uint64_t)ty.t_med * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_background", (uint64_t)ty.t_bg * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_stats_runs", (uint64_t)ty.t_add * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_sweep_detect_typical", (uint64_t)ty.det_us * INSN_PER_US);
+    put_num("typical_detections", (uint64_t)ty.count);
     put_num("worst_detections", b.out.count);
     put_num("insn_sweep_detect_worst", (uint64_t)worst_us * INSN_PER_US);
-    {
-        int64_t tp = pipeline_us(&b);
-        if (tp < 0)
-            return 10;
-        int64_t st[4];
-        put_num("insn_per_beam", (uint64_t)tp * INSN_PER_US / (BENCH_BEAMS - 1));
-        if (default_stages(&b, st) != 0)
-            return 11;
-        put_num("insn_per_beam_auto_background", (uint64_t)st[0] * INSN_PER_US / BENCH_BEAMS);
-        put_num("insn_per_beam_cfar_sums", (uint64_t)st[1] * INSN_PER_US / BENCH_BEAMS);
-        put_num("insn_per_beam_cfar", (uint64_t)st[2] * INSN_PER_US / BENCH_BEAMS);
-        put_num("insn_per_beam_cfar_runs", (uint64_t)st[3] * INSN_PER_US / BENCH_BEAMS);
-    }
+    if ((tp = pipeline_us(&b)) < 0)
+        return 10;
+    put_num("insn_per_beam", (uint64_t)tp * INSN_PER_US / (BENCH_BEAMS - 1));
+    if (default_stages(&b, st) != 0)
+        return 11;
+    put_num("insn_per_beam_auto_background", (uint64_t)st[0] * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_cfar_sums", (uint64_t)st[1] * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_cfar", (uint64_t)st[2] * INSN_PER_US / BENCH_BEAMS);
+    put_num("insn_per_beam_cfar_runs", (uint64_t)st[3] * INSN_PER_US / BENCH_BEAMS);
     put_num("stack_used_bytes", board_stack_used());
     put("done\n");
     while (board_uart_pending(BOARD_UART_SONAR) > 0)
