@@ -1,4 +1,4 @@
-/* test_device.c -- the Ping360 on a byte stream (device.h), through its API only: probe, a beam as a record at its own settings, the gain and the planner set from outside, the deadline, stop. */
+/* test_device.c -- the Ping360 on a byte stream (device.h), through its API only: probe, a beam as a record at its own settings, the gain and the planner set from outside, the deadline, reconfigure, stop, and the reconnect policy. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -8,6 +8,7 @@
 #include <cmocka.h>
 
 #include "sonar/device.h"
+#include "sonar/status.h"
 
 static uint16_t sent[32], sent_angle[32], sent_gain[32];
 static int nsent;
@@ -110,6 +111,27 @@ static void test_device_through_its_api(void **state)
     assert_true(ev.beam.range_m > 0.0f);
     assert_int_equal(ev.beam.samples[0], 77);
     assert_int_equal(sonar_device_bytes(&d, &in, &len, 3000, &ev), 0);
+    /* reconfigure: a range no sample period gives is refused, nothing changed; a new one probes again, counters kept */
+    {
+        struct sonar_ping360_config r = c;
+        uint32_t beams = 0;
+        struct sonar_status st;
+        memset(&st, 0, sizeof(st));
+        sonar_status_fill(&st, &d, NULL);
+        beams = st.driver.beams;
+        r.range_m = 1000.0f;
+        assert_true(sonar_device_reconfigure(&d, &r, 3500) < 0);
+        assert_int_equal(sonar_device_state(&d), SONAR_P360_SCANNING);
+        r.range_m = 20.0f;
+        assert_int_equal(sonar_device_reconfigure(&d, &r, 3500), SONAR_OK);
+        assert_int_equal(sent[nsent - 1], SONAR_PING_GENERAL_REQUEST);
+        assert_int_equal(sonar_device_state(&d), SONAR_P360_PROBING);
+        assert_true(sonar_device_config(&d)->range_m == 20.0f);
+        memset(&st, 0, sizeof(st));
+        sonar_status_fill(&st, &d, NULL);
+        assert_int_equal(st.driver.beams, beams);
+        assert_true(beams >= 1);
+    }
     /* stop: motor_off, then STOPPED when acknowledged */
     assert_int_equal(sonar_device_stop(&d, 4000), SONAR_OK);
     assert_int_equal(sent[nsent - 1], SONAR_PING360_MOTOR_OFF);

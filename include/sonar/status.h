@@ -77,8 +77,8 @@ struct sonar_status {
 /*
  * Fills the device's and the pipeline's part of *s: fw, parser, driver (from dev, or left as they
  * are when dev is NULL), the tracker's counters, the sweeps per frame, the beams' gain and the
- * backgrounds a change of it restarted (from p, which must be initialised). Other fields are left
- * as they are.
+ * backgrounds a change of it restarted (from p, initialised, or NULL for the device's part alone).
+ * Other fields are left as they are.
  */
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p);
 

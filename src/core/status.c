@@ -23,6 +23,8 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
         s->parser = dev->parser.counters;
         s->driver = dev->drv.counters;
     }
+    if (p == NULL)
+        return;
     sonar_status_tracking(s, p);
     s->structure.places = p->st.n;
     s->structure.learnt = sonar_structure_count(&p->st);

@@ -1,8 +1,15 @@
-/* runner.c -- runs a core test file's CMocka cases on the Cortex-M7 in QEMU: setjmp per case, output and exit code over semihosting; a few KB of static text buffer. */
+/* runner.c -- runs a core test file's CMocka cases on the Cortex-M7 (or the F405's M4F) in QEMU: setjmp per case, output and exit code over semihosting; a few KB of static text buffer. */
 #include <stdarg.h>
 #include <stdio.h>
 
 #include "cmocka.h"
+
+/* The board the runner was built for: only the F405's build sets the grid on the command line (F405_GRID). */
+#if defined(SONAR_MAX_SAMPLES) && SONAR_MAX_SAMPLES < 1200
+#define CORE_NAME "Cortex-M4F (STM32F405 grid)"
+#else
+#define CORE_NAME "Cortex-M7"
+#endif
 
 void board_exit(int code);
 
@@ -58,7 +65,7 @@ int mcu_run_tests(const struct CMUnitTest *tests, size_t n)
     char line[160];
     volatile size_t failed = 0; /* kept across longjmp */
     volatile size_t i;
-    snprintf(line, sizeof(line), "[==========] Running %u test(s) on the Cortex-M7.\n", (unsigned)n);
+    snprintf(line, sizeof(line), "[==========] Running %u test(s) on the %s.\n", (unsigned)n, CORE_NAME);
     say(line);
     for (i = 0; i < n; i++) {
         void *state = NULL;
