@@ -127,7 +127,7 @@ feed "tcp:127.0.0.1:$((PORT + 8))" --pace fast
 # Not under timeout(1), which forwards only the first SIGHUP; a watchdog bounds it instead.
 "$B/sonard" --config "$T/hup.conf" --sonar "tcp:127.0.0.1:$((PORT + 8))" --json --no-lcm \
     > "$T/hup.jsonl" 2> "$T/hup.err" & SPID=$!
-( sleep 60; kill -KILL $SPID 2>/dev/null ) & WDOG=$!
+( sleep 60; kill -KILL $SPID ) > /dev/null 2>&1 & WDOG=$! # its sleep, orphaned by the kill below, must not hold a pipe
 waitlines "$T/hup.jsonl" 3
 printf 'range = 12\nmin-points = 60000\ngain = 2\n' > "$T/hup.conf"
 kill -HUP $SPID; n1=$(lines "$T/hup.jsonl")

@@ -205,7 +205,7 @@ sleep 0.3
 # Not under timeout(1), which forwards only the first SIGHUP; a watchdog bounds it instead.
 "$B/sonard" --config "$T/hup.conf" --sonar "tcp:127.0.0.1:$((PORT + 12))" --json --no-lcm --log-level warn \
     --mavlink "udpin:127.0.0.1:$((PORT + 13))" > "$T/hup.jsonl" 2> "$T/hup.err" & SONARD=$!
-( sleep 100; kill -KILL $SONARD 2>/dev/null ) & WDOG=$!
+( sleep 100; kill -KILL $SONARD ) > /dev/null 2>&1 & WDOG=$! # its sleep, orphaned by the kill below, must not hold a pipe
 lines() { wc -l < "$1" 2>/dev/null || echo 0; }
 waitlines() { i=0; while [ "$(lines "$1")" -lt "$2" ] && [ $i -lt 1200 ]; do sleep 0.05; i=$((i + 1)); done; }
 waitlines "$T/hup.jsonl" 5
