@@ -50,6 +50,17 @@ static size_t frame(uint8_t *buf, uint16_t id, const uint8_t *p, uint16_t n)
     return (size_t)len;
 }
 
+/* A Ping360 at 10 m, full turns, 1-gradian steps. */
+static void config(struct sonar_ping360_config *c)
+{
+    memset(c, 0, sizeof(*c));
+    c->range_m = 10.0f;
+    c->speed_of_sound = 1500.0f;
+    c->frequency = 750;
+    c->step = 1;
+    c->full_circle = 1;
+}
+
 static void test_device_through_its_api(void **state)
 {
     static struct sonar_device d;
@@ -61,12 +72,7 @@ static void test_device_through_its_api(void **state)
     size_t len;
     uint8_t fw[3];
     (void)state;
-    memset(&c, 0, sizeof(c));
-    c.range_m = 10.0f;
-    c.speed_of_sound = 1500.0f;
-    c.frequency = 750;
-    c.step = 1;
-    c.full_circle = 1;
+    config(&c);
     c.gain = 1;
     assert_int_equal(sonar_device_init(&d, &c, &io), SONAR_OK);
     assert_int_equal(sonar_device_config(&d)->gain, 1);
@@ -154,12 +160,7 @@ static void test_reconnect_policy(void **state)
     int64_t t = 1000000, lost_at = 0;
     uint32_t first = 0;
     (void)state;
-    memset(&c, 0, sizeof(c));
-    c.range_m = 10.0f;
-    c.speed_of_sound = 1500.0f;
-    c.frequency = 750;
-    c.step = 1;
-    c.full_circle = 1;
+    config(&c);
     /* The output full: tried again soon; then a reconnect is due at that time, and the deadline says so. */
     assert_int_equal(sonar_device_init(&d, &c, &full), SONAR_OK);
     assert_int_equal(sonar_device_reconnect_at(&d), 0);
