@@ -322,6 +322,20 @@ static void beam_at(int64_t t, uint16_t angle, int echo)
     assert_int_equal(m.sink.beam(m.sink.self, &b), HOST_OK);
 }
 
+/* The map as one OBSTACLE_DISTANCE at wall time t (us; monotonic 3 s), decoded as an autopilot reads it. */
+static void od_at(int64_t t, mavlink_obstacle_distance_t *od)
+{
+    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
+    mavlink_message_t msg, rbuf;
+    mavlink_status_t st, rst;
+    size_t n = mav_obstacle_distance(&m, buf, t, 3000000), i;
+    memset(&st, 0, sizeof(st));
+    memset(&rst, 0, sizeof(rst));
+    for (i = 0; i < n; i++)
+        (void)mavlink_frame_char_buffer(&rbuf, &st, buf[i], &msg, &rst);
+    mavlink_msg_obstacle_distance_decode(&msg, od);
+}
+
 /* Fail closed: no OBSTACLE_DISTANCE once no beam has come for a second; it resumes with the beams. */
 static void test_fail_closed(void **state)
 {
@@ -417,11 +431,8 @@ static void test_pose_held(void **state)
 static void test_ignored_arcs(void **state)
 {
     struct mav_config mc;
-    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
-    mavlink_message_t msg, rbuf;
-    mavlink_status_t st, rst;
     mavlink_obstacle_distance_t od;
-    size_t n, i;
+    size_t i;
     int a, pass;
     (void)state;
     default_cfg(&mc);
@@ -432,12 +443,7 @@ static void test_ignored_arcs(void **state)
     for (pass = 0; pass < 2; pass++)
         for (a = 0; a < 400; a++)
             beam_at(wall + (int64_t)(pass * 400 + a) * 10000, (uint16_t)a, pass == 1);
-    n = mav_obstacle_distance(&m, buf, wall + 8000000, 3000000);
-    memset(&st, 0, sizeof(st));
-    memset(&rst, 0, sizeof(rst));
-    for (i = 0; i < n; i++)
-        (void)mavlink_frame_char_buffer(&rbuf, &st, buf[i], &msg, &rst);
-    mavlink_msg_obstacle_distance_decode(&msg, &od);
+    od_at(wall + 8000000, &od);
     for (i = 0; i < 72; i++) {
         int deg = ((int)i - 4) * 5; /* entry i's centre */
         deg = (deg + 360) % 360;
@@ -453,12 +459,8 @@ static void test_retune(void **state)
 {
     struct mav_config mc;
     struct sonar_pipeline_config pc;
-    uint8_t buf[MAVLINK_MAX_PACKET_LEN];
-    mavlink_message_t msg, rbuf;
-    mavlink_status_t st, rst;
     mavlink_obstacle_distance_t od;
     char err[160];
-    size_t n, i;
     int a, pass;
     (void)state;
     default_cfg(&mc);
@@ -473,12 +475,7 @@ static void test_retune(void **state)
     for (pass = 0; pass < 2; pass++)
         for (a = 0; a < 400; a++)
             beam_at(wall + (int64_t)(pass * 400 + a) * 10000, (uint16_t)a, pass == 1 && a >= 10 && a < 16);
-    n = mav_obstacle_distance(&m, buf, wall + 8000000, 3000000);
-    memset(&st, 0, sizeof(st));
-    memset(&rst, 0, sizeof(rst));
-    for (i = 0; i < n; i++)
-        (void)mavlink_frame_char_buffer(&rbuf, &st, buf[i], &msg, &rst);
-    mavlink_msg_obstacle_distance_decode(&msg, &od);
+    od_at(wall + 8000000, &od);
     /* an echo at head angles 10..15 gradians: 9..13.5 degrees ahead without the offset (entries 6, 7); turned by
        100 gradians it lies at 99..103.5 degrees (entries 24, 25) */
     assert_true(od.distances[24] == 390 || od.distances[25] == 390);
