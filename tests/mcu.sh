@@ -20,6 +20,31 @@ kill $pp 2>/dev/null; wait $pp 2>/dev/null
 check "a refused configuration: sonard --coprocessor says why and exits 2" \
     sh -c "test $rc -eq 2 && grep -q 'refused the configuration: error: detector.track_points' '$T/refused.err'"
 
+# SIGHUP with a co-processor: the firmware runs the detector, so it gets the new configuration too (no QEMU needed:
+# a stand-in that accepts every configuration and logs what it was sent).
+fp=$PORT; PORT=$((PORT + 1))
+printf 'range = 12\nmin-points = 20\n' > "$T/hup.conf"
+python3 tests/fake_coproc.py "$fp" --accept "$T/hup.configs" --types "$B/lcm/python" & pp=$!
+sleep 0.5
+"$B/sonard" --coprocessor "tcp:127.0.0.1:$fp" --config "$T/hup.conf" --no-lcm --json > /dev/null 2> "$T/hup.err" & sp=$!
+nlines() { if [ -f "$1" ]; then wc -l < "$1"; else echo 0; fi; }
+i=0; while [ "$(nlines "$T/hup.configs")" -lt 1 ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+printf 'range = 12\nmin-points = 30\nangle-offset = 100\n' > "$T/hup.conf"
+kill -HUP $sp
+i=0; while [ "$(nlines "$T/hup.configs")" -lt 2 ] && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+sleep 0.3
+kill -TERM $sp; wait $sp; rc=$?
+kill $pp 2>/dev/null; wait $pp 2>/dev/null
+check "SIGHUP with a co-processor: the new detector settings are sent to it (min-points 20 -> 30, angle-offset 0 -> 100), accepted" \
+    python3 -c "
+import json, sys
+c = [json.loads(l) for l in open('$T/hup.configs')]
+print(c)
+assert len(c) == 2 and (c[0]['min_points'], c[1]['min_points']) == (20, 30), c
+assert abs(c[1]['angle_offset'] - 100) < 1e-6 and c[0]['range_m'] == c[1]['range_m'] == 12.0, c
+assert 'configuration accepted (SIGHUP)' in open('$T/hup.err').read() and $rc == 0"
+sed 's/^/    /' "$T/out"
+
 if ! command -v qemu-system-arm >/dev/null 2>&1; then
     echo "mcu: SKIPPED: qemu-system-arm is not installed (make deps installs it)"
     echo "mcu: $pass passed, $fail failed, 1 skipped"

@@ -123,6 +123,12 @@ static int reload(void *user)
             fprintf(stderr, "sonard: SIGHUP: %s changed: %s after a restart; the running value%s stay%s\n", names,
                     n == 1 ? "applies" : "apply", n == 1 ? "" : "s", n == 1 ? "s" : "");
     }
+    if (s->opt.coprocessor != NULL) {
+        /* The firmware runs the filters and the detector: it gets them too (with the acquisition it runs). */
+        struct source_coproc_config cc = {s->opt.baud, &s->opt.device, &s->reload.pipeline, (uint16_t)s->opt.coproc_beams};
+        if (source_coproc_reconfigure(&s->coproc, &cc, app_mono_us(s->app), err, sizeof(err)) != HOST_OK)
+            fprintf(stderr, "sonard: SIGHUP: %s; the co-processor keeps its settings\n", err);
+    }
     if (shows(s, APP_INFO))
         fprintf(stderr, "sonard: SIGHUP: %d config file%s re-read; filter and detector settings apply from the next sweep\n",
                 s->reload.nconfigs, s->reload.nconfigs == 1 ? "" : "s");
@@ -208,7 +214,7 @@ static int run_coproc(struct sonard *s)
 {
     struct live_source ls;
     source_coproc_live(&s->coproc, &ls);
-    if (live_run(s->app, &ls, s->aux, s->naux, NULL, NULL) != HOST_OK)
+    if (live_run(s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
         return 2;
     if (shows(s, APP_INFO)) {
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"

@@ -46,6 +46,18 @@ static void send_config(struct source_coproc *s, int64_t now)
         warn(s, "co-processor: the configuration could not be sent; retrying");
 }
 
+int source_coproc_reconfigure(struct source_coproc *s, const struct source_coproc_config *cc, int64_t now, char *err,
+                              size_t errlen)
+{
+    if (build_config(s, cc, err, errlen) != HOST_OK)
+        return HOST_ERR_CONFIG;
+    s->reloading = 1;
+    s->configured = 0;
+    if (s->link.fd >= 0 && !s->link.connecting)
+        send_config(s, now);
+    return HOST_OK;
+}
+
 static void lost(struct source_coproc *s, int64_t now, const char *why)
 {
     s->configured = 0;
@@ -78,7 +90,15 @@ static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int6
     case SONAR_CPF_REPLY:
         if (f->len >= 2 && memcmp(f->payload, "ok", 2) == 0) {
             if (!s->configured)
-                say(s, "co-processor on %s: configuration accepted", s->desc);
+                say(s, "co-processor on %s: configuration accepted%s", s->desc, s->reloading ? " (SIGHUP)" : "");
+            s->configured = 1;
+            s->reloading = 0;
+            s->config_at = INT64_MAX;
+        } else if (s->reloading) {
+            /* The firmware keeps what it runs: so does sonard. */
+            warn(s, "SIGHUP: the co-processor refused the configuration: %.*s; it keeps its running settings",
+                     (int)f->len, (const char *)f->payload);
+            s->reloading = 0;
             s->configured = 1;
             s->config_at = INT64_MAX;
         } else {

@@ -20,6 +20,7 @@ struct source_coproc {
     int configured;         /* the firmware answered "ok": its detections count from now on */
     int refused;            /* it answered "error: ...": sonard stops, exit 2 */
     int stopping, stopped;
+    int reloading;          /* a SIGHUP's configuration is out: a refusal keeps the running one, sonard goes on */
     int64_t config_at;       /* no answer by then: send the configuration again */
     uint32_t dropped_before_config, decode_errors;
     char desc[160];
@@ -40,6 +41,16 @@ struct source_coproc_config {
  */
 HOST_CHECK int source_coproc_parse(struct source_coproc *s, const char *url, const struct source_coproc_config *cc, char *err,
                                    size_t errlen);
+
+/*
+ * SIGHUP: the configuration built again from cc and sent (at once when the link is up, else when it
+ * comes up). The firmware restarts its processing with it when it answers "ok" (its background
+ * relearns, its sweeps count from 0); its detections until then are dropped as from the settings
+ * before. A refusal is said and the firmware keeps its running settings. Returns HOST_OK or
+ * HOST_ERR_CONFIG (the frame cannot be built: nothing sent, err says why).
+ */
+HOST_CHECK int source_coproc_reconfigure(struct source_coproc *s, const struct source_coproc_config *cc, int64_t now,
+                                         char *err, size_t errlen);
 
 /* The live loop's view of it (the firmware's status frames are republished as SONAR_STATUS). */
 void source_coproc_live(struct source_coproc *s, struct live_source *out);
