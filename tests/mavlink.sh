@@ -98,10 +98,12 @@ check "the pose asked for: the stand-in starts at 1 Hz, sonard's SET_MESSAGE_INT
 # Ten sweeps (63 s), not seven: precision over ~25 detections, not ~12, so one speckled wall residue
 # more or less does not decide the check.
 # The first sweep runs while the autopilot is found (its HEARTBEAT comes once a second) and its 1 Hz pose raised:
-# part of it is in the body frame, so the world-frame precision is taken over the sweeps after it.
+# part of it is in the body frame, so the world-frame precision is taken over the sweeps after it. Over nine runs
+# here (four at bca0cf5, five after issue 36) it was 0.76 to 0.91, median 0.85: at 0.8 the check failed one run in
+# three on timing alone. 0.7 still fails a change that doubles the false alarms (about 0.6).
 tail -n +2 "$T/veh.jsonl" > "$T/veh1.jsonl"
-check "vehicle, live: world-frame detection precision >= 0.8 after the first sweep; a still object found where it stands (0.5 m)" sh -c "
-    python3 tools/eval/score.py '$T/veh.json' '$T/veh1.jsonl' --frame world --min-precision 0.8 && python3 -c \"
+check "vehicle, live: world-frame detection precision >= 0.7 after the first sweep; a still object found where it stands (0.5 m)" sh -c "
+    python3 tools/eval/score.py '$T/veh.json' '$T/veh1.jsonl' --frame world --min-precision 0.7 && python3 -c \"
 import json, math
 still = {'post_a': (4.0, 5.0), 'post_b': (-5.0, -6.0), 'buoy': (0.5, 5.5)}
 seen = {k: 0 for k in still}
