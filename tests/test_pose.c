@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 #include <math.h>
 
 #include <cmocka.h>
@@ -78,6 +79,24 @@ static void test_refuses_disorder_jumps_and_bad_values(void **state)
     /* after a silence longer than 1 s anything goes: the vehicle moved while nothing was heard */
     assert_int_equal(push(9000000, 300.0f, 0.0f, 180.0f), SONAR_OK);
     assert_int_equal(ring.n, 3);
+    /* the same refusals, each said why */
+    {
+        struct sonar_pose q;
+        memset(&q, 0, sizeof(q));
+        q.utime = 9000000;
+        q.north_m = 300.0f;
+        q.yaw_deg = 180.0f;
+        assert_string_equal(sonar_pose_push_why(&ring, &q), "not later than the pose before it");
+        q.utime = 9100000;
+        q.north_m = 330.0f;
+        assert_string_equal(sonar_pose_push_why(&ring, &q), "a jump from the pose before it (faster than 50 m/s or 720 deg/s)");
+        q.north_m = NAN;
+        assert_string_equal(sonar_pose_push_why(&ring, &q), "a value that is not a number or is beyond 10^6 m");
+        q.north_m = 300.5f;
+        assert_null(sonar_pose_push_why(&ring, &q));
+        assert_int_equal(sonar_pose_accepted(&ring), ring.accepted);
+        assert_true(sonar_pose_accepted(&ring) >= 4);
+    }
     assert_int_equal(sonar_pose_push(NULL, NULL), SONAR_ERR_ARG);
 }
 

@@ -91,6 +91,9 @@ struct sonar_obstacle {
 /* sonard's defaults: min_range 0.5 m, margin 32 (three times the floor), min_level 24. */
 void sonar_obstacle_defaults(struct sonar_obstacle_config *cfg);
 
+/* Beams the map has taken since sonar_obstacle_init (0: nothing scanned yet, every sector unknown). */
+uint32_t sonar_obstacle_beams(const struct sonar_obstacle *o);
+
 /* Validates cfg (copied) and empties the map. Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_obstacle_init(struct sonar_obstacle *o, const struct sonar_obstacle_config *cfg);
 

@@ -60,6 +60,15 @@ SONAR_CHECK int sonar_pose_init(struct sonar_pose_ring *r, const struct sonar_po
 SONAR_CHECK int sonar_pose_push(struct sonar_pose_ring *r, const struct sonar_pose *p);
 
 /*
+ * sonar_pose_push, saying why a sample was refused: NULL when it was stored or thinned, else a
+ * static sentence ("not later than the pose before it", ...). r and p must not be NULL.
+ */
+const char *sonar_pose_push_why(struct sonar_pose_ring *r, const struct sonar_pose *p);
+
+/* Samples accepted since sonar_pose_init (0: no pose has come yet). */
+uint32_t sonar_pose_accepted(const struct sonar_pose_ring *r);
+
+/*
  * The pose at utime: linear between the two samples around it (yaw the short way round),
  * or the nearest end sample when utime lies outside them by at most SONAR_POSE_STALE_US.
  * Returns 1 with *out filled, 0 when the ring has no sample within SONAR_POSE_STALE_US of utime

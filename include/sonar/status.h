@@ -82,6 +82,10 @@ struct sonar_status {
  */
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p);
 
+/* The pose ring's counters (accepted, out of order, jumps, bad, thinned) into s->pose; the rest of s->pose is left. */
+struct sonar_pose_ring; /* pose.h */
+void sonar_status_poses(struct sonar_status *s, const struct sonar_pose_ring *r);
+
 /* The tracker's counters (when p tracks) and the sweeps tracked per frame, from p: the part of sonar_status_fill that follows
    the tracker, for a host whose tracks come from its own pipeline while the rest of the record comes from a co-processor. */
 void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *p);

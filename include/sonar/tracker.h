@@ -158,6 +158,11 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
  */
 void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_pose *at);
 
+/* Live tracks (t[0 .. n) in birth order), one of them (i < that), and the frame they are in (1: world). */
+unsigned sonar_tracker_count(const struct sonar_tracker *tk);
+const struct sonar_track *sonar_tracker_track(const struct sonar_tracker *tk, unsigned i);
+int sonar_tracker_world(const struct sonar_tracker *tk);
+
 /* "tentative", "confirmed", "coasting", or "?" for anything else. */
 const char *sonar_track_state_str(int state);
 

@@ -297,3 +297,8 @@ void sonar_obstacle_map(const struct sonar_obstacle *o, int64_t now_us, int64_t 
             dist_cm[at] = (uint16_t)(*max_cm + 1u);
     }
 }
+
+uint32_t sonar_obstacle_beams(const struct sonar_obstacle *o)
+{
+    return o->beams;
+}

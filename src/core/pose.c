@@ -163,3 +163,18 @@ void sonar_pose_to_body(const struct sonar_pose *p, float north_m, float east_m,
     /* R(yaw) is a rotation: its inverse is R(-yaw). */
     sonar_pose_rotate(-p->yaw_deg, north_m - p->north_m, east_m - p->east_m, x_m, y_m);
 }
+
+const char *sonar_pose_push_why(struct sonar_pose_ring *r, const struct sonar_pose *p)
+{
+    uint32_t ooo = r->out_of_order, jumps = r->jumps;
+    if (sonar_pose_push(r, p) == SONAR_OK)
+        return NULL;
+    return r->out_of_order != ooo ? "not later than the pose before it"
+           : r->jumps != jumps   ? "a jump from the pose before it (faster than 50 m/s or 720 deg/s)"
+                                 : "a value that is not a number or is beyond 10^6 m";
+}
+
+uint32_t sonar_pose_accepted(const struct sonar_pose_ring *r)
+{
+    return r->accepted;
+}

@@ -1,6 +1,8 @@
 /* status.c -- the device's and the pipeline's counters into a status record; O(1), no heap. */
 #include "sonar/status.h"
 
+#include "sonar/pose.h"
+
 void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *p)
 {
     if (p->cfg != NULL && p->cfg->track) {
@@ -34,4 +36,13 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
     /* The gain the beams carry (the device's setting until one came), and the backgrounds a change of it restarted. */
     s->acq.gain = p->last_gain >= 0 ? p->last_gain : dev != NULL ? (int)dev->drv.cfg.gain : 0;
     s->acq.background_restarts = p->gain_restarts;
+}
+
+void sonar_status_poses(struct sonar_status *s, const struct sonar_pose_ring *r)
+{
+    s->pose.accepted = r->accepted;
+    s->pose.out_of_order = r->out_of_order;
+    s->pose.jumps = r->jumps;
+    s->pose.bad = r->bad;
+    s->pose.thinned = r->thinned;
 }

@@ -111,6 +111,21 @@ void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_
     }
 }
 
+unsigned sonar_tracker_count(const struct sonar_tracker *tk)
+{
+    return tk->n;
+}
+
+const struct sonar_track *sonar_tracker_track(const struct sonar_tracker *tk, unsigned i)
+{
+    return &tk->t[i];
+}
+
+int sonar_tracker_world(const struct sonar_tracker *tk)
+{
+    return tk->world;
+}
+
 const char *sonar_track_state_str(int state)
 {
     switch (state) {

@@ -159,14 +159,11 @@ int app_add_sink(struct app *a, struct app_sink *s)
 
 int app_pose(struct app *a, const struct sonar_pose *p, const char **why)
 {
-    struct sonar_pose_ring *r = &a->poses;
-    uint32_t ooo = r->out_of_order, jumps = r->jumps;
-    if (sonar_pose_push(r, p) == SONAR_OK)
+    const char *w = sonar_pose_push_why(&a->poses, p);
+    if (w == NULL)
         return HOST_OK;
     if (why != NULL)
-        *why = r->out_of_order != ooo ? "not later than the pose before it"
-               : r->jumps != jumps   ? "a jump from the pose before it (faster than 50 m/s or 720 deg/s)"
-                                     : "a value that is not a number or is beyond 10^6 m";
+        *why = w;
     return HOST_ERR_REFUSED;
 }
 
@@ -188,7 +185,7 @@ static void beam_pose(struct app *a, struct sonar_record *b)
         b->east_m = q.east_m;
         b->yaw_deg = q.yaw_deg;
     }
-    state = b->has_pose ? SONAR_POSE_OK : a->poses.accepted > 0 ? SONAR_POSE_STALE : SONAR_POSE_NONE;
+    state = b->has_pose ? SONAR_POSE_OK : sonar_pose_accepted(&a->poses) > 0 ? SONAR_POSE_STALE : SONAR_POSE_NONE;
     if (state == SONAR_POSE_STALE && a->pose_state != SONAR_POSE_STALE) {
         a->pose_stale++;
         app_warn(a, "pose: stale (none within 1 s of the beam at %.3f s): body-frame processing until it returns",

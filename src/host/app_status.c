@@ -26,11 +26,7 @@ void app_host_status(const struct app *a, struct sonar_status *s)
     unsigned i;
     s->sink_errors = (uint32_t)app_sink_errors(a);
     s->pose.state = a->pose_state;
-    s->pose.accepted = a->poses.accepted;
-    s->pose.out_of_order = a->poses.out_of_order;
-    s->pose.jumps = a->poses.jumps;
-    s->pose.bad = a->poses.bad;
-    s->pose.thinned = a->poses.thinned;
+    sonar_status_poses(s, &a->poses);
     s->pose.stale = a->pose_stale;
     sonar_status_tracking(s, &a->pipe);
     for (i = 0; i < a->nsinks; i++)

@@ -171,7 +171,7 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
     mavlink_message_t msg;
     int64_t wall = app_wall_us(m->app);
     int stale = m->last_beam_us == 0 || wall - m->last_beam_us > MAV_BEAM_STALE_US;
-    if (m->obs.beams == 0 && !m->withholding)
+    if (sonar_obstacle_beams(&m->obs) == 0 && !m->withholding)
         return; /* nothing scanned yet: every sector would be unknown */
     if (m->cfg.fail_closed && stale) {
         if (!m->withholding)
@@ -234,14 +234,14 @@ int mav_sink_detections(void *self, const struct sonar_detections *d, const stru
     if (tk == NULL || !m->cfg.send_3d)
         return HOST_OK;
     sonar_obstacle_map(&m->obs, d->utime, max_age(m), NULL, dist, &mn, &mx); /* only its min and max */
-    for (i = 0; i < tk->n; i++) {
-        const struct sonar_track *k = &tk->t[i];
+    for (i = 0; i < sonar_tracker_count(tk); i++) {
+        const struct sonar_track *k = sonar_tracker_track(tk, i);
         mavlink_message_t msg;
         float x, y;
         if (k->state != SONAR_TRACK_CONFIRMED)
             continue;
         sonar_tracker_predict(k, d->utime, &x, &y);
-        if (tk->world) {
+        if (sonar_tracker_world(tk)) {
             float n = x, e = y;
             if (v == NULL || !v->have_pose)
                 continue; /* a world track without the pose to place it: nothing honest to say */

@@ -41,8 +41,8 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                 (double)v->pose.east_m, (double)v->pose.yaw_deg);
     if (tk != NULL) {
         fputs(",\"tracks\":[", f);
-        for (i = 0; i < tk->n; i++) {
-            const struct sonar_track *t = &tk->t[i];
+        for (i = 0; i < sonar_tracker_count(tk); i++) {
+            const struct sonar_track *t = sonar_tracker_track(tk, i);
             fprintf(f, "%s{\"id\":%" PRIu32 ",\"state\":\"%s\",\"utime\":%" PRId64 ",\"x_m\":%.3f,\"y_m\":%.3f,\"vx_mps\":%.3f,"
                        "\"vy_mps\":%.3f,\"age\":%u,\"hits\":%u,\"detection\":%d,\"still_s\":%.1f",
                     i ? "," : "", t->id, sonar_track_state_str(t->state), t->utime, (double)body(v, t, i, 0),
@@ -73,8 +73,8 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                 i + 1, (double)o->x_m, (double)o->y_m, (double)o->range_m, (double)o->bearing_deg, (double)o->area_m2,
                 o->points, (double)o->mean_intensity, o->kind == SONAR_DET_STRUCTURE ? "  structure" : "");
     }
-    for (i = 0; tk != NULL && i < tk->n; i++) {
-        const struct sonar_track *t = &tk->t[i];
+    for (i = 0; tk != NULL && i < sonar_tracker_count(tk); i++) {
+        const struct sonar_track *t = sonar_tracker_track(tk, i);
         fprintf(f, "  track %-5" PRIu32 " %-9s x %7.2f m  y %7.2f m  vx %6.2f  vy %6.2f m/s  age %u  hits %u  still %.0f s",
                 t->id, sonar_track_state_str(t->state), (double)body(v, t, i, 0), (double)body(v, t, i, 1),
                 (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age, (unsigned)t->hits,
