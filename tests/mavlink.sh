@@ -78,7 +78,9 @@ check "echo to message: at most 150 ms (one 100 ms period of the 10 Hz OBSTACLE_
 sleep 0.3
 timeout 90 "$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 2))" --range 15 --samples 600 --step 4 --sweeps 10 --json --no-lcm \
     --min-points 8 --mavlink "udpin:127.0.0.1:$((PORT + 3))" --mavlink-3d on > "$T/veh.jsonl" 2> "$T/veh.err" & SONARD=$!
-$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 66 --listen-only --router $((PORT + 11)) --truth "$T/veh.json" \
+# The router (the checker) must outlast sonard's 10 sweeps (63 s at the device's pace, more on a loaded machine): once
+# it stops, no pose reaches sonard, and its last sweeps fall back to the body frame. 80 s, not 66: CI once took longer.
+$PY tests/mavlink_check.py --port $((PORT + 3)) --seconds 80 --listen-only --router $((PORT + 11)) --truth "$T/veh.json" \
     --out "$T/veh.rep" > "$T/vchk.out" 2>&1
 wait $SONARD; rc=$?
 kill $FEEDPID 2>/dev/null; wait $FEEDPID 2>/dev/null; FEEDPID=""
