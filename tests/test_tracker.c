@@ -141,7 +141,26 @@ static void test_turned_with_the_frame(void **state)
     }
     assert_true(fabsf(tk.t[0].vx) < 0.02f);
     assert_true(fabsf(tk.t[0].vy - 0.5f) < 0.02f);
-    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);
+    assert_int_equal(tk.t[0].state, SONAR_TRACK_CONFIRMED);    /* In the world frame it turns about the vehicle: a track 8 m north of a vehicle at (5, -2), moving north, turned
+       90 degrees clockwise, is 8 m east of it, moving east; no pose, and it stays. */
+    {
+        struct sonar_pose at;
+        memset(&at, 0, sizeof(at));
+        at.north_m = 5.0f;
+        at.east_m = -2.0f;
+        at.yaw_deg = 30.0f;
+        tk.world = 1;
+        tk.t[0].px = 13.0f;
+        tk.t[0].py = -2.0f;
+        tk.t[0].vx = 1.0f;
+        tk.t[0].vy = 0.0f;
+        sonar_tracker_turn(&tk, 90.0f, &at);
+        assert_true(fabsf(tk.t[0].px - 5.0f) < 1e-4f && fabsf(tk.t[0].py - 6.0f) < 1e-4f);
+        assert_true(fabsf(tk.t[0].vx) < 1e-4f && fabsf(tk.t[0].vy - 1.0f) < 1e-4f);
+        sonar_tracker_turn(&tk, 90.0f, NULL);
+        assert_true(fabsf(tk.t[0].px - 5.0f) < 1e-4f && fabsf(tk.t[0].py - 6.0f) < 1e-4f);
+        assert_int_equal(tk.reframes, 0);
+    }
 }
 
 /* Gone: coasting, then deleted after max_misses; a new object later gets a new ID. */

@@ -1,4 +1,4 @@
-/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> links (detector_join.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_accept.c); no heap. */
+/* detector.c -- the detector's config and sweep orchestration: runs (detector_runs.c) -> joined runs (detector_join.c) -> groups and k-means (detector_group.c) -> rules and hulls (detector_accept.c); no heap. */
 #include "sonar/detector.h"
 
 #include <math.h>

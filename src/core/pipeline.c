@@ -337,11 +337,9 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 static void turn_frame(struct sonar_pipeline *p, float deg)
 {
     struct sonar_pose q;
+    int have = p->trk.world && p->poses != NULL && sonar_pose_at(p->poses, sonar_detector_utime(&p->det), &q);
     sonar_structure_turn(&p->st, deg);
-    if (p->trk.world && p->poses != NULL && sonar_pose_at(p->poses, sonar_detector_utime(&p->det), &q))
-        sonar_tracker_turn(&p->trk, deg, &q);
-    else
-        sonar_tracker_turn(&p->trk, deg, NULL);
+    sonar_tracker_turn(&p->trk, deg, have ? &q : NULL);
 }
 
 /* Moves to p->next at a sweep boundary (no sweep open). */

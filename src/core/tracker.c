@@ -92,22 +92,25 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
 
 void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_pose *at)
 {
-    int world = tk->world;
+    /* Turning about the sonar in the body frame is turning about where it is in the world: rotations commute. */
+    float cx = 0.0f, cy = 0.0f;
     uint8_t k;
-    if (world && at == NULL)
-        return;
-    if (world)
-        sonar_tracker_reframe(tk, at, 0);
+    if (tk->world) {
+        if (at == NULL)
+            return;
+        cx = at->north_m;
+        cy = at->east_m;
+    }
     for (k = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
-        float x = t->px, y = t->py, vx = t->vx, vy = t->vy, ax = t->ax, ay = t->ay;
-        sonar_pose_rotate(deg, x, y, &t->px, &t->py);
-        sonar_pose_rotate(deg, ax, ay, &t->ax, &t->ay);
+        float vx = t->vx, vy = t->vy;
+        sonar_pose_rotate(deg, t->px - cx, t->py - cy, &t->px, &t->py);
+        sonar_pose_rotate(deg, t->ax - cx, t->ay - cy, &t->ax, &t->ay);
+        t->px += cx;
+        t->py += cy;
+        t->ax += cx;
+        t->ay += cy;
         sonar_pose_rotate(deg, vx, vy, &t->vx, &t->vy);
-    }
-    if (world) {
-        sonar_tracker_reframe(tk, at, 1);
-        tk->reframes -= 2; /* a turn, not a change of frame */
     }
 }
 

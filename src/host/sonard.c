@@ -93,6 +93,17 @@ static void log_stderr(void *user, int level, const char *fmt, va_list ap)
     fputc('\n', stderr);
 }
 
+/* What the firmware is configured with: the running acquisition (a restart changes it) and these filters and detector. */
+static struct source_coproc_config coproc_config(const struct sonard *s, const struct sonar_pipeline_config *pipeline)
+{
+    struct source_coproc_config cc;
+    cc.baud = s->opt.baud;
+    cc.device = &s->opt.device;
+    cc.pipeline = pipeline;
+    cc.beam_every = (uint16_t)s->opt.coproc_beams;
+    return cc;
+}
+
 /* SIGHUP: the --config files and argv again; filter and detector settings apply from the next sweep. */
 static int reload(void *user)
 {
@@ -125,7 +136,7 @@ static int reload(void *user)
     }
     if (s->opt.coprocessor != NULL) {
         /* The firmware runs the filters and the detector: it gets them too (with the acquisition it runs). */
-        struct source_coproc_config cc = {s->opt.baud, &s->opt.device, &s->reload.pipeline, (uint16_t)s->opt.coproc_beams};
+        struct source_coproc_config cc = coproc_config(s, &s->reload.pipeline);
         if (source_coproc_reconfigure(&s->coproc, &cc, app_mono_us(s->app), err, sizeof(err)) != HOST_OK)
             fprintf(stderr, "sonard: SIGHUP: %s; the co-processor keeps its settings\n", err);
     }
@@ -291,7 +302,7 @@ int main(int argc, char **argv)
         io.line_break = source_link_break;
         io.user = &s.link;
     } else if (s.opt.coprocessor != NULL) {
-        struct source_coproc_config cc = {s.opt.baud, &s.opt.device, &s.opt.pipeline, (uint16_t)s.opt.coproc_beams};
+        struct source_coproc_config cc = coproc_config(&s, &s.opt.pipeline);
         if (source_coproc_parse(&s.coproc, s.opt.coprocessor, &cc, err, sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;

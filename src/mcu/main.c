@@ -237,8 +237,11 @@ int main(void)
         now = board_micros();
         sonar_in(&f, now);
         host_in(&f, now);
-        if (sonar_device_reconnect_at(&f.dev) != 0 && now >= sonar_device_reconnect_at(&f.dev))
-            probe(&f, now);
+        {
+            int64_t at = sonar_device_reconnect_at(&f.dev);
+            if (at != 0 && now >= at)
+                probe(&f, now);
+        }
         if (sonar_device_poll(&f.dev, now, &ev) == 1)
             on_event(&f, &ev, now);
         if (now >= f.next_status) {
