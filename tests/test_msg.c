@@ -3,6 +3,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <math.h>
 #include <string.h>
 
 /* The generated types include stdlib.h: before cmocka.h, which redefines malloc under UNIT_TESTING. */
@@ -101,6 +102,10 @@ static void status_round_trip(void **state)
     s.tracker.bad_detections = 117;
     s.tracker.clock_back = 118;
     s.tracker.overflow = 119;
+    s.tracker.dropped = 149;
+    s.tracker.out_of_order = 150;
+    s.tracker.revisions = 151;
+    s.tracker.hyp_overflow = 152;
     s.pose.state = SONAR_POSE_STALE;
     s.pose.accepted = 120;
     s.pose.out_of_order = 121;
@@ -336,6 +341,7 @@ static void tracks_carry_the_tracker(void **state)
     static struct sonar_detections d;
     sonar_track_t t[SONAR_MAX_TRACKS];
     sonar_tracks_t m, in;
+    struct msg_revisions rv;
     int n;
     (void)state;
     memset(&tk, 0, sizeof(tk));
@@ -355,9 +361,20 @@ static void tracks_carry_the_tracker(void **state)
     tk.t[0].hits = 8;
     tk.t[0].misses = 1;
     tk.t[0].det = 2;
+    tk.t[0].mode = SONAR_TRACK_RESTING;
+    tk.t[0].kind = SONAR_TRACK_KIND_RESTING;
+    tk.t[0].mu[SONAR_TRK_CV] = 51;
+    tk.t[0].mu[SONAR_TRK_MANOEUVRE] = 0;
+    tk.t[0].mu[SONAR_TRK_REST] = 204;
     tk.t[1].id = 4000000000u; /* beyond int32: held at its largest */
     tk.t[1].det = -1;
-    msg_tracks(&tk, &d, NULL, t, &m);
+    tk.t[1].kind = SONAR_TRACK_KIND_STRUCTURE;
+    tk.nrev = 2; /* the track published last sweep as 3 is 7, and 7 was not there */
+    tk.rev[0].from = 3;
+    tk.rev[0].to = 7;
+    tk.rev[1].from = 7;
+    tk.rev[1].to = 0;
+    msg_tracks(&tk, &d, NULL, t, &rv, &m);
     n = sonar_tracks_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_int_equal(sonar_tracks_t_decode(wire, 0, n, &in), n);
     assert_int_equal(in.count, 2);
@@ -374,6 +391,16 @@ static void tracks_carry_the_tracker(void **state)
     assert_int_equal(in.tracks[0].detection, 2);
     assert_int_equal(in.tracks[1].id, 2147483647);
     assert_int_equal(in.tracks[1].detection, -1);
+    assert_int_equal(in.tracks[0].mode, SONAR_TRACK_RESTING);
+    assert_int_equal(in.tracks[0].kind, SONAR_TRACK_KIND_RESTING);
+    assert_true(fabsf(in.tracks[0].p_moving - 0.2f) < 1e-6f && fabsf(in.tracks[0].p_rest - 0.8f) < 1e-6f);
+    assert_true(in.tracks[0].p_manoeuvre == 0.0f);
+    assert_int_equal(in.tracks[1].kind, SONAR_TRACK_KIND_STRUCTURE);
+    assert_int_equal(in.revisions, 2);
+    assert_int_equal(in.revised_from[0], 3);
+    assert_int_equal(in.revised_to[0], 7);
+    assert_int_equal(in.revised_from[1], 7);
+    assert_int_equal(in.revised_to[1], 0);
     sonar_tracks_t_decode_cleanup(&in);
 }
 

@@ -234,13 +234,21 @@ static void test_report_sink_json_line(void **state)
     tk.t[0].hits = 5;
     tk.t[0].utime = 4000000; /* still for 2 s at 4 s; the sweep ends at 5 s: 3 s */
     tk.t[0].still_ms = 2000;
+    tk.t[0].mode = SONAR_TRACK_TURNING;
+    tk.t[0].kind = SONAR_TRACK_KIND_MOVING;
+    tk.nrev = 2; /* the track published last sweep as 4 was 9, and 9 was not there */
+    tk.rev[0].from = 4;
+    tk.rev[0].to = 9;
+    tk.rev[1].from = 9;
+    tk.rev[1].to = 0;
     d.utime = 5000000;
     assert_int_equal(s.sink.detections(s.sink.self, &d, &tk, NULL), HOST_OK);
     fclose(f);
     assert_non_null(strstr(text, "{\"sweep\":3,"));
     assert_non_null(strstr(text, "\"tracks\":[{\"id\":4,\"state\":\"confirmed\","));
     assert_non_null(strstr(text, "\"vx_mps\":0.500,"));
-    assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0,\"still_s\":3.0}]}\n"));
+    assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0,\"still_s\":3.0,\"mode\":\"turning\",\"kind\":\"moving\"}]"));
+    assert_non_null(strstr(text, ",\"revisions\":[{\"id\":4,\"now\":9},{\"id\":9,\"now\":0}]}\n"));
     assert_non_null(strstr(text, "\"x_m\":1.000"));
     assert_non_null(strstr(text, "\"points\":40"));
     assert_non_null(strstr(text, "\"frame\":\"body\""));

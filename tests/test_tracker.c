@@ -1,4 +1,4 @@
-/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, manoeuvres, the assignment cascade, bad input, determinism, and how long a track has stood still. */
+/* test_tracker.c -- the assignment against every permutation, track life (confirm, coast, delete, IDs), velocity, crossing targets, sectors, the IMM (a turn, a stop, a start), what a track is, deferred association and its revisions, the assignment cascade, bad input, determinism, and how long a track has stood still. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -357,11 +357,12 @@ static void test_sector_out_of_view_is_not_a_miss(void **state)
  * track is lost and a new ID starts; with it the same track takes the turn and its velocity
  * swings round.
  */
-static void run_turn(float manoeuvre, uint32_t *last_id, float *vy)
+static void run_turn(int imm, float manoeuvre, uint32_t *last_id, float *vy)
 {
     struct sonar_tracker_config c;
     int s;
     sonar_tracker_defaults(&c);
+    c.imm = (uint8_t)imm;
     c.manoeuvre_mps2 = manoeuvre;
     assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
     for (s = 0; s < 10; s++) {
@@ -372,25 +373,196 @@ static void run_turn(float manoeuvre, uint32_t *last_id, float *vy)
         /* east at 1 m/s until 27 s, then north */
         o.x_m = (float)(t < 27.0 ? t : 27.0);
         o.y_m = (float)(t < 27.0 ? 0.0 : t - 27.0);
+        o.size_m = 0.3f;
         assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
     }
     *last_id = tk.t[tk.n - 1].id;
     *vy = tk.t[tk.n - 1].vy;
 }
 
-static void test_manoeuvre_pass_keeps_a_turning_track(void **state)
+/*
+ * A turn: east at 1 m/s, then north, seen every 6 s. Near constant velocity alone, with no
+ * manoeuvre noise, loses the track at the turn; the IMM keeps one ID through it, says it turned,
+ * and ends with the new heading. The same with near constant velocity alone and a manoeuvre
+ * second chance (the tracker before the IMM) also keeps it.
+ */
+static void test_imm_turn(void **state)
 {
     uint32_t id;
     float vy;
     (void)state;
-    run_turn(0.0f, &id, &vy);
+    run_turn(0, 0.0f, &id, &vy);
     assert_true(id > 1); /* lost at the turn */
-    run_turn(0.5f, &id, &vy);
+    run_turn(1, 0.5f, &id, &vy);
     assert_int_equal(id, 1);
     assert_int_equal(tk.n, 1);
     assert_true(tk.manoeuvres >= 1);
     assert_true(vy > 0.7f);
     assert_true(fabsf(tk.t[0].vx) < 0.3f);
+    assert_int_equal(tk.t[0].kind, SONAR_TRACK_KIND_MOVING);
+    run_turn(0, 0.5f, &id, &vy);
+    assert_int_equal(id, 1);
+}
+
+/*
+ * A stop and a start, seen every 6 s: a swimmer going east at 0.8 m/s stops for six looks, then
+ * sets off north at 0.3 m/s. Returns the speed of the track at the first look after the stop;
+ * checks one ID throughout, and with the IMM, its mode and kind at rest and after the start. (A
+ * track at rest reaches SONAR_TRK_TURN_FROM_REST m/s a look, so a faster start from rest starts a
+ * new track: the kinematic bound that keeps a still buoy's track off a post, test_kinematic_bounds.)
+ */
+static float stop_and_start(int imm)
+{
+    struct sonar_tracker_config c;
+    float at_rest = 0.0f;
+    int s;
+    sonar_tracker_defaults(&c);
+    c.imm = (uint8_t)imm;
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
+    for (s = 0; s < 16; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 6000000);
+        double t = s * 6.0 + 3.0;
+        struct sonar_tracker_obs o;
+        o.utime = (int64_t)(t * 1e6);
+        o.x_m = (float)(t < 27.0 ? 0.8 * t : 0.8 * 27.0);
+        o.y_m = (float)(t < 63.0 ? 0.0 : 0.3 * (t - 63.0));
+        o.size_m = 0.3f;
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 1);
+        assert_int_equal(tk.t[0].id, 1);
+        if (s == 5) /* the first look after the stop (27 s) */
+            at_rest = sqrtf(tk.t[0].vx * tk.t[0].vx + tk.t[0].vy * tk.t[0].vy);
+        if (imm && s == 9) {
+            assert_int_equal(tk.t[0].mode, SONAR_TRACK_RESTING);
+            assert_int_equal(tk.t[0].kind, SONAR_TRACK_KIND_RESTING); /* moved once, still now */
+            assert_true(tk.t[0].mu[SONAR_TRK_REST] > 128);
+            assert_true(sonar_track_still_s(&tk.t[0], o.utime) > 20.0f);
+        }
+        if (imm && s == 15) {
+            assert_int_equal(tk.t[0].kind, SONAR_TRACK_KIND_MOVING);
+            assert_true(tk.t[0].mode != SONAR_TRACK_RESTING);
+            assert_true(tk.t[0].vy > 0.2f && fabsf(tk.t[0].vx) < 0.1f);
+        }
+    }
+    return at_rest;
+}
+
+static void test_imm_stop_and_start(void **state)
+{
+    float imm, cv;
+    (void)state;
+    imm = stop_and_start(1);
+    cv = stop_and_start(0);
+    /* the rest model takes the stop at once; near constant velocity alone takes a look more */
+    assert_true(imm < 0.1f);
+    assert_true(cv > 2.0f * imm);
+}
+
+/*
+ * Something that never moves (a ladder, a post) is structure after SONAR_TRK_KIND_HITS looks; it
+ * is new before that.
+ */
+static void test_structure_kind(void **state)
+{
+    struct sonar_tracker_obs o = {4.0f, -3.0f, 0, 0.5f};
+    int s;
+    (void)state;
+    init();
+    for (s = 0; s < 6; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 6000000);
+        o.utime = (int64_t)s * 6000000 + 3000000;
+        o.x_m = 4.0f + (s % 2 ? 0.05f : -0.05f);
+        assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.t[0].kind, s + 1 >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STRUCTURE : SONAR_TRACK_KIND_NEW);
+    }
+    assert_string_equal(sonar_track_kind_str(SONAR_TRACK_KIND_STRUCTURE), "structure");
+    assert_string_equal(sonar_track_mode_str(SONAR_TRACK_RESTING), "resting");
+    assert_string_equal(sonar_track_kind_str(9), "?");
+}
+
+/*
+ * Two targets first seen 10 m apart, coming towards each other at 1.2 m/s, seen every 5 s. At the
+ * second look each is nearer the other's first sighting (4 m against 6 m), so one sweep's
+ * assignment swaps them; the third look, where each goes on as it was going, says the swap was
+ * wrong. Deferred, that look revises the IDs published at the second (published as 1 is 2, as 2
+ * is 1) and the tracks carry on with the right velocities; one sweep at a time, there is no
+ * revision and the velocities are the swap's.
+ */
+static void crossing_looks(int defer)
+{
+    struct sonar_tracker_config c;
+    int s;
+    sonar_tracker_defaults(&c);
+    c.defer = (uint8_t)defer;
+    assert_int_equal(sonar_tracker_init(&tk, &c), SONAR_OK);
+    for (s = 0; s < 3; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)s * 5000000 + 4000000);
+        struct sonar_tracker_obs o[2];
+        double t = s * 5.0;
+        o[0].x_m = (float)(1.2 * t); /* A, going +x */
+        o[1].x_m = (float)(10.0 - 1.2 * t); /* B, going -x */
+        o[0].y_m = o[1].y_m = 0.0f;
+        o[0].utime = (int64_t)(t * 1e6) + 1000000;
+        o[1].utime = o[0].utime + 200000;
+        o[0].size_m = o[1].size_m = 0.3f;
+        assert_int_equal(sonar_tracker_update(&tk, o, 2, &sw), SONAR_OK);
+        assert_int_equal(tk.n, 2);
+        if (s == 1) {
+            assert_int_equal(by_id(1)->det, 1); /* the swap, published live */
+            assert_int_equal(by_id(2)->det, 0);
+        }
+    }
+}
+
+static void test_deferred_crossing_revised(void **state)
+{
+    const struct sonar_track_revision *r;
+    unsigned n;
+    (void)state;
+    crossing_looks(1);
+    r = sonar_tracker_revisions(&tk, &n);
+    assert_int_equal(n, 2);
+    assert_int_equal(r[0].from + r[1].from, 3); /* 1 and 2 */
+    assert_int_equal(r[0].to, r[1].from);
+    assert_int_equal(r[1].to, r[0].from);
+    assert_int_equal(tk.revisions, 1);
+    assert_int_equal(by_id(1)->det, 0); /* A's ID on A */
+    assert_int_equal(by_id(2)->det, 1);
+    assert_true(fabsf(by_id(1)->vx - 1.2f) < 0.1f && fabsf(by_id(2)->vx + 1.2f) < 0.1f);
+    /* one sweep at a time: nothing revised; the third look puts each ID back, on a swapped velocity */
+    crossing_looks(0);
+    r = sonar_tracker_revisions(&tk, &n);
+    assert_int_equal(n, 0);
+    assert_int_equal(tk.revisions, 0);
+    assert_int_equal(tk.nalt, 0);
+    assert_true(fabsf(by_id(1)->vx - 1.2f) > 0.3f); /* carried over from the swap */
+}
+
+/*
+ * More alternatives within reach than the hypotheses kept: a tight group of new tracks, each
+ * detection near all of them. The likeliest SONAR_TRK_HYPOTHESES - 1 are kept, the rest counted;
+ * the sweep's assignment stands for them.
+ */
+static void test_hypotheses_overflow_counted(void **state)
+{
+    struct sonar_tracker_obs o[8];
+    int s, i;
+    (void)state;
+    init();
+    for (s = 0; s < 2; s++) {
+        struct sonar_tracker_sweep sw = everywhere((int64_t)s * 5000000 + 4000000);
+        for (i = 0; i < 8; i++) {
+            o[i].x_m = (float)(i % 4) * 0.6f + (float)s * 0.5f;
+            o[i].y_m = (float)(i / 4) * 0.6f;
+            o[i].utime = (int64_t)s * 5000000 + 1000000 + i * 1000;
+            o[i].size_m = 0.2f;
+        }
+        assert_int_equal(sonar_tracker_update(&tk, o, 8, &sw), SONAR_OK);
+    }
+    assert_int_equal(tk.nalt, SONAR_TRK_HYPOTHESES - 1);
+    assert_true(tk.hyp_overflow > 0);
+    for (i = 1; i < tk.nalt; i++)
+        assert_true(tk.alt[i - 1].delta <= tk.alt[i].delta);
 }
 
 /* A track's first look at (3.96, 4.91), then a detection 10.9 m away 4 s later (2.7 m/s). */
@@ -595,7 +767,25 @@ static void test_bad_input_is_counted(void **state)
         assert_true(isfinite(tk.t[i].px) && isfinite(tk.t[i].pa));
     }
     assert_int_equal(sonar_tracker_update(NULL, o, 1, &sw), SONAR_ERR_ARG);
-    assert_int_equal(sonar_tracker_update(&tk, o, SONAR_MAX_CLUSTERS + 1, &sw), SONAR_ERR_ARG);
+    {
+        /* more detections than a sweep holds: the first SONAR_MAX_CLUSTERS read, the rest dropped and counted */
+        static struct sonar_tracker_obs many[SONAR_MAX_CLUSTERS + 3];
+        for (i = 0; i < SONAR_MAX_CLUSTERS + 3; i++) {
+            many[i].x_m = 200.0f + 5.0f * (float)i;
+            many[i].y_m = 0.0f;
+            many[i].utime = 5500000;
+            many[i].size_m = 0.1f;
+        }
+        sw.utime = 5600000;
+        assert_int_equal(sonar_tracker_update(&tk, many, SONAR_MAX_CLUSTERS + 3, &sw), SONAR_OK);
+        assert_int_equal(tk.dropped, 3);
+        /* a detection older than the last sweep (by less than the 1 s that says the clock went back): used, counted */
+        many[0].utime = 5400000;
+        sw.utime = 5900000;
+        assert_int_equal(sonar_tracker_update(&tk, many, 1, &sw), SONAR_OK);
+        assert_int_equal(tk.out_of_order, 1);
+        assert_int_equal(tk.clock_back, 1);
+    }
     assert_int_equal(sonar_tracker_update(&tk, NULL, 1, &sw), SONAR_ERR_ARG);
     (void)ids;
 }
@@ -759,7 +949,11 @@ int main(void)
         cmocka_unit_test(test_coast_delete_and_ids_never_reused),
         cmocka_unit_test(test_crossing_targets_keep_ids),
         cmocka_unit_test(test_sector_out_of_view_is_not_a_miss),
-        cmocka_unit_test(test_manoeuvre_pass_keeps_a_turning_track),
+        cmocka_unit_test(test_imm_turn),
+        cmocka_unit_test(test_imm_stop_and_start),
+        cmocka_unit_test(test_structure_kind),
+        cmocka_unit_test(test_deferred_crossing_revised),
+        cmocka_unit_test(test_hypotheses_overflow_counted),
         cmocka_unit_test(test_established_tracks_assign_first),
         cmocka_unit_test(test_one_hit_tracks_assign_after_established),
         cmocka_unit_test(test_bad_input_is_counted),

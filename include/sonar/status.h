@@ -25,6 +25,8 @@ struct sonar_status {
     uint32_t stack_used;                   /* co-processor: stack high-water mark, bytes; 0 on the host */
     struct {
         uint32_t live, ended, bad_detections, clock_back, overflow;
+        uint32_t dropped, out_of_order;    /* detections past SONAR_MAX_CLUSTERS a sweep; older than the last sweep */
+        uint32_t revisions, hyp_overflow;  /* IDs a later look revised; alternatives that did not fit (final at once) */
     } tracker;                             /* all 0 with tracking off */
     struct {
         int state;                         /* enum sonar_pose_state, at the latest beam */

@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: constant-velocity Kalman filters, a Mahalanobis gate, an optimal assignment and M-of-N confirmation; RAM: sizeof(struct sonar_track) = 64 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 2 136 B; stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 168 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 7 984 B; stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -10,11 +10,32 @@
 
 /*
  * Each track is x = (px, vx, py, vy) in metres and m/s in the frame of its detections (the sonar
- * frame), driven by white acceleration noise. Both axes see the same measurement noise, so they
- * share one 2 x 2 covariance (position, cross, velocity): exact for this model, and a quarter of
- * the arithmetic. Each detection carries its own time (the beam that saw its centroid), so a
- * track is predicted to the moment it was seen, not to the end of the sweep.
+ * frame), estimated by an interacting multiple model filter (IMM) of three Kalman filters: near
+ * constant velocity (white acceleration noise accel_mps2), a manoeuvre (manoeuvre_mps2: a turn,
+ * a start, a stop) and rest (no velocity, the position wandering at SONAR_TRK_REST_MPS). Both
+ * axes see the same measurement noise, so each model keeps one 2 x 2 covariance for both
+ * (position, cross, velocity): exact for each model, and a quarter of the arithmetic; the
+ * combined estimate averages the two axes' spread. Each detection carries its own time (the beam
+ * that saw its centroid), so a track is predicted to the moment it was seen, not to the end of
+ * the sweep.
  */
+
+enum sonar_track_model_kind { SONAR_TRK_CV = 0, SONAR_TRK_MANOEUVRE = 1, SONAR_TRK_REST = 2, SONAR_TRK_MODELS = 3 };
+
+/* What a track is doing, from its models' probabilities at its last hit. */
+enum sonar_track_mode {
+    SONAR_TRACK_MOVING = 0,  /* near constant velocity is the likeliest model */
+    SONAR_TRACK_TURNING = 1, /* the manoeuvre model is */
+    SONAR_TRACK_RESTING = 2  /* the rest model is */
+};
+
+/* What a track is over its life. */
+enum sonar_track_kind {
+    SONAR_TRACK_KIND_NEW = 0,       /* not yet enough looks to say (fewer than SONAR_TRK_KIND_HITS hits) */
+    SONAR_TRACK_KIND_MOVING = 1,    /* it has moved, and moves now */
+    SONAR_TRACK_KIND_RESTING = 2,   /* it moved once and stands still now (the pool watcher's case) */
+    SONAR_TRACK_KIND_STRUCTURE = 3  /* never moved since first seen, over SONAR_TRK_KIND_HITS hits or more */
+};
 
 enum sonar_track_state {
     SONAR_TRACK_TENTATIVE = 0, /* not yet M hits in the last N sweeps it was visible in */
@@ -35,10 +56,14 @@ enum sonar_track_state {
 /* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres.
    (Structure, an echo there from the first look that never moved, is not tracked: structure.h.) */
 #define SONAR_TRK_STILL_M 0.3f
+/* The rest model's position wander, m/s per root second (a floating body bobbing): variance grows REST^2 x dt. */
+#define SONAR_TRK_REST_MPS 0.05f
+/* Hits before a track that never moved is called structure (enum sonar_track_kind). */
+#define SONAR_TRK_KIND_HITS 4
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
-    float manoeuvre_mps2; /* acceleration noise std of the manoeuvre pass, m/s^2, 0..10; not above accel_mps2: no such pass */
+    float manoeuvre_mps2; /* acceleration noise std of the manoeuvre model, m/s^2, 0..10; not above accel_mps2: as the moving one */
     float meas_m;         /* detection position std per axis, m, 0.01..10 */
     float speed0_mps;     /* velocity std of a new track, m/s, 0.01..20 */
     float max_speed_mps;  /* no pair implies a move faster than this from the track's last state (+ 3 meas_m), m/s,
@@ -49,6 +74,20 @@ struct sonar_tracker_config {
     uint8_t max_misses;   /* visible sweeps in a row without a hit that delete a confirmed track, 1..127;
                              twice as many sweeps without a hit, in view or not, also do */
     float max_dt_s;       /* longest prediction step, s, 1..600; longer gaps are counted and clipped */
+    uint8_t imm;          /* 1: the three models; 0: near constant velocity alone */
+    uint8_t defer;        /* 1: keep the likeliest other assignments of a sweep and let the next look decide
+                             (IDs may then be revised, each revision said); 0: each sweep's assignment is final */
+};
+
+/*
+ * One model of a track's IMM, held mixed: the model's starting state for the next step (its own
+ * estimate blended with the others' by the probabilities of changing model), and p its prior
+ * probability for that step. Rest keeps vx = vy = pb = pc = 0.
+ */
+struct sonar_track_model {
+    float px, py, vx, vy; /* m, m/s, the tracker's frame */
+    float pa, pb, pc;     /* per-axis covariance, as the track's */
+    float p;              /* prior probability of this model for the next step, 0..1; the three sum to 1 */
 };
 
 struct sonar_track {
@@ -67,6 +106,12 @@ struct sonar_track {
     float pa, pb, pc;    /* per-axis covariance: position m^2, cross m^2/s, velocity m^2/s^2 */
     float ax, ay;        /* where it last moved: its filtered position then (same frame as px, py) */
     uint32_t still_ms;   /* ms it had stood still at utime: since it last moved more than SONAR_TRK_STILL_M, or was born */
+    uint8_t mode;        /* enum sonar_track_mode at its last hit */
+    uint8_t kind;        /* enum sonar_track_kind */
+    uint8_t moved;       /* 1 once it has moved more than SONAR_TRK_STILL_M from where it was born */
+    uint8_t mu[SONAR_TRK_MODELS]; /* the models' probabilities at its last hit, 0..255 (255 = 1) */
+    uint8_t chance;      /* 1: this sweep's detection came in the second chance (tracker.c), under its models' own gates */
+    struct sonar_track_model m[SONAR_TRK_MODELS]; /* the IMM, mixed for the next step; px .. pc above combine them */
 };
 
 /* One detection handed to the tracker. */
@@ -86,6 +131,25 @@ struct sonar_tracker_sweep {
     float origin_x, origin_y; /* the sonar's position at utime in the tracks' frame (0, 0 in the body frame) */
 };
 
+/*
+ * Another assignment of one sweep, kept until the next look decides: it changes two tracks (by
+ * ID) and holds their states had it been chosen. id[0] lost a detection to id[1] (id[1] took
+ * it, or the two swapped theirs); absent: under it id[0] was never born (id[1] took its first
+ * detection).
+ */
+struct sonar_trk_alt {
+    float delta;                /* its cost above the assignment published, -2 ln of a likelihood ratio, >= 0 */
+    uint32_t id[2];
+    uint8_t absent;             /* 1: id[0] does not exist under it */
+    int8_t born_det;            /* the detection id[0] was born from, until its ID is known; -1 */
+    struct sonar_track t[2];    /* id[0]'s and id[1]'s states under it */
+};
+
+/* A revision of the IDs published the sweep before: the track published as from is to (0: withdrawn, it was not there). */
+struct sonar_track_revision {
+    uint32_t from, to;
+};
+
 struct sonar_tracker {
     struct sonar_tracker_config cfg;
     struct sonar_track t[SONAR_MAX_TRACKS];
@@ -98,10 +162,18 @@ struct sonar_tracker {
     uint32_t clock_gaps;     /* predictions clipped at max_dt_s */
     uint32_t empty_sweeps;   /* sweeps with zero beams */
     uint32_t overflow;       /* detections that found no free track */
+    uint32_t dropped;        /* detections past SONAR_MAX_CLUSTERS in one update: not read */
+    uint32_t out_of_order;   /* detections older than the last sweep (used; nothing is predicted backwards) */
     uint32_t deleted;        /* tracks ended */
-    uint32_t manoeuvres;     /* hits taken in the manoeuvre pass */
+    uint32_t manoeuvres;     /* hits after which the manoeuvre model was the likeliest (a turn, a start, a stop) */
     uint8_t world;           /* the tracks' frame: 1 world (north, east), 0 body; see sonar_tracker_reframe */
     uint32_t reframes;       /* changes of frame */
+    uint8_t nalt;            /* alternatives of the last sweep kept for the next look */
+    struct sonar_trk_alt alt[SONAR_TRK_HYPOTHESES - 1];
+    uint8_t nrev;            /* revisions this update made of the IDs published after the last one */
+    struct sonar_track_revision rev[2];
+    uint32_t revisions;      /* updates that revised the last sweep's IDs */
+    uint32_t hyp_overflow;   /* alternatives within reach that did not fit: that sweep's assignment was final for them */
 };
 
 /* Largest assignment sonar_tracker_assign solves: rows <= cols <= this. */
@@ -110,7 +182,7 @@ struct sonar_tracker {
 /* NULL when cfg is valid, else a static "field: rule" string naming the first bad field. */
 const char *sonar_tracker_config_check(const struct sonar_tracker_config *cfg);
 
-/* sonard's defaults: 0.05 m/s^2, manoeuvres 0.5 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s. */
+/* sonard's defaults: 0.05 m/s^2, manoeuvres 0.5 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s, deferred. */
 void sonar_tracker_defaults(struct sonar_tracker_config *cfg);
 
 /* Validates cfg (copied) and empties the tracker; IDs start at 1. Returns SONAR_OK or SONAR_ERR_ARG. */
@@ -120,16 +192,19 @@ SONAR_CHECK int sonar_tracker_init(struct sonar_tracker *tk, const struct sonar_
 SONAR_CHECK int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg);
 
 /*
- * One sweep's detections (n <= SONAR_MAX_CLUSTERS; obs may be NULL when n is 0): predicts every
- * track to each detection's time, gates, assigns at least total cost (d^2 + 2 ln(S / meas^2) a
- * pair, more than any gated pair to start a new track instead), offers what is left to the
- * confirmed tracks that found nothing under the manoeuvre noise (a second assignment), updates,
- * confirms, coasts, deletes, and starts
- * tentative tracks from the detections left over. A track's det is its detection's index in obs.
- * Bad detections and full tables are counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG
- * (tk or sw NULL, n too large; nothing changed).
+ * One sweep's detections (the first SONAR_MAX_CLUSTERS of n are read, the rest dropped and
+ * counted; obs may be NULL when n is 0): the last sweep's alternatives read first (deferred
+ * association: the IDs it published may be revised, sonar_tracker_revisions); predicts every
+ * track's models to each detection's time, gates, assigns at least total cost (-2 ln of the
+ * models' mixture likelihood a pair, more than a gated pair of one model costs to start a new
+ * track instead), offers what is left to the confirmed tracks that found nothing under each of
+ * their models' own gates (a second assignment), keeps the likeliest other assignments for the
+ * next look, updates, confirms, coasts, deletes, and starts tentative tracks from the detections
+ * left over. A track's det is its detection's index in obs. Bad detections and full tables are
+ * counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG (tk or sw NULL, or obs NULL with n > 0;
+ * nothing changed).
  */
-SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
+SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, unsigned n,
                                      const struct sonar_tracker_sweep *sw);
 
 /*
@@ -165,6 +240,29 @@ int sonar_tracker_world(const struct sonar_tracker *tk);
 
 /* "tentative", "confirmed", "coasting", or "?" for anything else. */
 const char *sonar_track_state_str(int state);
+
+/* "moving", "turning", "resting" (enum sonar_track_mode), or "?". */
+const char *sonar_track_mode_str(int mode);
+
+/* "new", "moving", "resting", "structure" (enum sonar_track_kind), or "?". */
+const char *sonar_track_kind_str(int kind);
+
+/*
+ * The revisions the last update made of the IDs published after the update before it (*n of
+ * them, 0 or 2): the tracks published then as from are to (0: that track was not there). A
+ * consumer that keeps the last sweep's tracks relabels them; one that wants no revisions reads
+ * each sweep one sweep late, after them.
+ */
+const struct sonar_track_revision *sonar_tracker_revisions(const struct sonar_tracker *tk, unsigned *n);
+
+/*
+ * A copy of the tracker as it was after one sweep, made what a consumer one sweep late reads:
+ * next's revisions (next: the same tracker after the following update) applied to its IDs, each
+ * track published as from now to, one withdrawn (to 0) removed, and its own revisions cleared (a
+ * late reader sees none). kept[i] (SONAR_MAX_TRACKS entries) = where track i of the result was
+ * before, for whatever else is indexed by track. Returns the tracks left.
+ */
+unsigned sonar_tracker_relabel(struct sonar_tracker *copy, const struct sonar_tracker *next, uint8_t *kept);
 
 /*
  * Marks in cover (50 bytes, cleared first) the gradians a sweep's beams scanned: each beam's own

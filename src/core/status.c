@@ -11,6 +11,10 @@ void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *
         s->tracker.bad_detections = p->trk.bad_detections;
         s->tracker.clock_back = p->trk.clock_back;
         s->tracker.overflow = p->trk.overflow;
+        s->tracker.dropped = p->trk.dropped;
+        s->tracker.out_of_order = p->trk.out_of_order;
+        s->tracker.revisions = p->trk.revisions;
+        s->tracker.hyp_overflow = p->trk.hyp_overflow;
     }
     s->pose.world_sweeps = p->world_sweeps;
     s->pose.body_sweeps = p->body_sweeps;

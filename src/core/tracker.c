@@ -22,6 +22,8 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
     cfg->confirm_n = 3;
     cfg->max_misses = 2;
     cfg->max_dt_s = 120.0f;
+    cfg->imm = 1;
+    cfg->defer = 1;
 }
 
 const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
@@ -46,6 +48,10 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
         return "max_misses: 1..127 sweeps";
     if (!(c->max_dt_s >= 1.0f && c->max_dt_s <= (float)SONAR_TRK_MAX_DT_MAX))
         return "max_dt_s: 1.." SONAR_STR(SONAR_TRK_MAX_DT_MAX) " seconds";
+    if (c->imm > 1)
+        return "imm: 0 (near constant velocity alone) or 1 (three models)";
+    if (c->defer > 1)
+        return "defer: 0 (each sweep final) or 1 (the next look decides)";
     return NULL;
 }
 
@@ -80,14 +86,17 @@ void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p,
             sonar_pose_to_world(p, x, y, &t->px, &t->py);
             sonar_pose_to_world(p, ax, ay, &t->ax, &t->ay);
             sonar_pose_rotate(p->yaw_deg, vx, vy, &t->vx, &t->vy);
+            sonar_trk_imm_move(t, p->yaw_deg, 0.0f, 0.0f, p, SONAR_TRK_MOVE_TO_WORLD);
         } else {
             sonar_pose_to_body(p, x, y, &t->px, &t->py);
             sonar_pose_to_body(p, ax, ay, &t->ax, &t->ay);
             sonar_pose_rotate(-p->yaw_deg, vx, vy, &t->vx, &t->vy);
+            sonar_trk_imm_move(t, -p->yaw_deg, 0.0f, 0.0f, p, SONAR_TRK_MOVE_TO_BODY);
         }
     }
     tk->world = (uint8_t)(to_world != 0);
     tk->reframes++;
+    tk->nalt = 0; /* its alternatives are in the frame left */
 }
 
 void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_pose *at)
@@ -111,7 +120,9 @@ void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_
         t->ax += cx;
         t->ay += cy;
         sonar_pose_rotate(deg, vx, vy, &t->vx, &t->vy);
+        sonar_trk_imm_move(t, deg, cx, cy, NULL, SONAR_TRK_MOVE_TURN);
     }
+    tk->nalt = 0; /* its alternatives are in the frame left */
 }
 
 unsigned sonar_tracker_count(const struct sonar_tracker *tk)
@@ -137,6 +148,55 @@ const char *sonar_track_state_str(int state)
     case SONAR_TRACK_COASTING: return "coasting";
     default: return "?";
     }
+}
+
+const char *sonar_track_mode_str(int mode)
+{
+    switch (mode) {
+    case SONAR_TRACK_MOVING: return "moving";
+    case SONAR_TRACK_TURNING: return "turning";
+    case SONAR_TRACK_RESTING: return "resting";
+    default: return "?";
+    }
+}
+
+const char *sonar_track_kind_str(int kind)
+{
+    switch (kind) {
+    case SONAR_TRACK_KIND_NEW: return "new";
+    case SONAR_TRACK_KIND_MOVING: return "moving";
+    case SONAR_TRACK_KIND_RESTING: return "resting";
+    case SONAR_TRACK_KIND_STRUCTURE: return "structure";
+    default: return "?";
+    }
+}
+
+const struct sonar_track_revision *sonar_tracker_revisions(const struct sonar_tracker *tk, unsigned *n)
+{
+    *n = tk->nrev;
+    return tk->rev;
+}
+
+unsigned sonar_tracker_relabel(struct sonar_tracker *copy, const struct sonar_tracker *next, uint8_t *kept)
+{
+    uint8_t k, j, r;
+    for (k = 0, j = 0; k < copy->n; k++) {
+        struct sonar_track t = copy->t[k];
+        int gone = 0;
+        for (r = 0; r < next->nrev; r++)
+            if (next->rev[r].from == t.id) {
+                gone = next->rev[r].to == 0;
+                t.id = next->rev[r].to;
+                break;
+            }
+        if (gone)
+            continue;
+        kept[j] = k;
+        copy->t[j++] = t;
+    }
+    copy->n = j;
+    copy->nrev = 0;
+    return j;
 }
 
 /* Seconds from t's state to utime: never negative (no prediction backwards), clipped at max_dt_s. */
@@ -220,20 +280,6 @@ static uint16_t sat_inc(uint16_t v)
     return v == UINT16_MAX ? v : (uint16_t)(v + 1u);
 }
 
-/* Kalman update of both axes with a detection at the track's (already predicted) time. */
-static void correct(struct sonar_track *t, float r2, float zx, float zy)
-{
-    float s = t->pa + r2, ka = t->pa / s, kb = t->pb / s, ex = zx - t->px, ey = zy - t->py;
-    float a = t->pa, b = t->pb;
-    t->px += ka * ex;
-    t->vx += kb * ex;
-    t->py += ka * ey;
-    t->vy += kb * ey;
-    t->pa = a - ka * a;
-    t->pb = b - ka * b;
-    t->pc = t->pc - kb * b;
-}
-
 float sonar_track_still_s(const struct sonar_track *t, int64_t utime)
 {
     double s = (double)t->still_ms * 1e-3 + (double)(utime - t->utime) * 1e-6;
@@ -246,7 +292,11 @@ static uint8_t size_dm(float size_m)
     return (uint8_t)(!(size_m >= 0.0f) ? 0.0f : size_m >= 25.5f ? 255.0f : size_m * 10.0f + 0.5f);
 }
 
-/* Its size, and whether it moved since (state time then: was): the filtered position left the disc about where it last moved. */
+/*
+ * Its size, whether it moved since (state time then: was): the filtered position left the disc
+ * about where it last moved; and what it is: structure until it has moved, then moving or resting
+ * by its models (the rest model likeliest: resting).
+ */
 static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, int64_t was)
 {
     float dx = t->px - t->ax, dy = t->py - t->ay;
@@ -256,30 +306,72 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
         t->ax = t->px;
         t->ay = t->py;
         t->still_ms = 0;
+        t->moved = 1;
     } else {
         t->still_ms = ms >= (int64_t)(UINT32_MAX - t->still_ms) ? UINT32_MAX : t->still_ms + (uint32_t)ms;
     }
+    if (t->moved)
+        t->kind = t->mode == SONAR_TRACK_RESTING && t->still_ms > 0 ? SONAR_TRACK_KIND_RESTING : SONAR_TRACK_KIND_MOVING;
+    else
+        t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STRUCTURE : SONAR_TRACK_KIND_NEW;
 }
 
-/* A hit: t predicted to o's time under noise q, then corrected by it; det is o's index. */
+/* A hit: t's models predicted to o's time, corrected by it; det is o's index. */
 void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
-                   float q, float r2, int *clipped)
+                   float r2, int *clipped)
 {
     float dt = sonar_trk_step_s(tk, t, o->utime, clipped);
     int64_t was = t->utime;
-    t->px += t->vx * dt;
-    t->py += t->vy * dt;
-    sonar_trk_predict_cov(q, dt, &t->pa, &t->pb, &t->pc);
     if (o->utime > t->utime)
         t->utime = o->utime;
-    correct(t, r2, o->x_m, o->y_m);
+    (void)sonar_trk_imm_hit(tk, t, o, r2, dt);
     after_hit(t, o, was);
     t->det = (int8_t)det;
 }
 
+int sonar_trk_account(const struct sonar_tracker *tk, struct sonar_track *t, int hit, int seen)
+{
+    const unsigned window = (1u << tk->cfg.confirm_n) - 1u;
+    int keep = 1;
+    if (hit) {
+        t->hits = sat_inc(t->hits);
+        t->misses = 0;
+        t->unseen = 0;
+        t->history = (uint8_t)((((unsigned)t->history << 1) | 1u) & window);
+        t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
+        if (t->state == SONAR_TRACK_COASTING ||
+            (t->state == SONAR_TRACK_TENTATIVE && popcount8(t->history) >= tk->cfg.confirm_m))
+            t->state = SONAR_TRACK_CONFIRMED;
+        return 1;
+    }
+    if (seen) {
+        t->misses = sat_inc(t->misses);
+        t->history = (uint8_t)(((unsigned)t->history << 1) & window);
+        t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
+        if (t->state == SONAR_TRACK_TENTATIVE) {
+            /* Dead once the misses in its window leave fewer than M possible hits. */
+            keep = t->seen - popcount8(t->history) <= (unsigned)(tk->cfg.confirm_n - tk->cfg.confirm_m);
+        } else {
+            t->state = SONAR_TRACK_COASTING;
+            keep = t->misses < tk->cfg.max_misses;
+        }
+    }
+    /*
+     * Out of view (gone round the edge of a sector, say) a track can be neither hit nor missed: it
+     * coasts, and a bound on its sweeps without a hit ends it, so one that left for good is not
+     * published for as long as its covariance takes to grow.
+     */
+    t->unseen = (uint8_t)(t->unseen < UINT8_MAX ? t->unseen + 1u : t->unseen);
+    if (t->state == SONAR_TRACK_CONFIRMED)
+        t->state = SONAR_TRACK_COASTING;
+    if (t->unseen >= 2u * tk->cfg.max_misses)
+        keep = 0;
+    return keep;
+}
+
 /* Long: the cascade of assignments, then confirmation, coasting and births, in the order the contract above
    gives; issue 36 asks for it split, which needs the passes' shared state in a struct first. */
-int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, uint8_t n,
+int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, unsigned n,
                          const struct sonar_tracker_sweep *sw)
 {
     /* On the stack (2 KB at 16 x 32): it lives for one update, and static RAM is the co-processor's limit. */
@@ -287,21 +379,26 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     uint8_t rows[SONAR_MAX_CLUSTERS], nr = 0, left[SONAR_MAX_CLUSTERS], nl = 0, cand[SONAR_MAX_TRACKS], nc = 0, i, j, k;
     const float r2 = tk != NULL ? tk->cfg.meas_m * tk->cfg.meas_m : 0.0f;
     const float q = tk != NULL ? tk->cfg.accel_mps2 * tk->cfg.accel_mps2 : 0.0f;
-    const float qm = tk != NULL ? tk->cfg.manoeuvre_mps2 * tk->cfg.manoeuvre_mps2 : 0.0f;
-    const unsigned window = tk != NULL ? (1u << tk->cfg.confirm_n) - 1u : 0u;
     int clipped = 0;
-    if (tk == NULL || sw == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
+    if (tk == NULL || sw == NULL || (n > 0 && obs == NULL))
         return SONAR_ERR_ARG;
     if (sw->beams == 0) {
         tk->empty_sweeps++;
         return SONAR_OK;
     }
     tk->sweeps++;
+    if (n > SONAR_MAX_CLUSTERS) {
+        tk->dropped += n - SONAR_MAX_CLUSTERS;
+        n = SONAR_MAX_CLUSTERS;
+    }
     for (i = 0; i < n; i++) {
-        if (usable(&obs[i]))
-            rows[nr++] = i;
-        else
+        if (!usable(&obs[i])) {
             tk->bad_detections++;
+            continue;
+        }
+        rows[nr++] = i;
+        if (tk->sweeps > 1 && obs[i].utime < tk->last_utime && obs[i].utime >= tk->last_utime - 1000000)
+            tk->out_of_order++;
     }
     /*
      * A clock that ran backwards (a replay restarted, a host clock stepped): nothing is predicted
@@ -313,6 +410,8 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             earliest = obs[rows[i]].utime < earliest ? obs[rows[i]].utime : earliest;
         if (tk->n > 0 && earliest < tk->last_utime - 1000000) {
             tk->clock_back++;
+            tk->nalt = 0; /* their states are of a time now in the future */
+            tk->last_utime = earliest; /* the new clock from here: the next sweep is not "back" again */
             for (k = 0; k < tk->n; k++)
                 if (tk->t[k].utime > earliest)
                     tk->t[k].utime = earliest;
@@ -320,76 +419,59 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     }
     for (k = 0; k < tk->n; k++) {
         tk->t[k].det = -1;
+        tk->t[k].chance = 0;
         tk->t[k].age = sat_inc(tk->t[k].age);
     }
+    /* The last sweep's other hypotheses, read against this sweep's detections. */
+    tk->nrev = 0;
+    if (tk->cfg.defer)
+        sonar_trk_defer_decide(tk, cost, obs, rows, nr, r2, &clipped);
+    tk->nalt = 0;
     for (i = 0; i < nr; i++)
         left[nl++] = rows[i];
     /*
      * A cascade of assignments, each over the detections the ones before it left: established
-     * tracks first (a tentative one, whose velocity is not known, has a wide gate and would take
-     * detections that belong to them); then a second chance for manoeuvres, in which a track hit
-     * in its last visible sweep that found nothing is gated with the larger manoeuvre noise and
-     * adapts its velocity with it (not coasting ones: over two revisits that noise would gate half
-     * the scene); then the tentative tracks, and those of one hit (confirmed at birth when
-     * confirm_m is 1: no velocity either; in one assignment with the established ones they won
-     * detections from them, two ID switches on the sector scene). What is left starts new tracks.
+     * tracks first, gated by their IMM's combined covariance (a tentative one, whose velocity is
+     * not known, has a wide gate and would take detections that belong to them); then a second
+     * chance for manoeuvres, in which a track hit in its last visible sweep that found nothing is
+     * gated by each of its models' own covariances, the manoeuvre model's wide one among them (not
+     * coasting ones: over two revisits that gate would span half the scene); then the tentative
+     * tracks, and those of one hit (confirmed at birth when confirm_m is 1: no velocity either; in
+     * one assignment with the established ones they won detections from them, two ID switches on
+     * the sector scene). What is left starts new tracks.
      */
     for (k = 0; k < tk->n; k++)
         if (tk->t[k].state != SONAR_TRACK_TENTATIVE && tk->t[k].hits > 1)
             cand[nc++] = k;
-    nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 1, &clipped);
-    if (qm > q) {
-        for (k = 0, nc = 0; k < tk->n; k++)
-            if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED && tk->t[k].hits > 1)
-                cand[nc++] = k;
-        j = nl;
-        nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, qm, r2, 1, 0, &clipped);
-        tk->manoeuvres += (uint32_t)(j - nl);
-    }
+    nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 1, &clipped);
+    for (k = 0, nc = 0; k < tk->n; k++)
+        if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED && tk->t[k].hits > 1)
+            cand[nc++] = k;
+    nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 1, 0, &clipped);
     for (k = 0, nc = 0; k < tk->n; k++)
         if (tk->t[k].state == SONAR_TRACK_TENTATIVE || tk->t[k].hits <= 1)
             cand[nc++] = k;
-    (void)sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, q, r2, 0, 0, &clipped);
+    nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 0, &clipped);
     for (k = 0; k < tk->n; k++)
         if (tk->t[k].det == SONAR_TRK_MERGED)
             tk->t[k].det = -1;
+    /*
+     * The other likeliest assignments are kept (their tracks' states computed from the priors)
+     * before the hits of the one published are applied.
+     */
+    if (tk->cfg.defer)
+        sonar_trk_defer_offer(tk, obs, left, nl, r2, &clipped);
+    for (k = 0; k < tk->n; k++) {
+        struct sonar_track *t = &tk->t[k];
+        if (t->det >= 0) {
+            sonar_trk_hit(tk, t, &obs[t->det], (uint8_t)t->det, r2, &clipped);
+            tk->manoeuvres += t->mode == SONAR_TRACK_TURNING;
+        }
+    }
     /* Confirmation, coasting and deletion; the array stays in birth order. */
     for (k = 0, j = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
-        int keep = 1;
-        if (t->det >= 0) {
-            t->hits = sat_inc(t->hits);
-            t->misses = 0;
-            t->unseen = 0;
-            t->history = (uint8_t)((((unsigned)t->history << 1) | 1u) & window);
-            t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
-            if (t->state == SONAR_TRACK_COASTING ||
-                (t->state == SONAR_TRACK_TENTATIVE && popcount8(t->history) >= tk->cfg.confirm_m))
-                t->state = SONAR_TRACK_CONFIRMED;
-        } else if (visible(t, sw)) {
-            t->misses = sat_inc(t->misses);
-            t->history = (uint8_t)(((unsigned)t->history << 1) & window);
-            t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
-            if (t->state == SONAR_TRACK_TENTATIVE) {
-                /* Dead once the misses in its window leave fewer than M possible hits. */
-                keep = t->seen - popcount8(t->history) <= (unsigned)(tk->cfg.confirm_n - tk->cfg.confirm_m);
-            } else {
-                t->state = SONAR_TRACK_COASTING;
-                keep = t->misses < tk->cfg.max_misses;
-            }
-        }
-        if (t->det < 0) {
-            /*
-             * Out of view (gone round the edge of a sector, say) a track can be neither hit nor
-             * missed: it coasts, and a bound on its sweeps without a hit ends it, so one that left for
-             * good is not published for as long as its covariance takes to grow.
-             */
-            t->unseen = (uint8_t)(t->unseen < UINT8_MAX ? t->unseen + 1u : t->unseen);
-            if (t->state == SONAR_TRACK_CONFIRMED)
-                t->state = SONAR_TRACK_COASTING;
-            if (t->unseen >= 2u * tk->cfg.max_misses)
-                keep = 0;
-        }
+        int keep = sonar_trk_account(tk, t, t->det >= 0, t->det >= 0 || visible(t, sw));
         if (keep) {
             float pa = t->pa, pb = t->pb, pc = t->pc;
             sonar_trk_predict_cov(q, sonar_trk_step_s(tk, t, sw->utime, &clipped), &pa, &pb, &pc);
@@ -435,8 +517,8 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             t->ax = o->x_m;
             t->ay = o->y_m;
             t->size_dm = size_dm(o->size_m);
-            t->pa = r2;
-            t->pc = tk->cfg.speed0_mps * tk->cfg.speed0_mps;
+            sonar_trk_imm_birth(tk, t, o, r2);
+            sonar_trk_defer_born(tk, rows[i], t->id);
         }
     }
     for (i = 0; i < nr; i++)

@@ -109,34 +109,31 @@ int sonar_tracker_assign(const float *cost, uint8_t rows, uint8_t cols, int8_t *
     return SONAR_OK;
 }
 
-/* The cost of continuing t with o under acceleration noise q: d^2 + 2 ln(S / r2), or BIG outside the gate. */
+/* The cost of continuing t with o: -2 ln of its models' mixture likelihood, or BIG outside the gate. */
 static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
-                       float q, float r2, int turn, int *clipped)
+                       float r2, int wide, int *clipped)
 {
-    float dt = sonar_trk_step_s(tk, t, o->utime, clipped), pa = t->pa, pb = t->pb, pc = t->pc, s, ex, ey, d2;
-    sonar_trk_predict_cov(q, dt, &pa, &pb, &pc);
-    s = pa + r2;
-    ex = o->x_m - (t->px + t->vx * dt);
-    ey = o->y_m - (t->py + t->vy * dt);
-    d2 = (ex * ex + ey * ey) / s;
+    float dt = sonar_trk_step_s(tk, t, o->utime, clipped), d2, least, c;
     if (tk->cfg.max_speed_mps > 0.0f) {
         /* Kinematics: from where the track last was, nothing this fast (people, divers, swimmers). */
         float mx = o->x_m - t->px, my = o->y_m - t->py, reach = tk->cfg.max_speed_mps * dt + 3.0f * tk->cfg.meas_m;
         if (mx * mx + my * my > reach * reach)
             return (float)BIG;
     }
-    if (turn) {
+    if (t->hits > 1) {
         /*
-         * The manoeuvre pass's noise gates metres around a track that stood still: on the vehicle
-         * scene a buoy's track, its buoy missed, took a post 3.4 m away and carried 0.7 m/s for
-         * sweeps. A turn changes where a track goes more than how fast it goes.
+         * An established track's models allow a manoeuvre, whose noise gates metres around a track
+         * that stood still: on the vehicle scene a buoy's track, its buoy missed, took a post 3.4 m
+         * away and carried 0.7 m/s for sweeps. A turn changes where a track goes more than how
+         * fast it goes.
          */
         float mx = o->x_m - t->px, my = o->y_m - t->py, v = sqrtf(t->vx * t->vx + t->vy * t->vy);
         float reach = (SONAR_TRK_TURN_SPEEDUP * v + SONAR_TRK_TURN_FROM_REST) * dt + 3.0f * tk->cfg.meas_m;
         if (mx * mx + my * my > reach * reach)
             return (float)BIG;
     }
-    return d2 <= tk->cfg.gate ? d2 + 2.0f * logf(s / r2) : (float)BIG;
+    c = sonar_trk_imm_cost(tk, t, o, r2, dt, wide, &d2, &least);
+    return (wide ? least : d2) <= tk->cfg.gate ? c : (float)BIG;
 }
 
 /* Squared distance, m^2, from t's prediction to the time of o to where o is. */
@@ -201,15 +198,16 @@ static void find_merged(struct sonar_tracker *tk, const float (*cost)[SONAR_MAX_
 }
 
 /*
- * One assignment of detections left[0 .. nl) to tracks cand[0 .. nc) under noise q; each pair
- * gated, each detection free to start a track instead at more than any gated pair costs (S <=
+ * One assignment of detections left[0 .. nl) to tracks cand[0 .. nc); each pair gated, each
+ * detection free to start a track instead at more than a gated pair of one model costs (S <=
  * SONAR_TRK_LOST_M2 + r2 for a track still alive: a detection inside a live track's gate continues it, and
- * the 2 ln S term only settles which). Hits are applied; returns how many detections are left,
- * compacted in left[] in their order.
+ * the 2 ln S term only settles which). Each track given one has it in det (the hit is applied
+ * later, once the other hypotheses are read); returns how many detections are left, compacted
+ * in left[] in their order.
  */
 uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
-                       const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int turn,
-                       int merge, int *clipped)
+                       const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float r2, int wide, int merge,
+                       int *clipped)
 {
     int8_t row_col[SONAR_MAX_CLUSTERS];
     struct costs c;
@@ -218,20 +216,51 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
         return nl;
     for (i = 0; i < nl; i++)
         for (k = 0; k < nc; k++)
-            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], q, r2, turn, clipped);
+            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], r2, wide, clipped);
     c.m = &cost[0][0];
     c.stride = SONAR_MAX_TRACKS;
     c.real = nc;
-    c.fresh = tk->cfg.gate + 2.0f * logf(1.0f + SONAR_TRK_LOST_M2 / r2);
+    c.fresh = sonar_trk_fresh(tk, r2);
     hungarian(&c, nl, (unsigned)nc + nl, row_col);
     if (merge)
         find_merged(tk, (const float (*)[SONAR_MAX_TRACKS])cost, cand, nc, obs, left, nl, row_col, clipped);
     for (i = 0; i < nl; i++) {
         k = (uint8_t)row_col[i];
-        if (assigned((const float (*)[SONAR_MAX_TRACKS])cost, row_col, i, nc))
-            sonar_trk_hit(tk, &tk->t[cand[k]], &obs[left[i]], left[i], q, r2, clipped);
+        if (assigned((const float (*)[SONAR_MAX_TRACKS])cost, row_col, i, nc)) {
+            tk->t[cand[k]].det = (int8_t)left[i];
+            tk->t[cand[k]].chance = (uint8_t)wide;
+        }
         else
             left[m++] = left[i];
     }
     return m;
+}
+
+float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                          float r2, int wide, int *clipped)
+{
+    return pair_cost(tk, t, o, r2, wide, clipped);
+}
+
+float sonar_trk_fresh(const struct sonar_tracker *tk, float r2)
+{
+    return tk->cfg.gate + 2.0f * logf(1.0f + SONAR_TRK_LOST_M2 / r2);
+}
+
+float sonar_trk_best_total(const float (*cost)[SONAR_MAX_TRACKS], uint8_t rows, uint8_t nc, float fresh)
+{
+    int8_t row_col[SONAR_MAX_CLUSTERS];
+    struct costs c;
+    float total = 0.0f;
+    uint8_t i;
+    if (rows == 0)
+        return 0.0f;
+    c.m = &cost[0][0];
+    c.stride = SONAR_MAX_TRACKS;
+    c.real = nc;
+    c.fresh = fresh;
+    hungarian(&c, rows, (unsigned)nc + rows, row_col);
+    for (i = 0; i < rows; i++)
+        total += assigned(cost, row_col, i, nc) ? cost[i][row_col[i]] : fresh;
+    return total;
 }

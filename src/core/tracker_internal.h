@@ -13,17 +13,62 @@ float sonar_trk_step_s(const struct sonar_tracker *tk, const struct sonar_track 
 /* The covariance (pa, pb, pc) after dt s of white acceleration noise q = accel^2 (m^2/s^4). */
 void sonar_trk_predict_cov(float q, float dt, float *pa, float *pb, float *pc);
 
-/* A hit: t predicted to o's time under noise q, then corrected by it (r2: measurement variance, m^2); det is o's index. */
+/* A hit: t's models predicted to o's time, corrected by it (r2: measurement variance, m^2), mixed; det is o's index. */
 void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
-                   float q, float r2, int *clipped);
+                   float r2, int *clipped);
 
 /*
- * One gated assignment of detections left[0 .. nl) to tracks cand[0 .. nc) under noise q
- * (cost: scratch, nl rows of SONAR_MAX_TRACKS); hits applied; returns how many detections are
- * left, compacted in left[] (tracker_assign.c says more).
+ * The IMM (tracker_imm.c). _cost: -2 ln of the models' mixture likelihood of o after dt s (scaled
+ * so that one model gives d^2 + 2 ln(S / r2)); *d2 the combined prediction's squared Mahalanobis
+ * distance (the gate), *least the least of its models' own (the gate of the second chance). _hit: the update at o after dt s; returns the track's mode. _birth: a new
+ * track at o. _move: every model turned by deg about (cx, cy) (SONAR_TRK_MOVE_TURN), or moved
+ * into the world or body frame at pose p with velocities turned by deg.
+ */
+float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                         float r2, float dt, int wide, float *d2, float *least);
+int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2, float dt);
+void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2);
+enum { SONAR_TRK_MOVE_TURN = 0, SONAR_TRK_MOVE_TO_WORLD = 1, SONAR_TRK_MOVE_TO_BODY = 2 };
+void sonar_trk_imm_move(struct sonar_track *t, float deg, float cx, float cy, const struct sonar_pose *p, int how);
+
+/*
+ * One gated assignment of detections left[0 .. nl) to tracks cand[0 .. nc) (cost: scratch, nl
+ * rows of SONAR_MAX_TRACKS), each model's own gate when wide (a second chance for a turn), else
+ * the combined one; the tracks given one have it in det; returns how many detections are left,
+ * compacted in left[] (tracker_assign.c says more).
  */
 uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
-                       const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float q, float r2, int turn,
-                       int merge, int *clipped);
+                       const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float r2, int wide, int merge,
+                       int *clipped);
+
+/* The cost of continuing t with o (-2 ln of its mixture likelihood), or 1e9 outside its gate (wide: the second chance's). */
+float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                          float r2, int wide, int *clipped);
+
+/* The cost of starting a new track from a detection instead of continuing one. */
+float sonar_trk_fresh(const struct sonar_tracker *tk, float r2);
+
+/* The least total cost of assigning rows detections to nc tracks (cost[row][track]) or to new tracks at fresh each. */
+float sonar_trk_best_total(const float (*cost)[SONAR_MAX_TRACKS], uint8_t rows, uint8_t nc, float fresh);
+
+/*
+ * Its life after a sweep (tracker.c): a hit (hit 1), a miss where it was visible (hit 0, visible
+ * 1), or out of view; confirmation, coasting; returns 0 when it should end.
+ */
+int sonar_trk_account(const struct sonar_tracker *tk, struct sonar_track *t, int hit, int visible);
+
+/*
+ * Deferred association (tracker_defer.c). _offer: after the passes, before any hit is applied,
+ * keeps the SONAR_TRK_HYPOTHESES - 1 likeliest other assignments of this sweep (a swap, a
+ * detection taken by a track that found none, a birth that continued a track instead) with their
+ * tracks' states. _born: names the tracks the births made. _decide: at the next sweep, before its
+ * passes, adopts the alternative that explains that sweep's detections better, if any, and
+ * records the revision of IDs.
+ */
+void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl,
+                           float r2, int *clipped);
+void sonar_trk_defer_born(struct sonar_tracker *tk, uint8_t det, uint32_t id);
+void sonar_trk_defer_decide(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_tracker_obs *obs,
+                            const uint8_t *rows, uint8_t nr, float r2, int *clipped);
 
 #endif

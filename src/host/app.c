@@ -66,21 +66,59 @@ static void on_stage(void *user, int stage, const struct sonar_beam *b)
     sinks_beam(a, &r);
 }
 
-static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
+void app_set_track_late(struct app *a, int late)
 {
-    int64_t now = a->clock.mono_ns(a->clock.user);
+    a->late.on = late != 0;
+    a->late.have = 0;
+}
+
+static void give(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
+{
     unsigned i;
-    a->sweeps++;
-    msg_view_of(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
-    if (a->sweep_t0 != 0)
-        a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
-    a->sweep_t0 = now;
     for (i = 0; i < a->nsinks; i++) {
         struct app_sink *s = a->sinks[i];
         if (s->detections == NULL)
             continue;
-        tally(s, s->detections(s->self, d, tk, &a->view), &s->n_detections);
+        tally(s, s->detections(s->self, d, tk, v), &s->n_detections);
     }
+}
+
+/* --track-late: holds this sweep (its detections, tracks and view) until the next one's revisions. */
+static void late_hold(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
+{
+    a->late.det = *d;
+    a->late.trk = *tk;
+    a->late.view = a->view;
+    a->late.have = 1;
+}
+
+static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
+{
+    int64_t now = a->clock.mono_ns(a->clock.user);
+    const struct sonar_detections *sd = d;
+    const struct sonar_tracker *st = tk;
+    const struct msg_view *sv = &a->view;
+    int late = a->late.on && tk != NULL;
+    a->sweeps++;
+    msg_view_of(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
+    if (late && !a->late.have) {
+        late_hold(a, d, tk); /* the first sweep: nothing to give yet */
+        return;
+    }
+    if (late) {
+        /* The held sweep, relabelled by this one's revisions, goes out; this one is held in its place after. */
+        uint8_t kept[SONAR_MAX_TRACKS];
+        msg_view_keep(&a->late.view, kept, sonar_tracker_relabel(&a->late.trk, tk, kept));
+        sd = &a->late.det;
+        st = &a->late.trk;
+        sv = &a->late.view;
+    }
+    if (a->sweep_t0 != 0)
+        a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
+    a->sweep_t0 = now;
+    give(a, sd, st, sv);
+    if (late)
+        late_hold(a, d, tk);
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
 }
@@ -273,7 +311,12 @@ void app_send_status(struct app *a, const struct sonar_status *s)
 
 int app_finish(struct app *a)
 {
-    return host_err_of(sonar_pipeline_finish(&a->pipe));
+    int r = host_err_of(sonar_pipeline_finish(&a->pipe));
+    if (a->late.on && a->late.have) {
+        give(a, &a->late.det, &a->late.trk, &a->late.view); /* no look comes after it: its IDs are final */
+        a->late.have = 0;
+    }
+    return r;
 }
 
 const struct sonar_pose_ring *app_poses(const struct app *a)

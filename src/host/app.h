@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 563 560 B, the pipeline and its background plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 593 984 B, the pipeline and its background plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -17,7 +17,7 @@
 
 #define APP_MAX_SINKS 8
 #define APP_PROC_RING 1024 /* per-beam processing times kept for the percentiles */
-#define APP_STORAGE_REST 40960 /* the app beyond its pipeline (app.c checks it at compile time) */
+#define APP_STORAGE_REST 65536 /* the app beyond its pipeline (app.c checks it at compile time) */
 
 /* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */
 struct app_sink {
@@ -95,6 +95,13 @@ HOST_CHECK int app_set_gain_auto(struct app *a, const struct sonar_gain_config *
 
 /* Messages go to log(user, ...). */
 void app_set_log(struct app *a, app_log_fn log, void *user);
+
+/*
+ * late 1: the sinks get each sweep's detections and tracks one sweep late, when the next sweep's
+ * look has revised what it would (deferred association), with no revisions of their own; 0 (the
+ * default): at once, with revisions of the sweep before said. app_finish gives the last one.
+ */
+void app_set_track_late(struct app *a, int late);
 
 /* A message for people through the app's log (nothing when it has none): app_say at APP_INFO (what happens), app_warn at APP_WARN (what went wrong and what sonard does about it). */
 void app_say(const struct app *a, const char *fmt, ...)

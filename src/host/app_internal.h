@@ -7,6 +7,12 @@
 
 struct app {
     struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
+    struct {                            /* --track-late: the last sweep, held until the next one's revisions */
+        int on, have;
+        struct sonar_detections det;
+        struct sonar_tracker trk;
+        struct msg_view view;
+    } late;
     struct sonar_pipeline pipe;
     struct sonar_background bg; /* the pipeline's */
     struct sonar_device dev;

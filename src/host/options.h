@@ -29,6 +29,7 @@ struct sonard_options {
     float mav_pose_rate;        /* ATTITUDE and LOCAL_POSITION_NED asked of the autopilot; 0: never ask */
     uint8_t mav_fail_closed;    /* no OBSTACLE_DISTANCE without a beam for a second */
     uint8_t mav_3d;             /* OBSTACLE_DISTANCE_3D per confirmed track */
+    uint8_t track_late;         /* the sinks get each sweep one sweep late, revised (app_set_track_late) */
     uint8_t n_ignore;           /* --ignore-deg arcs, degrees clockwise from forward: from, to */
     float ignore[SONARD_MAX_IGNORE][2];
     int discover;               /* list the network's Ping360s and exit */

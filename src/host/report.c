@@ -48,12 +48,24 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                     i ? "," : "", t->id, sonar_track_state_str(t->state), t->utime, (double)body(v, t, i, 0),
                     (double)body(v, t, i, 1), (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age,
                     (unsigned)t->hits, (int)t->det, (double)sonar_track_still_s(t, d->utime));
+            fprintf(f, ",\"mode\":\"%s\",\"kind\":\"%s\"", sonar_track_mode_str(t->mode), sonar_track_kind_str(t->kind));
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,
                         (double)t->py, (double)t->vx, (double)t->vy);
             fputs("}", f);
         }
         fputs("]", f);
+        {
+            /* IDs the last sweep published that this look revised: the track published as id is now. */
+            unsigned nr, r;
+            const struct sonar_track_revision *rv = sonar_tracker_revisions(tk, &nr);
+            if (nr > 0) {
+                fputs(",\"revisions\":[", f);
+                for (r = 0; r < nr; r++)
+                    fprintf(f, "%s{\"id\":%" PRIu32 ",\"now\":%" PRIu32 "}", r ? "," : "", rv[r].from, rv[r].to);
+                fputs("]", f);
+            }
+        }
     }
     fputs("}\n", f);
     return ferror(f) ? -1 : 0;

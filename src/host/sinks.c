@@ -36,12 +36,13 @@ static int lcm_detections(void *self, const struct sonar_detections *d, const st
     sonar_detections_t m;
     sonar_track_t trk[SONAR_MAX_TRACKS];
     sonar_tracks_t t;
+    struct msg_revisions rv;
     int r;
     msg_detections(d, v, det, &m);
     r = lcm_send(s, s->detections, sonar_detections_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
     if (r != HOST_OK || tk == NULL)
         return r;
-    msg_tracks(tk, d, v, trk, &t);
+    msg_tracks(tk, d, v, trk, &rv, &t);
     return lcm_send(s, s->tracks, sonar_tracks_t_encode(s->buf, 0, (int)sizeof(s->buf), &t));
 }
 

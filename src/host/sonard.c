@@ -334,6 +334,7 @@ int main(int argc, char **argv)
         return 2;
     }
     app_set_log(s.app, log_stderr, &s);
+    app_set_track_late(s.app, s.opt.track_late);
     /* A file that cannot be used is said, and the background learns from scratch: nothing else changes. */
     if (s.opt.bg_load != NULL && bgstore_load(s.app, s.opt.bg_load, err, sizeof(err)) != HOST_OK)
         fprintf(stderr, "sonard: %s; the background learns afresh\n", err);

@@ -76,13 +76,20 @@ static int16_t to_i16(uint16_t v)
     return (int16_t)(v > 32767u ? 32767u : v);
 }
 
-void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct msg_view *v,
-                sonar_track_t *t, sonar_tracks_t *m)
+/* An ID on the wire: int32 (IDs past 2^31 - 1, after billions of births, are held there). */
+static int32_t id32(uint32_t id)
 {
-    unsigned i;
+    return (int32_t)(id > 2147483647u ? 2147483647u : id);
+}
+
+void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct msg_view *v,
+                sonar_track_t *t, struct msg_revisions *rv, sonar_tracks_t *m)
+{
+    const struct sonar_track_revision *r;
+    unsigned i, nr;
     for (i = 0; i < tk->n; i++) {
         const struct sonar_track *s = &tk->t[i];
-        t[i].id = (int32_t)(s->id > 2147483647u ? 2147483647u : s->id);
+        t[i].id = id32(s->id);
         t[i].state = (int8_t)s->state;
         t[i].utime = s->utime;
         t[i].world = (int8_t)(v != NULL && v->world);
@@ -103,9 +110,22 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].misses = to_i16(s->misses);
         t[i].detection = s->det;
         t[i].still_s = sonar_track_still_s(s, d->utime);
+        t[i].mode = (int8_t)s->mode;
+        t[i].p_moving = (float)s->mu[SONAR_TRK_CV] / 255.0f;
+        t[i].p_manoeuvre = (float)s->mu[SONAR_TRK_MANOEUVRE] / 255.0f;
+        t[i].p_rest = (float)s->mu[SONAR_TRK_REST] / 255.0f;
+        t[i].kind = (int8_t)s->kind;
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;
     m->count = (int16_t)tk->n;
     m->tracks = t;
+    r = sonar_tracker_revisions(tk, &nr);
+    for (i = 0; i < nr && i < 2; i++) {
+        rv->from[i] = id32(r[i].from);
+        rv->to[i] = id32(r[i].to);
+    }
+    m->revisions = (int16_t)i;
+    m->revised_from = rv->from;
+    m->revised_to = rv->to;
 }

@@ -27,13 +27,18 @@ void msg_detections(const struct sonar_detections *d, const struct msg_view *v, 
 /* The reverse, for a host republishing a co-processor's detections; counts beyond the limits are cut. */
 void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d);
 
+/* Room for the revisions a SONAR_TRACKS message carries (sonar_tracker_revisions: at most 2). */
+struct msg_revisions {
+    int32_t from[2], to[2];
+};
+
 /*
- * Fills *m from the tracker after sweep d; t (SONAR_MAX_TRACKS entries) holds the tracks. v: their
- * body-frame states when they are tracked in the world (msg_view_of), or NULL (a body-frame
- * tracker: its own state).
+ * Fills *m from the tracker after sweep d; t (SONAR_MAX_TRACKS entries) holds the tracks, rv the
+ * revisions of the last sweep's IDs. v: their body-frame states when they are tracked in the
+ * world (msg_view_of), or NULL (a body-frame tracker: its own state).
  */
 void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d, const struct msg_view *v,
-                sonar_track_t *t, sonar_tracks_t *m);
+                sonar_track_t *t, struct msg_revisions *rv, sonar_tracks_t *m);
 
 /* A beam record <-> sonar.beam_t; the samples are borrowed both ways (m->samples points at b's, b->samples at m's). */
 void msg_beam(const struct sonar_record *b, sonar_beam_t *m);

@@ -80,6 +80,10 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->track_bad_detections = s->tracker.bad_detections;
     m->track_clock_back = s->tracker.clock_back;
     m->track_overflow = s->tracker.overflow;
+    m->track_dropped = s->tracker.dropped;
+    m->track_out_of_order = s->tracker.out_of_order;
+    m->track_revisions = s->tracker.revisions;
+    m->track_hyp_overflow = s->tracker.hyp_overflow;
     m->pose_state = (int8_t)s->pose.state;
     m->pose_accepted = s->pose.accepted;
     m->pose_out_of_order = s->pose.out_of_order;
@@ -160,6 +164,10 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->tracker.bad_detections = to_u32(m->track_bad_detections);
     s->tracker.clock_back = to_u32(m->track_clock_back);
     s->tracker.overflow = to_u32(m->track_overflow);
+    s->tracker.dropped = to_u32(m->track_dropped);
+    s->tracker.out_of_order = to_u32(m->track_out_of_order);
+    s->tracker.revisions = to_u32(m->track_revisions);
+    s->tracker.hyp_overflow = to_u32(m->track_hyp_overflow);
     s->pose.state = m->pose_state;
     s->pose.accepted = to_u32(m->pose_accepted);
     s->pose.out_of_order = to_u32(m->pose_out_of_order);

@@ -33,3 +33,14 @@ void msg_view_of(const struct sonar_pipeline *p, struct msg_view *v)
         sonar_pose_rotate(-q.yaw_deg, t->vx, t->vy, &v->trk_vx[i], &v->trk_vy[i]);
     }
 }
+
+void msg_view_keep(struct msg_view *v, const uint8_t *kept, unsigned n)
+{
+    unsigned i;
+    for (i = 0; i < n; i++) {
+        v->trk_x[i] = v->trk_x[kept[i]];
+        v->trk_y[i] = v->trk_y[kept[i]];
+        v->trk_vx[i] = v->trk_vx[kept[i]];
+        v->trk_vy[i] = v->trk_vy[kept[i]];
+    }
+}

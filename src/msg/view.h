@@ -28,4 +28,7 @@ struct msg_view {
  */
 void msg_view_of(const struct sonar_pipeline *p, struct msg_view *v);
 
+/* Keeps tracks kept[0 .. n) of v's (sonar_tracker_relabel's kept), in that order, as its first n. */
+void msg_view_keep(struct msg_view *v, const uint8_t *kept, unsigned n);
+
 #endif

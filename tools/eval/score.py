@@ -220,6 +220,23 @@ def score_tracks(truth, lines, gate, cutoff=2.0, p=2, hidden=None, states=("conf
             "idf1_ceiling": 2 * (gt - len(present)) / (2 * gt - len(present)) if gt else 1.0}
 
 
+def late(lines):
+    """Each sweep's tracks as a consumer one sweep late reads them: the IDs the next sweep revised ("revisions":
+    the track published as id is now; 0: withdrawn) relabelled."""
+    out = {}
+    for k, d in lines.items():
+        nxt = lines.get(k + 1, {})
+        now = {r["id"]: r["now"] for r in nxt.get("revisions", [])}
+        d = dict(d)
+        d["tracks"] = [dict(h, id=now.get(h["id"], h["id"])) for h in d.get("tracks", []) if now.get(h["id"], 1) != 0]
+        out[k] = d
+    return out
+
+
+def revisions(lines):
+    return sum(1 for d in lines.values() if d.get("revisions"))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("truth")
@@ -244,6 +261,8 @@ def main():
     ap.add_argument("--max-static-speed", type=float,
                     help="m/s: mean speed of matched tracks (3+ hits) on objects that stand still")
     ap.add_argument("--frame", choices=("body", "world"), default="body", help="frame to score a moving sonar in")
+    ap.add_argument("--late", action="store_true",
+                    help="score each sweep's tracks as read one sweep late: relabelled by the next sweep's revisions")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
     bad = [x for x in a.states.split(",") if x not in ("tentative", "confirmed", "coasting")]
@@ -280,6 +299,8 @@ def main():
         # Structure (a track that never moved, a wall) is reported as such, not as an object: not scored as one.
         sweeps[d["sweep"]] = [o for o in d["detections"] if o.get("kind", "object") != "structure"]
         lines[d["sweep"]] = d
+    if a.late:
+        lines = late(lines)
     tp = fp = fn = 0
     errs = []
     watch = {i: [] for i in (a.object.split(",") if a.object else [])}
@@ -326,7 +347,7 @@ def main():
     if a.tracks:
         t = score_tracks(truth, lines, a.gate, hidden=hidden, states=tuple(a.states.split(",")))
         print(f"{a.label}tracking: MOTA {t['mota']:.3f}  IDF1 {t['idf1']:.3f}  ID switches {t['idsw']} "
-              f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
+              f"({t['idsw_per_100']:.2f} per 100 track-sweeps)  revisions {revisions(lines)}  fragmentations {t['frag']}  OSPA {t['ospa']:.3f} m  "
               f"velocity error {t['vel_err']:.3f} m/s (n={t['vel_n']})  static speed {t['still']:.3f} m/s "
               f"(n={t['still_n']})  (TP {t['tp']} FP {t['fp']} FN {t['fn']}, "
               f"{t['track_sweeps']} track-sweeps; with 2 hits to confirm, ceilings MOTA {t['mota_ceiling']:.3f} "

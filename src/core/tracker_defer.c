@@ -1,0 +1,263 @@
+/* tracker_defer.c -- association deferred by one sweep: the likeliest other assignments of a sweep kept with their two tracks' states (SONAR_TRK_HYPOTHESES - 1), and at the next look the one that explains it better adopted, its ID changes recorded as revisions; O(hits x tracks) pair costs to offer, two small assignments a hypothesis to decide; no heap. */
+#include <math.h>
+#include <string.h>
+
+#include "tracker_internal.h"
+
+/* Alternatives more than this costlier than the assignment published (-2 ln: 100 times less likely) are not kept. */
+#define DEFER_MARGIN 9.21f
+/* A pair cost at or above this is outside the gates (tracker_assign.c's BIG is 1e9). */
+#define GATED 1.0e8f
+/*
+ * What a track that finds no detection costs: -2 ln(1 - P_D P_real), with P_D = 0.9 the chance a
+ * look sees a target in view and P_real = hits / (hits + 1) the chance the track is one (a track
+ * of one hit may be clutter). Without it the hypothesis that keeps more tracks alive without
+ * detections would cost nothing for them, and one that leaves an established track without its
+ * detection would cost no more than one that starves a new track of one look.
+ */
+static float miss_cost(const struct sonar_track *t)
+{
+    float real = (float)t->hits / ((float)t->hits + 1.0f);
+    return -2.0f * logf(1.0f - 0.9f * real);
+}
+
+/* A revision is made only when the alternative explains both looks this much better: revisions cost their consumers. */
+#define REVISE_BY 2.0f
+
+enum { SWAP = 0, STEAL = 1, NEWBORN = 2 };
+
+struct cand {
+    float delta;
+    uint8_t how, i, j; /* i loses its detection (or, NEWBORN, is born from it), j takes it */
+    uint8_t det;       /* the detection j takes */
+};
+
+/* Keeps c among the cheapest in kept[0 .. *n), at most SONAR_TRK_HYPOTHESES - 1; counts what falls off within the margin. */
+static void keep(struct sonar_tracker *tk, struct cand *kept, uint8_t *n, const struct cand *c)
+{
+    uint8_t k;
+    if (!(c->delta <= DEFER_MARGIN))
+        return;
+    if (*n == SONAR_TRK_HYPOTHESES - 1) {
+        tk->hyp_overflow++;
+        if (!(c->delta < kept[*n - 1].delta))
+            return;
+        (*n)--;
+    }
+    for (k = *n; k > 0 && c->delta < kept[k - 1].delta; k--)
+        kept[k] = kept[k - 1];
+    kept[k] = *c;
+    (*n)++;
+}
+
+void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl,
+                           float r2, int *clipped)
+{
+    struct cand kept[SONAR_TRK_HYPOTHESES - 1], c;
+    uint8_t n = 0, i, j, k;
+    const float fresh = sonar_trk_fresh(tk, r2);
+    for (i = 0; i < tk->n; i++) {
+        const struct sonar_track *ti = &tk->t[i];
+        float cia;
+        if (ti->det < 0)
+            continue;
+        cia = sonar_trk_pair_cost(tk, ti, &obs[ti->det], r2, ti->chance, clipped);
+        for (j = 0; j < tk->n; j++) {
+            const struct sonar_track *tj = &tk->t[j];
+            float cja;
+            if (j == i || (tj->det >= 0 && j < i))
+                continue; /* a swap once, from its lower slot */
+            cja = sonar_trk_pair_cost(tk, tj, &obs[ti->det], r2, 0, clipped);
+            if (cja >= GATED)
+                continue;
+            c.i = i;
+            c.j = j;
+            c.det = (uint8_t)ti->det;
+            if (tj->det >= 0) {
+                float cib = sonar_trk_pair_cost(tk, ti, &obs[tj->det], r2, 0, clipped);
+                if (cib >= GATED)
+                    continue;
+                c.how = SWAP;
+                c.delta = cib + cja - cia - sonar_trk_pair_cost(tk, tj, &obs[tj->det], r2, tj->chance, clipped);
+            } else {
+                c.how = STEAL;
+                c.delta = cja - cia;
+            }
+            keep(tk, kept, &n, &c);
+        }
+    }
+    /* A birth that a track which found nothing could have continued instead. */
+    for (k = 0; k < nl; k++) {
+        for (j = 0; j < tk->n; j++) {
+            float cja;
+            if (tk->t[j].det >= 0)
+                continue;
+            cja = sonar_trk_pair_cost(tk, &tk->t[j], &obs[left[k]], r2, 0, clipped);
+            if (cja >= GATED)
+                continue;
+            c.how = NEWBORN;
+            c.i = 0;
+            c.j = j;
+            c.det = left[k];
+            c.delta = cja - fresh;
+            keep(tk, kept, &n, &c);
+        }
+    }
+    /* The kept ones' tracks as they would be: hit, missed where they were seen, or never born. */
+    for (k = 0; k < n; k++) {
+        struct sonar_trk_alt *a = &tk->alt[k];
+        const struct cand *h = &kept[k];
+        memset(a, 0, sizeof(*a));
+        a->delta = h->delta;
+        a->born_det = -1;
+        a->t[1] = tk->t[h->j];
+        a->id[1] = a->t[1].id;
+        sonar_trk_hit(tk, &a->t[1], &obs[h->det], h->det, r2, clipped);
+        (void)sonar_trk_account(tk, &a->t[1], 1, 1);
+        if (h->how == NEWBORN) {
+            a->absent = 1;
+            a->born_det = (int8_t)h->det;
+            continue;
+        }
+        a->t[0] = tk->t[h->i];
+        a->id[0] = a->t[0].id;
+        if (h->how == SWAP) {
+            const struct sonar_tracker_obs *o = &obs[tk->t[h->j].det];
+            sonar_trk_hit(tk, &a->t[0], o, (uint8_t)tk->t[h->j].det, r2, clipped);
+            (void)sonar_trk_account(tk, &a->t[0], 1, 1);
+        } else {
+            a->t[0].det = -1;
+            a->absent = (uint8_t)!sonar_trk_account(tk, &a->t[0], 0, 1);
+        }
+    }
+    tk->nalt = n;
+}
+
+void sonar_trk_defer_born(struct sonar_tracker *tk, uint8_t det, uint32_t id)
+{
+    uint8_t k;
+    for (k = 0; k < tk->nalt; k++)
+        if (tk->alt[k].born_det == (int8_t)det) {
+            tk->alt[k].id[0] = id;
+            tk->alt[k].born_det = -1;
+        }
+}
+
+static int slot_of(const struct sonar_tracker *tk, uint32_t id)
+{
+    uint8_t k;
+    for (k = 0; k < tk->n; k++)
+        if (tk->t[k].id == id)
+            return k;
+    return -1;
+}
+
+/*
+ * The least cost of this sweep's detections near the two tracks given (a, b; NULL: none) and the
+ * other live tracks that reach those detections: the local part of the sweep's assignment that
+ * the alternative changes.
+ */
+static float local_cost(const struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_track *two[4],
+                        const uint32_t not_id[2], const struct sonar_tracker_obs *obs, const uint8_t *rows, uint8_t nr,
+                        float r2, int *clipped)
+{
+    const struct sonar_track *cols[SONAR_MAX_TRACKS];
+    uint8_t dets[SONAR_MAX_CLUSTERS], nd = 0, nc = 0, i, k, d;
+    float misses = 0.0f;
+    for (i = 0; i < nr; i++) {
+        for (k = 0; k < 4; k++)
+            if (two[k] != NULL && sonar_trk_pair_cost(tk, two[k], &obs[rows[i]], r2, 0, clipped) < GATED)
+                break;
+        if (k < 4)
+            dets[nd++] = rows[i];
+    }
+    for (k = 0; k < 2; k++)
+        if (two[k] != NULL) {
+            cols[nc++] = two[k];
+            misses += nd == 0 ? miss_cost(two[k]) : 0.0f;
+        }
+    if (nd == 0)
+        return misses;
+    for (k = 0; k < tk->n && nc < SONAR_MAX_TRACKS; k++) {
+        const struct sonar_track *t = &tk->t[k];
+        if (t->id == not_id[0] || t->id == not_id[1])
+            continue;
+        for (d = 0; d < nd; d++)
+            if (sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped) < GATED)
+                break;
+        if (d < nd)
+            cols[nc++] = t;
+    }
+    /* Each column's miss is paid unless it takes a detection: pay all, refund on a pair. */
+    for (k = 0; k < nc; k++)
+        misses += miss_cost(cols[k]);
+    for (d = 0; d < nd; d++)
+        for (k = 0; k < nc; k++) {
+            float c = sonar_trk_pair_cost(tk, cols[k], &obs[dets[d]], r2, 0, clipped);
+            cost[d][k] = c < GATED ? c - miss_cost(cols[k]) : c;
+        }
+    return misses + sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, sonar_trk_fresh(tk, r2));
+}
+
+/* Puts the alternative's tracks in place of the live ones, in birth (ID) order. */
+static void adopt(struct sonar_tracker *tk, struct sonar_trk_alt *a)
+{
+    uint8_t k, j, m;
+    for (k = 0, j = 0; k < tk->n; k++)
+        if (tk->t[k].id != a->id[0] && tk->t[k].id != a->id[1])
+            tk->t[j++] = tk->t[k];
+    tk->n = j;
+    for (m = a->absent ? 1 : 0; m < 2; m++) {
+        struct sonar_track *t = &a->t[m];
+        if (tk->n >= SONAR_MAX_TRACKS) {
+            tk->overflow++;
+            continue;
+        }
+        t->det = -1;
+        t->age = (uint16_t)(t->age < UINT16_MAX ? t->age + 1u : t->age);
+        for (k = tk->n; k > 0 && tk->t[k - 1].id > t->id; k--)
+            tk->t[k] = tk->t[k - 1];
+        tk->t[k] = *t;
+        tk->n++;
+    }
+    tk->rev[0].from = a->id[0];
+    tk->rev[0].to = a->id[1];
+    tk->rev[1].from = a->id[1];
+    tk->rev[1].to = a->absent ? 0 : a->id[0];
+    tk->nrev = 2;
+    tk->revisions++;
+}
+
+void sonar_trk_defer_decide(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_tracker_obs *obs,
+                            const uint8_t *rows, uint8_t nr, float r2, int *clipped)
+{
+    float best = -REVISE_BY;
+    int pick = -1;
+    uint8_t h;
+    for (h = 0; h < tk->nalt; h++) {
+        struct sonar_trk_alt *a = &tk->alt[h];
+        const struct sonar_track *two[4];
+        int s0 = a->id[0] != 0 ? slot_of(tk, a->id[0]) : -1, s1 = slot_of(tk, a->id[1]);
+        float now, then, score;
+        if (a->id[0] == 0)
+            continue; /* its birth did not happen (the table was full) */
+        /* As published: the two live tracks; the alternative's two beside them only to find the detections. */
+        two[0] = s0 >= 0 ? &tk->t[s0] : NULL;
+        two[1] = s1 >= 0 ? &tk->t[s1] : NULL;
+        two[2] = a->absent ? NULL : &a->t[0];
+        two[3] = &a->t[1];
+        now = local_cost(tk, cost, two, a->id, obs, rows, nr, r2, clipped);
+        two[0] = two[2];
+        two[1] = two[3];
+        two[2] = s0 >= 0 ? &tk->t[s0] : NULL;
+        two[3] = s1 >= 0 ? &tk->t[s1] : NULL;
+        then = local_cost(tk, cost, two, a->id, obs, rows, nr, r2, clipped);
+        score = a->delta + then - now;
+        if (score < best) {
+            best = score;
+            pick = h;
+        }
+    }
+    if (pick >= 0)
+        adopt(tk, &tk->alt[pick]);
+}

@@ -1,0 +1,242 @@
+/* tracker_imm.c -- a track's interacting multiple models (near constant velocity, manoeuvre, rest): mixing, prediction, the mixture's likelihood of a detection, the update and the combined estimate; ~150 flops a pair cost, ~400 a hit, no heap, no RAM beyond the track. */
+#include <math.h>
+#include <string.h>
+
+#include "tracker_internal.h"
+
+/*
+ * The probability of going from one model (row) to another (column) between two looks at a
+ * track. A look comes every 3-6 s at the Ping360's pace, long enough for a person to turn or
+ * stop, so the models change more readily than in a radar's IMM (0.95-0.99 on the diagonal).
+ */
+static const float TRANSITION[2][SONAR_TRK_MODELS][SONAR_TRK_MODELS] = {
+    {{1.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}}, /* cfg.imm 0: near constant velocity alone */
+    {
+        {0.85f, 0.10f, 0.05f}, /* near constant velocity */
+        {0.30f, 0.60f, 0.10f}, /* manoeuvre */
+        {0.05f, 0.10f, 0.85f}, /* rest */
+    }};
+
+/* A birth's probabilities: no velocity is known yet, but most of what a sonar tracks swims. */
+static const float BIRTH_P[2][SONAR_TRK_MODELS] = {{1.0f, 0.0f, 0.0f}, {0.6f, 0.2f, 0.2f}};
+
+static float model_q(const struct sonar_tracker *tk, int j)
+{
+    float a = tk->cfg.accel_mps2, m = tk->cfg.manoeuvre_mps2 > a ? tk->cfg.manoeuvre_mps2 : a;
+    return j == SONAR_TRK_MANOEUVRE ? m * m : a * a;
+}
+
+/* Model j's state moved on by dt seconds. */
+static void predict_model(const struct sonar_tracker *tk, int j, struct sonar_track_model *m, float dt)
+{
+    if (j == SONAR_TRK_REST) {
+        m->pa += SONAR_TRK_REST_MPS * SONAR_TRK_REST_MPS * dt;
+        return;
+    }
+    m->px += m->vx * dt;
+    m->py += m->vy * dt;
+    sonar_trk_predict_cov(model_q(tk, j), dt, &m->pa, &m->pb, &m->pc);
+}
+
+/*
+ * The models' predictions for a detection at o's time: their log weights ln p + ln L (L the
+ * likelihood scaled by r2: exp(-d2 / 2) r2 / S); returns the combined prediction's d^2 (its mean,
+ * and the models' covariances and spread about it), the IMM's gate, and in *least the least of the
+ * models' own d^2, the gate of a second chance (the combined covariance of a likely model and an
+ * unlikely wide one, a turn, cuts the wide one's tail). With near constant velocity alone
+ * (cfg.imm 0) the second chance (wide) is the manoeuvre model's alone, as a manoeuvre pass.
+ */
+static float predicted(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                       float r2, float dt, int wide, struct sonar_track_model pm[SONAR_TRK_MODELS],
+                       float lw[SONAR_TRK_MODELS], float *least)
+{
+    float cx = 0.0f, cy = 0.0f, s = 0.0f, ex, ey;
+    int j;
+    *least = 1e30f;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        float sj, d2;
+        pm[j] = t->m[j];
+        if (!tk->cfg.imm && wide)
+            pm[j].p = j == SONAR_TRK_MANOEUVRE ? 1.0f : 0.0f; /* one model: the second chance is the manoeuvre's */
+        predict_model(tk, j, &pm[j], dt);
+        sj = pm[j].pa + r2;
+        ex = o->x_m - pm[j].px;
+        ey = o->y_m - pm[j].py;
+        d2 = (ex * ex + ey * ey) / sj;
+        if (pm[j].p > 0.0f) {
+            lw[j] = logf(pm[j].p) - 0.5f * d2 - logf(sj / r2);
+            *least = d2 < *least ? d2 : *least;
+        } else {
+            lw[j] = -1e30f;
+        }
+        cx += pm[j].p * pm[j].px;
+        cy += pm[j].p * pm[j].py;
+    }
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        float dx = pm[j].px - cx, dy = pm[j].py - cy;
+        s += pm[j].p * (pm[j].pa + r2 + 0.5f * (dx * dx + dy * dy));
+    }
+    ex = o->x_m - cx;
+    ey = o->y_m - cy;
+    return (ex * ex + ey * ey) / s;
+}
+
+/* ln of the sum of exp(lw[j]), computed without underflow. */
+static float log_sum(const float lw[SONAR_TRK_MODELS])
+{
+    float top = lw[0], sum = 0.0f;
+    int j;
+    for (j = 1; j < SONAR_TRK_MODELS; j++)
+        top = lw[j] > top ? lw[j] : top;
+    for (j = 0; j < SONAR_TRK_MODELS; j++)
+        sum += expf(lw[j] - top);
+    return top + logf(sum);
+}
+
+float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+                         float r2, float dt, int wide, float *d2, float *least)
+{
+    struct sonar_track_model pm[SONAR_TRK_MODELS];
+    float lw[SONAR_TRK_MODELS];
+    *d2 = predicted(tk, t, o, r2, dt, wide, pm, lw, least);
+    return -2.0f * log_sum(lw);
+}
+
+/*
+ * The combined estimate (moment matched) of the models post[] with probabilities mu[] into t's
+ * px .. pc. One covariance serves both axes, so the spread between the models is the two axes'
+ * mean.
+ */
+static void combine(struct sonar_track *t, const struct sonar_track_model post[SONAR_TRK_MODELS], const float mu[SONAR_TRK_MODELS])
+{
+    float x = 0.0f, y = 0.0f, vx = 0.0f, vy = 0.0f, pa = 0.0f, pb = 0.0f, pc = 0.0f;
+    int j;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        x += mu[j] * post[j].px;
+        y += mu[j] * post[j].py;
+        vx += mu[j] * post[j].vx;
+        vy += mu[j] * post[j].vy;
+    }
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        float dx = post[j].px - x, dy = post[j].py - y, du = post[j].vx - vx, dv = post[j].vy - vy;
+        pa += mu[j] * (post[j].pa + 0.5f * (dx * dx + dy * dy));
+        pb += mu[j] * (post[j].pb + 0.5f * (dx * du + dy * dv));
+        pc += mu[j] * (post[j].pc + 0.5f * (du * du + dv * dv));
+    }
+    t->px = x;
+    t->py = y;
+    t->vx = vx;
+    t->vy = vy;
+    t->pa = pa;
+    t->pb = pb;
+    t->pc = pc;
+}
+
+/* The IMM's mixing: each model's starting state for the next step, and its prior probability, into t->m[]. */
+static void mix(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_track_model post[SONAR_TRK_MODELS],
+                const float mu[SONAR_TRK_MODELS])
+{
+    const float(*to)[SONAR_TRK_MODELS] = TRANSITION[tk->cfg.imm != 0];
+    int i, j;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        struct sonar_track_model *m = &t->m[j];
+        float c = 0.0f, w[SONAR_TRK_MODELS];
+        for (i = 0; i < SONAR_TRK_MODELS; i++)
+            c += to[i][j] * mu[i];
+        memset(m, 0, sizeof(*m));
+        m->p = c;
+        for (i = 0; i < SONAR_TRK_MODELS; i++) {
+            /* A model nothing goes to (near constant velocity alone) still starts from the combined estimate. */
+            w[i] = c > 1e-9f ? to[i][j] * mu[i] / c : mu[i];
+            m->px += w[i] * post[i].px;
+            m->py += w[i] * post[i].py;
+            m->vx += w[i] * post[i].vx;
+            m->vy += w[i] * post[i].vy;
+        }
+        for (i = 0; i < SONAR_TRK_MODELS; i++) {
+            float dx = post[i].px - m->px, dy = post[i].py - m->py, du = post[i].vx - m->vx, dv = post[i].vy - m->vy;
+            m->pa += w[i] * (post[i].pa + 0.5f * (dx * dx + dy * dy));
+            m->pb += w[i] * (post[i].pb + 0.5f * (dx * du + dy * dv));
+            m->pc += w[i] * (post[i].pc + 0.5f * (du * du + dv * dv));
+        }
+        if (j == SONAR_TRK_REST) {
+            m->vx = m->vy = m->pb = m->pc = 0.0f; /* rest has no velocity to carry */
+        }
+    }
+}
+
+/* Posterior probabilities and the published ones (mu 0..255, the mode). */
+static void set_mode(struct sonar_track *t, const float mu[SONAR_TRK_MODELS])
+{
+    int j, best = 0;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        t->mu[j] = (uint8_t)(mu[j] * 255.0f + 0.5f);
+        if (mu[j] > mu[best])
+            best = j;
+    }
+    t->mode = (uint8_t)(best == SONAR_TRK_REST ? SONAR_TRACK_RESTING : best == SONAR_TRK_MANOEUVRE ? SONAR_TRACK_TURNING
+                                                                                                     : SONAR_TRACK_MOVING);
+}
+
+int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2, float dt)
+{
+    struct sonar_track_model post[SONAR_TRK_MODELS];
+    float lw[SONAR_TRK_MODELS], mu[SONAR_TRK_MODELS], total, least;
+    int j;
+    (void)predicted(tk, t, o, r2, dt, t->chance, post, lw, &least);
+    total = log_sum(lw);
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        struct sonar_track_model *m = &post[j];
+        float s = m->pa + r2, ka = m->pa / s, kb = m->pb / s, ex = o->x_m - m->px, ey = o->y_m - m->py;
+        float a = m->pa, b = m->pb;
+        mu[j] = expf(lw[j] - total);
+        m->px += ka * ex;
+        m->py += ka * ey;
+        m->pa = a - ka * a;
+        if (j != SONAR_TRK_REST) {
+            m->vx += kb * ex;
+            m->vy += kb * ey;
+            m->pb = b - ka * b;
+            m->pc = m->pc - kb * b;
+        }
+    }
+    combine(t, post, mu);
+    mix(tk, t, post, mu);
+    set_mode(t, mu);
+    return t->mode;
+}
+
+void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2)
+{
+    struct sonar_track_model post[SONAR_TRK_MODELS];
+    int j;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        memset(&post[j], 0, sizeof(post[j]));
+        post[j].px = o->x_m;
+        post[j].py = o->y_m;
+        post[j].pa = r2;
+        post[j].pc = j == SONAR_TRK_REST ? 0.0f : tk->cfg.speed0_mps * tk->cfg.speed0_mps;
+    }
+    combine(t, post, BIRTH_P[tk->cfg.imm != 0]);
+    mix(tk, t, post, BIRTH_P[tk->cfg.imm != 0]);
+    set_mode(t, BIRTH_P[tk->cfg.imm != 0]);
+}
+
+void sonar_trk_imm_move(struct sonar_track *t, float deg, float cx, float cy, const struct sonar_pose *p, int how)
+{
+    int j;
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        struct sonar_track_model *m = &t->m[j];
+        float x = m->px, y = m->py, vx = m->vx, vy = m->vy;
+        if (how == SONAR_TRK_MOVE_TURN) {
+            sonar_pose_rotate(deg, x - cx, y - cy, &m->px, &m->py);
+            m->px += cx;
+            m->py += cy;
+        } else if (how == SONAR_TRK_MOVE_TO_WORLD) {
+            sonar_pose_to_world(p, x, y, &m->px, &m->py);
+        } else {
+            sonar_pose_to_body(p, x, y, &m->px, &m->py);
+        }
+        sonar_pose_rotate(deg, vx, vy, &m->vx, &m->vy);
+    }
+}
