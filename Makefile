@@ -412,7 +412,10 @@ $(BUILD)/mcu/sonard-an500-h743.elf: $(BUILD)/mcu/sonard-an500.elf src/mcu/h743.l
 # The STM32F405 (Cortex-M4F) image: 200 angles (2-gradian cells: the Ping360's beam is 2 degrees wide) x 500
 # samples, so that the background (100 KB) and the rest fit its 128 KiB SRAM and 64 KiB CCM (docs/coprocessor.md).
 F405_GRID  = -DSONAR_MAX_ANGLES=200 -DSONAR_MAX_SAMPLES=500
-F405_FLAGS = $(ARM_M4F) $(F405_GRID) $(F405_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
+# 12 tracks and 4 hypotheses (3 alternatives) keep 8 KiB of the CCM spare (32 and 8 would leave under 4 KiB): a pool
+# watcher's sonar rarely has more than 12 people in view, and a sweep rarely more than 3 close calls.
+F405_LIMITS = -DSONAR_MAX_TRACKS=12 -DSONAR_TRK_HYPOTHESES=4
+F405_FLAGS = $(ARM_M4F) $(F405_GRID) $(F405_LIMITS) $(F405_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 F405_SRC   = src/mcu/startup.c src/mcu/board_f405.c src/mcu/board_common.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
 $(BUILD)/mcu/sonard-f405.elf: $(F405_SRC) src/mcu/f405.ld src/mcu/board.h $(BUILD)/lcm/.stamp $(BUILD)/mcu/inc/lcm/lcm_coretypes.h
 	@mkdir -p $(BUILD)/mcu/f405

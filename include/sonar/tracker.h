@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 168 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 7 984 B; stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 168 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 160 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -174,6 +174,15 @@ struct sonar_tracker {
     struct sonar_track_revision rev[2];
     uint32_t revisions;      /* updates that revised the last sweep's IDs */
     uint32_t hyp_overflow;   /* alternatives within reach that did not fit: that sweep's assignment was final for them */
+    /*
+     * An update's scratch, here rather than on its stack (static RAM is counted; the stack is the
+     * co-processor's small bank): each pair's cost under the combined gate, computed once an update
+     * (the passes, the alternatives and the next look's decision all read it); known bit k of row d:
+     * cost[d][k] holds detection d's cost for track slot k.
+     */
+    const struct sonar_tracker_obs *cache_obs;
+    uint64_t cache_known[SONAR_MAX_CLUSTERS];
+    float cache_cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS];
 };
 
 /* Largest assignment sonar_tracker_assign solves: rows <= cols <= this. */

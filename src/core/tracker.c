@@ -202,10 +202,12 @@ unsigned sonar_tracker_relabel(struct sonar_tracker *copy, const struct sonar_tr
 /* Seconds from t's state to utime: never negative (no prediction backwards), clipped at max_dt_s. */
 float sonar_trk_step_s(const struct sonar_tracker *tk, const struct sonar_track *t, int64_t utime, int *clipped)
 {
+    int64_t us = utime - t->utime;
     float dt;
-    if (utime <= t->utime)
+    if (us <= 0)
         return 0.0f;
-    dt = (float)((double)(utime - t->utime) * 1e-6);
+    /* Seconds from microseconds; under 35 min through a 32-bit integer, one instruction on a Cortex-M (not a library call). */
+    dt = us < INT32_MAX ? (float)(int32_t)us * 1e-6f : (float)((double)us * 1e-6);
     if (dt > tk->cfg.max_dt_s) {
         *clipped = 1;
         return tk->cfg.max_dt_s;
@@ -424,6 +426,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     }
     /* The last sweep's other hypotheses, read against this sweep's detections. */
     tk->nrev = 0;
+    sonar_trk_cache_reset(tk, obs);
     if (tk->cfg.defer)
         sonar_trk_defer_decide(tk, cost, obs, rows, nr, r2, &clipped);
     tk->nalt = 0;
@@ -525,5 +528,6 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         tk->last_utime = obs[rows[i]].utime > tk->last_utime ? obs[rows[i]].utime : tk->last_utime;
     tk->last_utime = sw->utime > tk->last_utime ? sw->utime : tk->last_utime;
     tk->clock_gaps += (uint32_t)clipped;
+    sonar_trk_cache_reset(tk, NULL); /* the hits moved the tracks: nothing in it holds now */
     return SONAR_OK;
 }

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "tracker_internal.h"
 
@@ -113,7 +114,7 @@ int sonar_tracker_assign(const float *cost, uint8_t rows, uint8_t cols, int8_t *
 static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                        float r2, int wide, int *clipped)
 {
-    float dt = sonar_trk_step_s(tk, t, o->utime, clipped), d2, least, c;
+    float dt = sonar_trk_step_s(tk, t, o->utime, clipped), c;
     if (tk->cfg.max_speed_mps > 0.0f) {
         /* Kinematics: from where the track last was, nothing this fast (people, divers, swimmers). */
         float mx = o->x_m - t->px, my = o->y_m - t->py, reach = tk->cfg.max_speed_mps * dt + 3.0f * tk->cfg.meas_m;
@@ -132,8 +133,8 @@ static float pair_cost(const struct sonar_tracker *tk, const struct sonar_track 
         if (mx * mx + my * my > reach * reach)
             return (float)BIG;
     }
-    c = sonar_trk_imm_cost(tk, t, o, r2, dt, wide, &d2, &least);
-    return (wide ? least : d2) <= tk->cfg.gate ? c : (float)BIG;
+    c = sonar_trk_imm_cost(tk, t, o, r2, dt, wide);
+    return c < SONAR_TRK_OUTSIDE ? c : (float)BIG;
 }
 
 /* Squared distance, m^2, from t's prediction to the time of o to where o is. */
@@ -216,7 +217,7 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
         return nl;
     for (i = 0; i < nl; i++)
         for (k = 0; k < nc; k++)
-            cost[i][k] = pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], r2, wide, clipped);
+            cost[i][k] = sonar_trk_pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], r2, wide, clipped);
     c.m = &cost[0][0];
     c.stride = SONAR_MAX_TRACKS;
     c.real = nc;
@@ -236,10 +237,27 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
     return m;
 }
 
-float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+float sonar_trk_pair_cost(struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                           float r2, int wide, int *clipped)
 {
+    /* A live track and one of this update's detections: from the cache (sonar_trk_cache_reset). */
+    if (!wide && tk->cache_obs != NULL && t >= tk->t && t < tk->t + tk->n && o >= tk->cache_obs &&
+        o < tk->cache_obs + SONAR_MAX_CLUSTERS) {
+        unsigned k = (unsigned)(t - tk->t), d = (unsigned)(o - tk->cache_obs);
+        uint64_t bit = (uint64_t)1 << k;
+        if (!(tk->cache_known[d] & bit)) {
+            tk->cache_cost[d][k] = pair_cost(tk, t, o, r2, 0, clipped);
+            tk->cache_known[d] |= bit;
+        }
+        return tk->cache_cost[d][k];
+    }
     return pair_cost(tk, t, o, r2, wide, clipped);
+}
+
+void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs)
+{
+    memset(tk->cache_known, 0, sizeof(tk->cache_known));
+    tk->cache_obs = obs;
 }
 
 float sonar_trk_fresh(const struct sonar_tracker *tk, float r2)

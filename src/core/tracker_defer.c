@@ -153,50 +153,54 @@ static int slot_of(const struct sonar_tracker *tk, uint32_t id)
 }
 
 /*
- * The least cost of this sweep's detections near the two tracks given (a, b; NULL: none) and the
- * other live tracks that reach those detections: the local part of the sweep's assignment that
- * the alternative changes.
+ * The local part of this sweep's assignment that an alternative changes, both ways: the least
+ * cost of the detections near either pair of tracks (four[0..1] as published, four[2..3] had the
+ * alternative been chosen; NULL: no such track) and of the other live tracks that reach those
+ * detections, as published (*now) and as the alternative would have it (*then). Misses included.
  */
-static float local_cost(const struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_track *two[4],
+static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_track *four[4],
                         const uint32_t not_id[2], const struct sonar_tracker_obs *obs, const uint8_t *rows, uint8_t nr,
-                        float r2, int *clipped)
+                        float r2, int *clipped, float *now, float *then)
 {
-    const struct sonar_track *cols[SONAR_MAX_TRACKS];
-    uint8_t dets[SONAR_MAX_CLUSTERS], nd = 0, nc = 0, i, k, d;
-    float misses = 0.0f;
+    float c4[SONAR_MAX_CLUSTERS][4], misses = 0.0f, fresh = sonar_trk_fresh(tk, r2), miss4[4];
+    uint8_t dets[SONAR_MAX_CLUSTERS], nd = 0, nc = 2, i, k, d;
+    for (k = 0; k < 4; k++)
+        miss4[k] = four[k] != NULL ? miss_cost(four[k]) : 0.0f;
     for (i = 0; i < nr; i++) {
-        for (k = 0; k < 4; k++)
-            if (two[k] != NULL && sonar_trk_pair_cost(tk, two[k], &obs[rows[i]], r2, 0, clipped) < GATED)
-                break;
-        if (k < 4)
+        int near = 0;
+        for (k = 0; k < 4; k++) {
+            c4[nd][k] = four[k] != NULL ? sonar_trk_pair_cost(tk, four[k], &obs[rows[i]], r2, 0, clipped) : GATED * 10.0f;
+            near |= c4[nd][k] < GATED;
+        }
+        if (near)
             dets[nd++] = rows[i];
     }
-    for (k = 0; k < 2; k++)
-        if (two[k] != NULL) {
-            cols[nc++] = two[k];
-            misses += nd == 0 ? miss_cost(two[k]) : 0.0f;
-        }
-    if (nd == 0)
-        return misses;
-    for (k = 0; k < tk->n && nc < SONAR_MAX_TRACKS; k++) {
+    /* Columns 0 and 1: the pair in question; then every other live track that reaches one of the detections. */
+    for (k = 0; nd > 0 && k < tk->n && nc < SONAR_MAX_TRACKS; k++) {
         const struct sonar_track *t = &tk->t[k];
+        int near = 0;
         if (t->id == not_id[0] || t->id == not_id[1])
             continue;
-        for (d = 0; d < nd; d++)
-            if (sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped) < GATED)
-                break;
-        if (d < nd)
-            cols[nc++] = t;
-    }
-    /* Each column's miss is paid unless it takes a detection: pay all, refund on a pair. */
-    for (k = 0; k < nc; k++)
-        misses += miss_cost(cols[k]);
-    for (d = 0; d < nd; d++)
-        for (k = 0; k < nc; k++) {
-            float c = sonar_trk_pair_cost(tk, cols[k], &obs[dets[d]], r2, 0, clipped);
-            cost[d][k] = c < GATED ? c - miss_cost(cols[k]) : c;
+        for (d = 0; d < nd; d++) {
+            float c = sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped);
+            cost[d][nc] = c < GATED ? c - miss_cost(t) : c; /* each miss paid below, refunded on a pair */
+            near |= c < GATED;
         }
-    return misses + sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, sonar_trk_fresh(tk, r2));
+        if (near) {
+            misses += miss_cost(t);
+            nc++;
+        }
+    }
+    for (k = 0; k < 2; k++) {
+        for (d = 0; d < nd; d++)
+            cost[d][k] = c4[d][k] < GATED ? c4[d][k] - miss4[k] : c4[d][k];
+    }
+    *now = misses + miss4[0] + miss4[1] + (nd > 0 ? sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, fresh) : 0.0f);
+    for (k = 0; k < 2; k++) {
+        for (d = 0; d < nd; d++)
+            cost[d][k] = c4[d][k + 2] < GATED ? c4[d][k + 2] - miss4[k + 2] : c4[d][k + 2];
+    }
+    *then = misses + miss4[2] + miss4[3] + (nd > 0 ? sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, fresh) : 0.0f);
 }
 
 /* Puts the alternative's tracks in place of the live ones, in birth (ID) order. */
@@ -226,6 +230,7 @@ static void adopt(struct sonar_tracker *tk, struct sonar_trk_alt *a)
     tk->rev[1].to = a->absent ? 0 : a->id[0];
     tk->nrev = 2;
     tk->revisions++;
+    sonar_trk_cache_reset(tk, tk->cache_obs); /* the slots moved */
 }
 
 void sonar_trk_defer_decide(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_tracker_obs *obs,
@@ -236,22 +241,16 @@ void sonar_trk_defer_decide(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TR
     uint8_t h;
     for (h = 0; h < tk->nalt; h++) {
         struct sonar_trk_alt *a = &tk->alt[h];
-        const struct sonar_track *two[4];
+        const struct sonar_track *four[4];
         int s0 = a->id[0] != 0 ? slot_of(tk, a->id[0]) : -1, s1 = slot_of(tk, a->id[1]);
         float now, then, score;
         if (a->id[0] == 0)
             continue; /* its birth did not happen (the table was full) */
-        /* As published: the two live tracks; the alternative's two beside them only to find the detections. */
-        two[0] = s0 >= 0 ? &tk->t[s0] : NULL;
-        two[1] = s1 >= 0 ? &tk->t[s1] : NULL;
-        two[2] = a->absent ? NULL : &a->t[0];
-        two[3] = &a->t[1];
-        now = local_cost(tk, cost, two, a->id, obs, rows, nr, r2, clipped);
-        two[0] = two[2];
-        two[1] = two[3];
-        two[2] = s0 >= 0 ? &tk->t[s0] : NULL;
-        two[3] = s1 >= 0 ? &tk->t[s1] : NULL;
-        then = local_cost(tk, cost, two, a->id, obs, rows, nr, r2, clipped);
+        four[0] = s0 >= 0 ? &tk->t[s0] : NULL;
+        four[1] = s1 >= 0 ? &tk->t[s1] : NULL;
+        four[2] = a->absent ? NULL : &a->t[0];
+        four[3] = &a->t[1];
+        local_costs(tk, cost, four, a->id, obs, rows, nr, r2, clipped, &now, &then);
         score = a->delta + then - now;
         if (score < best) {
             best = score;

@@ -39,67 +39,79 @@ static void predict_model(const struct sonar_tracker *tk, int j, struct sonar_tr
 }
 
 /*
- * The models' predictions for a detection at o's time: their log weights ln p + ln L (L the
- * likelihood scaled by r2: exp(-d2 / 2) r2 / S); returns the combined prediction's d^2 (its mean,
- * and the models' covariances and spread about it), the IMM's gate, and in *least the least of the
- * models' own d^2, the gate of a second chance (the combined covariance of a likely model and an
- * unlikely wide one, a turn, cuts the wide one's tail). With near constant velocity alone
- * (cfg.imm 0) the second chance (wide) is the manoeuvre model's alone, as a manoeuvre pass.
+ * The models' predictions for a detection at o's time, positions and position variances only:
+ * each model's prior p[] (the second chance of near constant velocity alone, cfg.imm 0 and wide,
+ * is the manoeuvre model's alone, as a manoeuvre pass), d^2 and S = pa + r2. Returns the combined
+ * prediction's d^2 (its mean, and the models' covariances and spread about it), the IMM's gate,
+ * and in *least the least of the models' own d^2, the gate of a second chance (the combined
+ * covariance of a likely model and an unlikely wide one, a turn, cuts the wide one's tail). No
+ * logarithm, exponential or copy: most pairs end at the gate.
  */
 static float predicted(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
-                       float r2, float dt, int wide, struct sonar_track_model pm[SONAR_TRK_MODELS],
-                       float lw[SONAR_TRK_MODELS], float *least)
+                       float r2, float dt, int wide, float p[SONAR_TRK_MODELS], float d2[SONAR_TRK_MODELS],
+                       float sj[SONAR_TRK_MODELS], float *least)
 {
-    float cx = 0.0f, cy = 0.0f, s = 0.0f, ex, ey;
+    float x[SONAR_TRK_MODELS], y[SONAR_TRK_MODELS], cx = 0.0f, cy = 0.0f, s = 0.0f, ex, ey, dt2 = dt * dt;
     int j;
     *least = 1e30f;
     for (j = 0; j < SONAR_TRK_MODELS; j++) {
-        float sj, d2;
-        pm[j] = t->m[j];
-        if (!tk->cfg.imm && wide)
-            pm[j].p = j == SONAR_TRK_MANOEUVRE ? 1.0f : 0.0f; /* one model: the second chance is the manoeuvre's */
-        predict_model(tk, j, &pm[j], dt);
-        sj = pm[j].pa + r2;
-        ex = o->x_m - pm[j].px;
-        ey = o->y_m - pm[j].py;
-        d2 = (ex * ex + ey * ey) / sj;
-        if (pm[j].p > 0.0f) {
-            lw[j] = logf(pm[j].p) - 0.5f * d2 - logf(sj / r2);
-            *least = d2 < *least ? d2 : *least;
+        const struct sonar_track_model *m = &t->m[j];
+        p[j] = !tk->cfg.imm && wide ? (j == SONAR_TRK_MANOEUVRE ? 1.0f : 0.0f) : m->p;
+        d2[j] = 1e30f;
+        if (!(p[j] > 0.0f))
+            continue;
+        if (j == SONAR_TRK_REST) {
+            x[j] = m->px;
+            y[j] = m->py;
+            sj[j] = m->pa + SONAR_TRK_REST_MPS * SONAR_TRK_REST_MPS * dt + r2;
         } else {
-            lw[j] = -1e30f;
+            x[j] = m->px + m->vx * dt;
+            y[j] = m->py + m->vy * dt;
+            sj[j] = m->pa + 2.0f * m->pb * dt + m->pc * dt2 + model_q(tk, j) * dt2 * dt / 3.0f + r2;
         }
-        cx += pm[j].p * pm[j].px;
-        cy += pm[j].p * pm[j].py;
+        ex = o->x_m - x[j];
+        ey = o->y_m - y[j];
+        d2[j] = (ex * ex + ey * ey) / sj[j];
+        *least = d2[j] < *least ? d2[j] : *least;
+        cx += p[j] * x[j];
+        cy += p[j] * y[j];
     }
     for (j = 0; j < SONAR_TRK_MODELS; j++) {
-        float dx = pm[j].px - cx, dy = pm[j].py - cy;
-        s += pm[j].p * (pm[j].pa + r2 + 0.5f * (dx * dx + dy * dy));
+        if (p[j] > 0.0f) {
+            float dx = x[j] - cx, dy = y[j] - cy;
+            s += p[j] * (sj[j] + 0.5f * (dx * dx + dy * dy));
+        }
     }
     ex = o->x_m - cx;
     ey = o->y_m - cy;
     return (ex * ex + ey * ey) / s;
 }
 
-/* ln of the sum of exp(lw[j]), computed without underflow. */
-static float log_sum(const float lw[SONAR_TRK_MODELS])
+/*
+ * Each model's weight p L (L its likelihood scaled by r2: exp(-d2 / 2) r2 / S) into w[]; returns
+ * their sum, the mixture's likelihood. 0 when every model is too far for a float (d^2 > ~170).
+ */
+static float weights(const float p[SONAR_TRK_MODELS], const float d2[SONAR_TRK_MODELS], const float sj[SONAR_TRK_MODELS],
+                     float r2, float w[SONAR_TRK_MODELS])
 {
-    float top = lw[0], sum = 0.0f;
+    float sum = 0.0f;
     int j;
-    for (j = 1; j < SONAR_TRK_MODELS; j++)
-        top = lw[j] > top ? lw[j] : top;
-    for (j = 0; j < SONAR_TRK_MODELS; j++)
-        sum += expf(lw[j] - top);
-    return top + logf(sum);
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        w[j] = p[j] > 0.0f && d2[j] < 170.0f ? p[j] * (r2 / sj[j]) * expf(-0.5f * d2[j]) : 0.0f;
+        sum += w[j];
+    }
+    return sum;
 }
 
 float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
-                         float r2, float dt, int wide, float *d2, float *least)
+                         float r2, float dt, int wide)
 {
-    struct sonar_track_model pm[SONAR_TRK_MODELS];
-    float lw[SONAR_TRK_MODELS];
-    *d2 = predicted(tk, t, o, r2, dt, wide, pm, lw, least);
-    return -2.0f * log_sum(lw);
+    float p[SONAR_TRK_MODELS], d2[SONAR_TRK_MODELS], sj[SONAR_TRK_MODELS], w[SONAR_TRK_MODELS], least, comb, sum;
+    comb = predicted(tk, t, o, r2, dt, wide, p, d2, sj, &least);
+    if ((wide ? least : comb) > tk->cfg.gate)
+        return SONAR_TRK_OUTSIDE;
+    sum = weights(p, d2, sj, r2, w);
+    return sum > 0.0f ? -2.0f * logf(sum) : SONAR_TRK_OUTSIDE;
 }
 
 /*
@@ -181,15 +193,18 @@ static void set_mode(struct sonar_track *t, const float mu[SONAR_TRK_MODELS])
 int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2, float dt)
 {
     struct sonar_track_model post[SONAR_TRK_MODELS];
-    float lw[SONAR_TRK_MODELS], mu[SONAR_TRK_MODELS], total, least;
+    float p[SONAR_TRK_MODELS], d2[SONAR_TRK_MODELS], sj[SONAR_TRK_MODELS], mu[SONAR_TRK_MODELS], least, sum;
     int j;
-    (void)predicted(tk, t, o, r2, dt, t->chance, post, lw, &least);
-    total = log_sum(lw);
+    (void)predicted(tk, t, o, r2, dt, t->chance, p, d2, sj, &least);
+    sum = weights(p, d2, sj, r2, mu);
     for (j = 0; j < SONAR_TRK_MODELS; j++) {
         struct sonar_track_model *m = &post[j];
+        *m = t->m[j];
+        predict_model(tk, j, m, dt);
         float s = m->pa + r2, ka = m->pa / s, kb = m->pb / s, ex = o->x_m - m->px, ey = o->y_m - m->py;
         float a = m->pa, b = m->pb;
-        mu[j] = expf(lw[j] - total);
+        /* Posterior probabilities; a hit no model explains (a forced one, far off) keeps the priors. */
+        mu[j] = sum > 0.0f ? mu[j] / sum : p[j];
         m->px += ka * ex;
         m->py += ka * ey;
         m->pa = a - ka * a;

@@ -17,15 +17,19 @@ void sonar_trk_predict_cov(float q, float dt, float *pa, float *pb, float *pc);
 void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
                    float r2, int *clipped);
 
+/* What a pair outside every gate costs (tracker_assign.c's BIG): finite, so the assignment's arithmetic stays exact. */
+#define SONAR_TRK_OUTSIDE 1.0e9f
+
 /*
  * The IMM (tracker_imm.c). _cost: -2 ln of the models' mixture likelihood of o after dt s (scaled
- * so that one model gives d^2 + 2 ln(S / r2)); *d2 the combined prediction's squared Mahalanobis
- * distance (the gate), *least the least of its models' own (the gate of the second chance). _hit: the update at o after dt s; returns the track's mode. _birth: a new
- * track at o. _move: every model turned by deg about (cx, cy) (SONAR_TRK_MOVE_TURN), or moved
+ * so that one model gives d^2 + 2 ln(S / r2)), or SONAR_TRK_OUTSIDE when o is beyond the gate:
+ * the combined prediction's squared Mahalanobis distance, or when wide (the second chance) the
+ * least of its models' own. _hit: the update at o after dt s; returns the track's mode. _birth: a
+ * new track at o. _move: every model turned by deg about (cx, cy) (SONAR_TRK_MOVE_TURN), or moved
  * into the world or body frame at pose p with velocities turned by deg.
  */
 float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
-                         float r2, float dt, int wide, float *d2, float *least);
+                         float r2, float dt, int wide);
 int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2, float dt);
 void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2);
 enum { SONAR_TRK_MOVE_TURN = 0, SONAR_TRK_MOVE_TO_WORLD = 1, SONAR_TRK_MOVE_TO_BODY = 2 };
@@ -41,9 +45,16 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
                        const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float r2, int wide, int merge,
                        int *clipped);
 
-/* The cost of continuing t with o (-2 ln of its mixture likelihood), or 1e9 outside its gate (wide: the second chance's). */
-float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+/*
+ * The cost of continuing t with o (-2 ln of its mixture likelihood), or 1e9 outside its gate
+ * (wide: the second chance's); a live track's with one of the update's detections is computed once
+ * an update (tk's cache).
+ */
+float sonar_trk_pair_cost(struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                           float r2, int wide, int *clipped);
+
+/* Empties the pair cost cache for an update over obs (NULL: none); again whenever the live tracks change. */
+void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs);
 
 /* The cost of starting a new track from a detection instead of continuing one. */
 float sonar_trk_fresh(const struct sonar_tracker *tk, float r2);

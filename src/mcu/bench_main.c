@@ -10,6 +10,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/scan.h"
 #include "detector_internal.h"
+#include "../../tools/bench/tracker_scene.h"
 
 #ifndef BENCH_BEAMS
 #define BENCH_BEAMS 400
@@ -80,37 +81,17 @@ static void put_num(const char *key, uint64_t v)
     put(buf);
 }
 
-/* The tracker's sweep: 32 live tracks, 16 detections near half of them, as tools/bench/bench.c times it on the host. */
+/* The tracker's sweep (tools/bench/tracker_scene.h, as the host bench times it): 32 tracks, 16 detections. */
 static int64_t tracker_us(void)
 {
     static struct sonar_tracker tk;
     struct sonar_tracker_config tc;
     struct sonar_tracker_obs ob[16];
     struct sonar_tracker_sweep sw;
-    int s, k;
     int64_t t0;
-    memset(&sw, 0, sizeof(sw));
-    sw.beams = 400;
-    sw.max_range_m = 50.0f;
     sonar_tracker_defaults(&tc);
-    if (sonar_tracker_init(&tk, &tc) != SONAR_OK)
+    if (bench_tracker_scene(&tk, &tc, ob, &sw) != 0)
         return -1;
-    for (s = 0; s < 2; s++) {
-        for (k = 0; k < 16; k++) {
-            ob[k].x_m = (float)(k % 4) * 4.0f - 6.0f + (float)s * 20.0f;
-            ob[k].y_m = (float)(k / 4) * 4.0f - 6.0f;
-            ob[k].utime = 1000000 + (int64_t)k * 10000;
-            ob[k].size_m = 0.3f;
-        }
-        sw.utime = 2000000;
-        if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
-            return -1;
-    }
-    for (k = 0; k < 16; k++) {
-        ob[k].x_m = (float)(k % 4) * 4.0f - 5.9f;
-        ob[k].utime = 11000000 + (int64_t)k * 10000;
-    }
-    sw.utime = 12000000;
     t0 = board_micros();
     if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
         return -1;

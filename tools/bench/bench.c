@@ -14,6 +14,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/scan.h"
 #include "sonar/tracker.h"
+#include "tracker_scene.h"
 
 #define BEAMS 400
 #define N 1200
@@ -234,43 +235,35 @@ int main(int argc, char **argv)
         }
         t_km[r] = (now() - t0) * 1e3;
     }
-    /* The tracker: 32 live tracks, a sweep of 16 detections near half of them (the other half
-       coast), from the same saved state each time. */
+    /* The tracker: tracker_scene.h's sweep, 32 tracks and 16 detections, from the same saved state each time. */
     {
         static struct sonar_tracker tk0, tk;
         struct sonar_tracker_config tc;
         struct sonar_tracker_obs ob[16];
-        struct sonar_tracker_sweep tsw = {0, 400, NULL, 0.0f, 50.0f, 0.0f, 0.0f};
+        struct sonar_tracker_sweep tsw;
         double t_trk[REPS];
-        int s2, k2, rep;
-        sonar_tracker_defaults(&tc);
-        if (sonar_tracker_init(&tk0, &tc) != SONAR_OK)
-            return 1;
-        for (s2 = 0; s2 < 2; s2++) {
-            for (k2 = 0; k2 < 16; k2++) {
-                ob[k2].x_m = (float)(k2 % 4) * 4.0f - 6.0f + (float)s2 * 20.0f;
-                ob[k2].y_m = (float)(k2 / 4) * 4.0f - 6.0f;
-                ob[k2].utime = 1000000 + (int64_t)k2 * 10000;
-                ob[k2].size_m = 0.3f;
+        int rep, cv;
+        /* Twice: sonard's tracker, then the one before the IMM (near constant velocity alone, each sweep final). */
+        for (cv = 0; cv < 2; cv++) {
+            sonar_tracker_defaults(&tc);
+            tc.imm = (uint8_t)!cv;
+            tc.defer = (uint8_t)!cv;
+            if (bench_tracker_scene(&tk0, &tc, ob, &tsw) != 0)
+                return 1;
+            for (r = 0; r < REPS; r++) {
+                double t0 = now();
+                for (rep = 0; rep < 200; rep++) {
+                    memcpy(&tk, &tk0, sizeof(tk));
+                    sink += sonar_tracker_update(&tk, ob, 16, &tsw);
+                }
+                t_trk[r] = (now() - t0) / 200 * 1e6;
             }
-            tsw.utime = 2000000;
-            sink += sonar_tracker_update(&tk0, ob, 16, &tsw);
+            printf("tracker_sweep%s_us %.3f\n", cv ? "_cv" : "", median_of(t_trk, REPS));
+            if (cv)
+                break;
+            printf("tracker_tracks %d\n", (int)tk0.n);
+            printf("tracker_alternatives %d %d\n", (int)tk0.nalt, (int)tk.nalt);
         }
-        for (k2 = 0; k2 < 16; k2++) {
-            ob[k2].x_m = (float)(k2 % 4) * 4.0f - 5.9f;
-            ob[k2].utime = 11000000 + (int64_t)k2 * 10000;
-        }
-        tsw.utime = 12000000;
-        for (r = 0; r < REPS; r++) {
-            double t0 = now();
-            for (rep = 0; rep < 200; rep++) {
-                memcpy(&tk, &tk0, sizeof(tk));
-                sink += sonar_tracker_update(&tk, ob, 16, &tsw);
-            }
-            t_trk[r] = (now() - t0) / 200 * 1e6;
-        }
-        printf("tracker_sweep_us %.3f\n", median_of(t_trk, REPS));
-        printf("tracker_tracks %d\n", (int)tk0.n);
     }
     /* The scan planner's worst call: follow round a full circle at 1 gradian a step (a 400-beam
        grid), the most targets it reads, each with the widest window. */

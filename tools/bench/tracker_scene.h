@@ -1,0 +1,42 @@
+/* tracker_scene.h -- the tracker's benchmark sweep, one place for the host bench (tools/bench/bench.c) and the firmware's (src/mcu/bench_main.c); no RAM of its own. */
+#ifndef BENCH_TRACKER_SCENE_H
+#define BENCH_TRACKER_SCENE_H
+
+#include <string.h>
+
+#include "sonar/tracker.h"
+
+/*
+ * Starts tk with c and gives it 32 tracks, each seen twice 5 s apart (moving at 0.12 m/s, so each
+ * has a velocity and its IMM its models); leaves in ob[16] and *sw the sweep to time: 16
+ * detections near half of them (the other half coast), two of them a pair crossing 0.5 m apart
+ * (alternatives kept for the next look), read after the last sweep's alternatives. Returns 0, or
+ * -1 when the tracker refused something.
+ */
+static int bench_tracker_scene(struct sonar_tracker *tk, const struct sonar_tracker_config *c,
+                               struct sonar_tracker_obs ob[16], struct sonar_tracker_sweep *sw)
+{
+    int s, k;
+    memset(sw, 0, sizeof(*sw));
+    sw->beams = 400;
+    sw->max_range_m = 50.0f;
+    if (sonar_tracker_init(tk, c) != SONAR_OK)
+        return -1;
+    for (s = 0; s < 5; s++) {
+        /* looks 0, 1: group A (x near 0) then group B (x near 20) at 1 s; looks 2, 3 the same at 6 s; look 4: A at 11 s */
+        int group = s % 2, look = s / 2;
+        for (k = 0; k < 16; k++) {
+            float cross = k < 2 ? (k == 0 ? 0.25f : -0.25f) * (float)(look - 1) : 0.0f;
+            ob[k].x_m = (k < 2 ? 0.3f * (float)k : (float)(k % 4) * 4.0f) - 6.0f + (float)group * 20.0f + 0.6f * (float)look;
+            ob[k].y_m = (k < 2 ? 0.5f * (float)k + 12.0f : (float)(k / 4) * 4.0f) - 6.0f + cross;
+            ob[k].utime = 1000000 + (int64_t)look * 5000000 + (int64_t)k * 10000;
+            ob[k].size_m = 0.3f;
+        }
+        sw->utime = ob[15].utime + 500000;
+        if (s < 4 && sonar_tracker_update(tk, ob, 16, sw) != SONAR_OK)
+            return -1;
+    }
+    return 0;
+}
+
+#endif
