@@ -353,9 +353,8 @@ static void test_sector_out_of_view_is_not_a_miss(void **state)
 }
 
 /*
- * A target at 1 m/s turns 90 degrees between two 6 s sweeps. Without the manoeuvre pass its
- * track is lost and a new ID starts; with it the same track takes the turn and its velocity
- * swings round.
+ * A target at 1 m/s turns 90 degrees between two 6 s sweeps, tracked with imm (three models, or near
+ * constant velocity alone) and manoeuvre noise manoeuvre; the last track's ID and north speed.
  */
 static void run_turn(int imm, float manoeuvre, uint32_t *last_id, float *vy)
 {
@@ -579,8 +578,8 @@ static void far_second_look(void)
 }
 
 /*
- * Kinematic bounds: a buoy's track (still, three hits) whose buoy is missed does not take, in the
- * manoeuvre pass, a post 3.4 m away 7 s later (0.5 m/s from standstill); and no pair implies more
+ * Kinematic bounds: a buoy's track (still, three hits) whose buoy is missed does not take, though
+ * its manoeuvre model's gate holds it, a post 3.4 m away 7 s later (0.5 m/s from standstill); and no pair implies more
  * than --track-max-speed, however wide a new track's velocity gate.
  */
 static void test_kinematic_bounds(void **state)
@@ -622,7 +621,7 @@ static void test_kinematic_bounds(void **state)
 }
 
 /*
- * An established track goes first, manoeuvre pass included: a tentative track born near where a
+ * An established track goes first, second chance included: a tentative track born near where a
  * turning target comes out of its turn (wide gate: its velocity is unknown) does not take the
  * detection the turning track needs.
  */

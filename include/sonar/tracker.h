@@ -50,7 +50,7 @@ enum sonar_track_state {
 #define SONAR_TRK_WINDOW_MAX 8   /* 1 <= confirm_m <= confirm_n <= 8 */
 #define SONAR_TRK_MAX_DT_MAX 600 /* max_dt_s: 1..600 */
 #define SONAR_TRK_COORD_MAX 1000 /* detections beyond +-1000 m on an axis are refused as absurd */
-/* The manoeuvre pass pairs a track only with a detection it reaches at 3 x its speed + 0.3 m/s (+ 3 meas_m). */
+/* A track of two hits or more pairs only with a detection it reaches at 3 x its speed + 0.3 m/s (+ 3 meas_m). */
 #define SONAR_TRK_TURN_SPEEDUP 3.0f
 #define SONAR_TRK_TURN_FROM_REST 0.3f
 /* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres.

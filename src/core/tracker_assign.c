@@ -158,7 +158,7 @@ static int assigned(const float (*cost)[SONAR_MAX_TRACKS], const int8_t *row_col
  * nearer than the one it was given, is on a merged echo (swimmers crossing); it coasts through it
  * rather than jumping to a farther detection that is someone else's. A track left without a
  * detection whose prediction lies on one another track took is merged too, kept from the
- * manoeuvre pass. Marks them SONAR_TRK_MERGED (no later pass may move them) and unassigns them.
+ * second chance. Marks them SONAR_TRK_MERGED (no later pass may move them) and unassigns them.
  */
 static void find_merged(struct sonar_tracker *tk, const float (*cost)[SONAR_MAX_TRACKS], const uint8_t *cand, uint8_t nc,
                         const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl, int8_t *row_col, int *clipped)

@@ -137,8 +137,12 @@ def lcm_setup(url, hub, types_dir):
 
     def on_trk(data):
         m = tracks_t.decode(data)
+        kinds, modes = ("new", "moving", "resting", "structure"), ("moving", "turning", "resting")
         hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
-            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m} for k in m.tracks]})
+            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m, "what": kinds[k.kind] if 0 <= k.kind < 4 else "?",
+             "mode": modes[k.mode] if 0 <= k.mode < 3 else "?", "still_s": k.still_s} for k in m.tracks],
+            # the last sweep's IDs this look revised: published as id, now as now (0: withdrawn)
+            "revisions": [{"id": a, "now": b} for a, b in zip(m.revised_from, m.revised_to)]})
 
     def on_status(data):
         m = status_t.decode(data)

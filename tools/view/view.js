@@ -39,7 +39,7 @@ for (const e of byAngle) { e.idx = Int32Array.from(e.idx); e.frac = Float32Array
 
 const view = window.sonarView = {
   beams: 0, frames: 0, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
-  detections: [], tracks: [], trails: new Map(), dropped: 0,
+  detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0,
   stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
   background: [0x10, 0x14, 0x1a],
   toPixel(x, y) { const k = view.range > 0 ? R / view.range : 0; return [Math.round(C + y * k), Math.round(C - x * k)]; },
@@ -107,9 +107,12 @@ function shapes() {
     trail.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
     octx.stroke();
     const [u, v] = view.toPixel(t.x, t.y);
-    octx.fillStyle = t.state === 1 ? "#5ac8ff" : "#9aa5b1";
+    // what it is: structure grey, resting (moved, now still: the pool watcher's case) amber, else blue; dim unless hit
+    const hue = t.what === "structure" ? "#9aa5b1" : t.what === "resting" ? "#ffb347" : "#5ac8ff";
+    octx.fillStyle = t.state === 1 ? hue : "#6b7580";
     octx.beginPath(); octx.arc(u, v, 4, 0, 2 * Math.PI); octx.fill();
-    octx.fillText("#" + t.id, u + 6, v - 6);
+    octx.fillText("#" + t.id + (t.what && t.what !== "new" && t.what !== "moving" ? " " + t.what : "")
+                  + (t.what === "resting" ? " " + Math.round(t.still_s) + " s" : ""), u + 6, v - 6);
   }
 }
 
@@ -179,6 +182,10 @@ function connect() {
     const m = JSON.parse(ev.data);
     if (m.kind === "detections") view.detections = m.detections;
     else if (m.kind === "tracks") {
+      // a revision of the last sweep's IDs: that trail was the other track's all along
+      const moved = (m.revisions || []).map(r => [r.now, view.trails.get(r.id)]);
+      for (const [now, tr] of moved) if (now && tr) view.trails.set(now, tr);
+      view.revisions += (m.revisions || []).length ? 1 : 0;
       view.tracks = m.tracks;
       const seen = new Set();
       for (const t of m.tracks) {
