@@ -134,6 +134,19 @@ static void on_sweep(void *user, const struct sonar_detections *d)
                    "%.0f s): learnt into the background, reported as structure, not objects",
                 n, n == 1 ? "" : "s", (unsigned)d->sweep, (double)sonar_pipeline_running(&a->pipe)->structure_s);
     }
+    {
+        /* Deferred association out of room: said once a run and again each time the count doubles. */
+        struct sonar_status st;
+        memset(&st, 0, sizeof(st));
+        sonar_status_tracking(&st, &a->pipe);
+        if (st.tracker.hyp_overflow > 2u * a->hyp_overflow_said) {
+            a->hyp_overflow_said = st.tracker.hyp_overflow;
+            app_say(a, "tracker: %u alternative assignment%s did not fit the %d hypotheses kept (SONAR_TRK_HYPOTHESES) by "
+                       "sweep %u: for them the sweep's assignment was final at once (track_hyp_overflow on SONAR_STATUS)",
+                    (unsigned)st.tracker.hyp_overflow, st.tracker.hyp_overflow == 1 ? "" : "s", SONAR_TRK_HYPOTHESES,
+                    (unsigned)d->sweep);
+        }
+    }
     to_sinks(a, d, sonar_pipeline_tracker(&a->pipe));
 }
 

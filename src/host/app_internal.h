@@ -29,6 +29,7 @@ struct app {
     struct sonar_bgfile_meta bg_file; /* a loaded background: what it is a model of (app_bg.c) ... */
     int bg_pending;             /* ... still to be checked against the first beam */
     uint32_t structure_said;    /* places promoted to structure when it was last said */
+    uint32_t hyp_overflow_said; /* the tracker's alternatives that did not fit, when it was last said */
     int passive_idle;           /* --passive: the beams stopped (said); the next one is said too */
     uint32_t passive_changes;   /* --passive: the driving program changed range, samples or gain */
     struct sonar_record passive_last; /* --passive: the settings of its latest beam (no samples kept) */

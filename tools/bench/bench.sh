@@ -24,7 +24,7 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
     -v step="$(v beam_step_us)" -v gstep="$(v beam_step_global_us)" -v cpy="$(v memcpy_beam_us)" -v bg="$(v background_beam_us)" \
     -v det="$(v sweep_detect_ms)" -v detw="$(v sweep_detect_worst_ms)" -v km="$(v kmeans_hull_5000_ms)" \
     -v cvkm="$(v cv_kmeans_hull_5000_ms)" -v rep="$best" -v rows="$rows" -v pyt="$py_total" -v pyf="$py_filt" \
-    -v cvv="$(v cv_version)" -v trk="$(v tracker_sweep_us)" -v ntrk="$(v tracker_tracks)" \
+    -v cvv="$(v cv_version)" -v trk="$(v tracker_sweep_us)" -v ntrk="$(v tracker_tracks)" -v trkcv="$(v tracker_sweep_cv_us)" \
     -v wbg="$(v world_background_beam_us)" -v obs="$(v obstacle_beam_us)" \
     -v obsmap="$(v obstacle_map_us)" -v obsn="$(v obstacle_map_echoes)" 'BEGIN {
     beam_ms = 19.4 + 6.0 + 2.0 * 12 / 1500 * 1000;   # device timing model at 12 m, 1-grad steps (ping.md section 3)
@@ -40,6 +40,7 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
     printf "%-46s %11.3f ms\n", "sweep detection, worst (1024 runs, 16 pieces)", detw
     printf "%-46s %11.3f ms %11.3f ms %9.2fx  (OpenCV kmeans PP + convexHull)\n", "k-means + hull, 5000 points, 6 clusters", km, cvkm, cvkm / km
     printf "%-46s %11.3f us %11.3f ms %9.0fx  (device: one beam at 12 m; target <= 50 us)\n", "tracker, 16 detections, " ntrk " tracks, a sweep", trk, beam_ms, beam_ms * 1000 / trk
+    printf "%-46s %11.3f us %11.3f us %9.2fx  (the tracker before issue 37: cv, each sweep final; <1 = slower)\n", "  the same against one model, no deferral", trk, trkcv, trkcv / trk
     printf "%-46s %11.3f us %11.3f us %9.1fx  (the per-angle model on the same beams; target <= 50 us)\n", "background in the world grid (moving), per beam", wbg, bg, wbg / bg
     printf "%-46s %11.3f us %11.3f ms %9.0fx  (device: one beam at 12 m)\n", "  the same against the device", wbg, beam_ms, beam_ms * 1000 / wbg
     printf "%-46s %11.3f us %11.3f ms %9.0fx  (device: one beam at 12 m)\n", "OBSTACLE_DISTANCE map (nearest echo), per beam", obs, beam_ms, beam_ms * 1000 / obs
