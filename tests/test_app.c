@@ -27,6 +27,7 @@ static int64_t fake_wall(void *u) { (void)u; return 1700000000000000 + fake_ns /
 /* What the sinks saw. */
 struct capture {
     int raw, fg, sweeps, statuses, fail;
+    uint32_t sweep_no[16]; /* the sweep number of each sweep given */
     struct sonar_record last_raw;
     uint8_t last_raw_samples[N];
     int dets[16];
@@ -51,8 +52,10 @@ static int cap_det(void *self, const struct sonar_detections *d, const struct so
     (void)tk;
     (void)v;
     struct capture *c = self;
-    if (c->sweeps < 16)
+    if (c->sweeps < 16) {
         c->dets[c->sweeps] = d->count;
+        c->sweep_no[c->sweeps] = d->sweep;
+    }
     c->sweeps++;
     return c->fail ? -1 : 0;
 }
@@ -269,6 +272,38 @@ static void test_max_sweeps_then_beams_ignored(void **state)
     teardown_app();
 }
 
+/*
+ * --track-late: a sink gets each sweep when the next one has come (relabelled by its revisions),
+ * the last at app_finish; a sink marked live (the autopilot's) gets each at once all the same.
+ */
+static void test_track_late_holds_a_sweep_but_not_for_live_sinks(void **state)
+{
+    static struct capture now;
+    static struct app_sink live;
+    int i;
+    (void)state;
+    (void)device_answer(-1, 0);
+    setup_app(0, 1u << SONAR_STAGE_RAW);
+    memset(&now, 0, sizeof(now));
+    live = sink;
+    live.name = "autopilot";
+    live.self = &now;
+    live.stages = 0;
+    live.live = 1;
+    assert_int_equal(app_add_sink(app, &live), HOST_OK);
+    app_set_track_late(app, 1);
+    for (i = 0; i < 400 && now.sweeps < 3; i++)
+        (void)step(0, 0);
+    assert_int_equal(now.sweeps, 3);
+    assert_int_equal(cap.sweeps, 2); /* one sweep behind */
+    for (i = 0; i < 2; i++)
+        assert_int_equal(cap.sweep_no[i], now.sweep_no[i]);
+    assert_int_equal(app_finish(app), HOST_OK); /* ends the open sweep; the held one goes out, then the last */
+    assert_int_equal(cap.sweeps, now.sweeps);
+    assert_int_equal(cap.sweep_no[cap.sweeps - 1], now.sweep_no[now.sweeps - 1]);
+    teardown_app();
+}
+
 static void test_sink_failures_are_counted(void **state)
 {
     int i;
@@ -385,6 +420,7 @@ int main(void)
         cmocka_unit_test(test_garbage_and_corrupt_frames_are_counted_not_published),
         cmocka_unit_test(test_max_sweeps_then_beams_ignored),
         cmocka_unit_test(test_sink_failures_are_counted),
+        cmocka_unit_test(test_track_late_holds_a_sweep_but_not_for_live_sinks),
         cmocka_unit_test(test_reconfigure_at_the_next_sweep_and_bad_config_kept_out),
         cmocka_unit_test(test_link_lost_and_stop),
         cmocka_unit_test(test_replay_source_rows_and_bad_rows),

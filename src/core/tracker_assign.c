@@ -260,6 +260,12 @@ void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_
     tk->cache_obs = obs;
 }
 
+float sonar_trk_miss_cost(const struct sonar_track *t)
+{
+    float real = (float)t->hits / ((float)t->hits + 1.0f);
+    return -2.0f * logf(1.0f - 0.9f * real);
+}
+
 float sonar_trk_fresh(const struct sonar_tracker *tk, float r2)
 {
     return tk->cfg.gate + 2.0f * logf(1.0f + SONAR_TRK_LOST_M2 / r2);

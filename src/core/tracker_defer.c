@@ -8,19 +8,6 @@
 #define DEFER_MARGIN 9.21f
 /* A pair cost at or above this is outside the gates (tracker_assign.c's BIG is 1e9). */
 #define GATED 1.0e8f
-/*
- * What a track that finds no detection costs: -2 ln(1 - P_D P_real), with P_D = 0.9 the chance a
- * look sees a target in view and P_real = hits / (hits + 1) the chance the track is one (a track
- * of one hit may be clutter). Without it the hypothesis that keeps more tracks alive without
- * detections would cost nothing for them, and one that leaves an established track without its
- * detection would cost no more than one that starves a new track of one look.
- */
-static float miss_cost(const struct sonar_track *t)
-{
-    float real = (float)t->hits / ((float)t->hits + 1.0f);
-    return -2.0f * logf(1.0f - 0.9f * real);
-}
-
 /* A revision is made only when the alternative explains both looks this much better: revisions cost their consumers. */
 #define REVISE_BY 2.0f
 
@@ -80,8 +67,8 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
                 c.how = SWAP;
                 c.delta = cib + cja - cia - sonar_trk_pair_cost(tk, tj, &obs[tj->det], r2, tj->chance, clipped);
             } else {
-                c.how = STEAL;
-                c.delta = cja - cia;
+                c.how = STEAL; /* i misses instead of j */
+                c.delta = (cja - sonar_trk_miss_cost(tj)) - (cia - sonar_trk_miss_cost(ti));
             }
             keep(tk, kept, &n, &c);
         }
@@ -99,7 +86,7 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
             c.i = 0;
             c.j = j;
             c.det = left[k];
-            c.delta = cja - fresh;
+            c.delta = cja - sonar_trk_miss_cost(&tk->t[j]) - fresh;
             keep(tk, kept, &n, &c);
         }
     }
@@ -165,7 +152,7 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
     float c4[SONAR_MAX_CLUSTERS][4], misses = 0.0f, fresh = sonar_trk_fresh(tk, r2), miss4[4];
     uint8_t dets[SONAR_MAX_CLUSTERS], nd = 0, nc = 2, i, k, d;
     for (k = 0; k < 4; k++)
-        miss4[k] = four[k] != NULL ? miss_cost(four[k]) : 0.0f;
+        miss4[k] = four[k] != NULL ? sonar_trk_miss_cost(four[k]) : 0.0f;
     for (i = 0; i < nr; i++) {
         int near = 0;
         for (k = 0; k < 4; k++) {
@@ -183,11 +170,11 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
             continue;
         for (d = 0; d < nd; d++) {
             float c = sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped);
-            cost[d][nc] = c < GATED ? c - miss_cost(t) : c; /* each miss paid below, refunded on a pair */
+            cost[d][nc] = c < GATED ? c - sonar_trk_miss_cost(t) : c; /* each miss paid below, refunded on a pair */
             near |= c < GATED;
         }
         if (near) {
-            misses += miss_cost(t);
+            misses += sonar_trk_miss_cost(t);
             nc++;
         }
     }

@@ -56,6 +56,16 @@ float sonar_trk_pair_cost(struct sonar_tracker *tk, const struct sonar_track *t,
 /* Empties the pair cost cache for an update over obs (NULL: none); again whenever the live tracks change. */
 void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs);
 
+/*
+ * What a track that finds no detection costs: -2 ln(1 - P_D P_real), with P_D = 0.9 the chance a
+ * look sees a target in view and P_real = hits / (hits + 1) the chance the track is one (a track
+ * of one hit may be clutter): about 1.2 for a one-hit track, 4 for an established one. Deferred
+ * association weighs hypotheses with it, so that one which starves an established track costs more
+ * than one which starves a new one. (The sweep's own passes leave it out: in them it changed no
+ * outcome here, and near constant velocity alone stays the tracker before, output for output.)
+ */
+float sonar_trk_miss_cost(const struct sonar_track *t);
+
 /* The cost of starting a new track from a detection instead of continuing one. */
 float sonar_trk_fresh(const struct sonar_tracker *tk, float r2);
 

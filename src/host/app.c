@@ -72,12 +72,14 @@ void app_set_track_late(struct app *a, int late)
     a->late.have = 0;
 }
 
-static void give(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
+/* The sweep to the sinks: those marked live (or all, live 2) get it; live 0: the others. */
+static void give(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v,
+                 int live)
 {
     unsigned i;
     for (i = 0; i < a->nsinks; i++) {
         struct app_sink *s = a->sinks[i];
-        if (s->detections == NULL)
+        if (s->detections == NULL || (live != 2 && (s->live != 0) != (live != 0)))
             continue;
         tally(s, s->detections(s->self, d, tk, v), &s->n_detections);
     }
@@ -101,8 +103,10 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     int late = a->late.on && tk != NULL;
     a->sweeps++;
     msg_view_of(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
+    if (late)
+        give(a, d, tk, &a->view, 1); /* the autopilot's sinks: now, whatever the others wait for */
     if (late && !a->late.have) {
-        late_hold(a, d, tk); /* the first sweep: nothing to give yet */
+        late_hold(a, d, tk); /* the first sweep: nothing else to give yet */
         return;
     }
     if (late) {
@@ -116,7 +120,7 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     if (a->sweep_t0 != 0)
         a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
     a->sweep_t0 = now;
-    give(a, sd, st, sv);
+    give(a, sd, st, sv, late ? 0 : 2);
     if (late)
         late_hold(a, d, tk);
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
@@ -326,7 +330,7 @@ int app_finish(struct app *a)
 {
     int r = host_err_of(sonar_pipeline_finish(&a->pipe));
     if (a->late.on && a->late.have) {
-        give(a, &a->late.det, &a->late.trk, &a->late.view); /* no look comes after it: its IDs are final */
+        give(a, &a->late.det, &a->late.trk, &a->late.view, 0); /* no look comes after it: its IDs are final */
         a->late.have = 0;
     }
     return r;

@@ -24,6 +24,7 @@ struct app_sink {
     const char *name;
     void *self;
     uint8_t stages; /* bit (1 << stage) for each stage of beams it takes */
+    uint8_t live;   /* 1: each sweep at once even with --track-late (the autopilot: an obstacle is not held back) */
     int (*beam)(void *self, const struct sonar_record *b);
     /* d: one sweep; tk: the tracks after it, or NULL when tracking is off; v: both in both frames */
     int (*detections)(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
@@ -98,8 +99,9 @@ void app_set_log(struct app *a, app_log_fn log, void *user);
 
 /*
  * late 1: the sinks get each sweep's detections and tracks one sweep late, when the next sweep's
- * look has revised what it would (deferred association), with no revisions of their own; 0 (the
- * default): at once, with revisions of the sweep before said. app_finish gives the last one.
+ * look has revised what it would (deferred association), with no revisions of their own, but for
+ * those marked live (the autopilot's), which get each at once; 0 (the default): every sink at once,
+ * with revisions of the sweep before said. app_finish gives the last one.
  */
 void app_set_track_late(struct app *a, int late);
 

@@ -107,6 +107,7 @@ int mav_attach(struct mav *m, struct app *a)
     m->sink.name = "mavlink";
     m->sink.self = m;
     m->sink.stages = 1u << SONAR_STAGE_MEDIAN;
+    m->sink.live = 1;
     m->sink.beam = mav_sink_beam;
     m->sink.detections = mav_sink_detections;
     m->sink.fill = fill;
