@@ -115,33 +115,42 @@ float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_trac
 }
 
 /*
- * The combined estimate (moment matched) of the models post[] with probabilities mu[] into t's
- * px .. pc. One covariance serves both axes, so the spread between the models is the two axes'
- * mean.
+ * The moment-matched blend of the models post[] with weights w[] (summing to 1) into out's px ..
+ * pc: the weighted mean, and the weighted covariances plus the models' spread about it. One
+ * covariance serves both axes, so the spread is the two axes' mean. The IMM's combined estimate
+ * and its mixing are both this.
  */
+static void blend(const struct sonar_track_model post[SONAR_TRK_MODELS], const float w[SONAR_TRK_MODELS],
+                  struct sonar_track_model *out)
+{
+    int j;
+    memset(out, 0, sizeof(*out));
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        out->px += w[j] * post[j].px;
+        out->py += w[j] * post[j].py;
+        out->vx += w[j] * post[j].vx;
+        out->vy += w[j] * post[j].vy;
+    }
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        float dx = post[j].px - out->px, dy = post[j].py - out->py, du = post[j].vx - out->vx, dv = post[j].vy - out->vy;
+        out->pa += w[j] * (post[j].pa + 0.5f * (dx * dx + dy * dy));
+        out->pb += w[j] * (post[j].pb + 0.5f * (dx * du + dy * dv));
+        out->pc += w[j] * (post[j].pc + 0.5f * (du * du + dv * dv));
+    }
+}
+
+/* The combined estimate of the models post[] with probabilities mu[] into t's px .. pc. */
 static void combine(struct sonar_track *t, const struct sonar_track_model post[SONAR_TRK_MODELS], const float mu[SONAR_TRK_MODELS])
 {
-    float x = 0.0f, y = 0.0f, vx = 0.0f, vy = 0.0f, pa = 0.0f, pb = 0.0f, pc = 0.0f;
-    int j;
-    for (j = 0; j < SONAR_TRK_MODELS; j++) {
-        x += mu[j] * post[j].px;
-        y += mu[j] * post[j].py;
-        vx += mu[j] * post[j].vx;
-        vy += mu[j] * post[j].vy;
-    }
-    for (j = 0; j < SONAR_TRK_MODELS; j++) {
-        float dx = post[j].px - x, dy = post[j].py - y, du = post[j].vx - vx, dv = post[j].vy - vy;
-        pa += mu[j] * (post[j].pa + 0.5f * (dx * dx + dy * dy));
-        pb += mu[j] * (post[j].pb + 0.5f * (dx * du + dy * dv));
-        pc += mu[j] * (post[j].pc + 0.5f * (du * du + dv * dv));
-    }
-    t->px = x;
-    t->py = y;
-    t->vx = vx;
-    t->vy = vy;
-    t->pa = pa;
-    t->pb = pb;
-    t->pc = pc;
+    struct sonar_track_model c;
+    blend(post, mu, &c);
+    t->px = c.px;
+    t->py = c.py;
+    t->vx = c.vx;
+    t->vy = c.vy;
+    t->pa = c.pa;
+    t->pb = c.pb;
+    t->pc = c.pc;
 }
 
 /* The IMM's mixing: each model's starting state for the next step, and its prior probability, into t->m[]. */
@@ -155,22 +164,11 @@ static void mix(const struct sonar_tracker *tk, struct sonar_track *t, const str
         float c = 0.0f, w[SONAR_TRK_MODELS];
         for (i = 0; i < SONAR_TRK_MODELS; i++)
             c += to[i][j] * mu[i];
-        memset(m, 0, sizeof(*m));
-        m->p = c;
-        for (i = 0; i < SONAR_TRK_MODELS; i++) {
-            /* A model nothing goes to (near constant velocity alone) still starts from the combined estimate. */
+        /* A model nothing goes to (near constant velocity alone) still starts from the combined estimate. */
+        for (i = 0; i < SONAR_TRK_MODELS; i++)
             w[i] = c > 1e-9f ? to[i][j] * mu[i] / c : mu[i];
-            m->px += w[i] * post[i].px;
-            m->py += w[i] * post[i].py;
-            m->vx += w[i] * post[i].vx;
-            m->vy += w[i] * post[i].vy;
-        }
-        for (i = 0; i < SONAR_TRK_MODELS; i++) {
-            float dx = post[i].px - m->px, dy = post[i].py - m->py, du = post[i].vx - m->vx, dv = post[i].vy - m->vy;
-            m->pa += w[i] * (post[i].pa + 0.5f * (dx * dx + dy * dy));
-            m->pb += w[i] * (post[i].pb + 0.5f * (dx * du + dy * dv));
-            m->pc += w[i] * (post[i].pc + 0.5f * (du * du + dv * dv));
-        }
+        blend(post, w, m);
+        m->p = c;
         if (j == SONAR_TRK_REST) {
             m->vx = m->vy = m->pb = m->pc = 0.0f; /* rest has no velocity to carry */
         }

@@ -46,6 +46,7 @@ static uint32_t to_u32(int64_t v)
     return v < 0 ? 0u : v > 4294967295 ? 4294967295u : (uint32_t)v;
 }
 
+/* Long: one line a field of the record (status.h), in the message's order; splitting it would split the list. */
 void msg_status(const struct sonar_status *s, sonar_status_t *m)
 {
     memset(m, 0, sizeof(*m));
@@ -130,6 +131,7 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->passive_idles = s->driver.idles;
 }
 
+/* Long: one line a field, as msg_status. */
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
 {
     memset(s, 0, sizeof(*s));
