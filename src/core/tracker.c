@@ -312,8 +312,8 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
     } else {
         t->still_ms = ms >= (int64_t)(UINT32_MAX - t->still_ms) ? UINT32_MAX : t->still_ms + (uint32_t)ms;
     }
-    if (t->moved)
-        t->kind = t->mode == SONAR_TRACK_RESTING && t->still_ms > 0 ? SONAR_TRACK_KIND_RESTING : SONAR_TRACK_KIND_MOVING;
+    if (t->moved) /* by its models, not by the disc: a drifting float leaves its disc now and then, and stays at rest */
+        t->kind = t->mode == SONAR_TRACK_RESTING ? SONAR_TRACK_KIND_RESTING : SONAR_TRACK_KIND_MOVING;
     else
         t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STRUCTURE : SONAR_TRACK_KIND_NEW;
 }
