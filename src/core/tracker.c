@@ -1,4 +1,4 @@
-/* tracker.c -- constant-velocity Kalman tracks, their cascade of gated assignments (tracker_assign.c), M-of-N confirmation, coasting and ends; O(detections^2 x (tracks + detections)) per sweep, no heap. */
+/* tracker.c -- the tracks' life: configuration, frames, one update (the last look's alternatives read, a cascade of gated assignments in tracker_assign.c, the IMM in tracker_imm.c, alternatives kept in tracker_defer.c), M-of-N confirmation, coasting and ends; O(detections^2 x (tracks + detections)) per sweep, no heap. */
 #include "sonar/tracker.h"
 
 #include <math.h>
@@ -123,80 +123,6 @@ void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_
         sonar_trk_imm_move(t, deg, cx, cy, NULL, SONAR_TRK_MOVE_TURN);
     }
     tk->nalt = 0; /* its alternatives are in the frame left */
-}
-
-unsigned sonar_tracker_count(const struct sonar_tracker *tk)
-{
-    return tk->n;
-}
-
-const struct sonar_track *sonar_tracker_track(const struct sonar_tracker *tk, unsigned i)
-{
-    return &tk->t[i];
-}
-
-int sonar_tracker_world(const struct sonar_tracker *tk)
-{
-    return tk->world;
-}
-
-const char *sonar_track_state_str(int state)
-{
-    switch (state) {
-    case SONAR_TRACK_TENTATIVE: return "tentative";
-    case SONAR_TRACK_CONFIRMED: return "confirmed";
-    case SONAR_TRACK_COASTING: return "coasting";
-    default: return "?";
-    }
-}
-
-const char *sonar_track_mode_str(int mode)
-{
-    switch (mode) {
-    case SONAR_TRACK_MOVING: return "moving";
-    case SONAR_TRACK_TURNING: return "turning";
-    case SONAR_TRACK_RESTING: return "resting";
-    default: return "?";
-    }
-}
-
-const char *sonar_track_kind_str(int kind)
-{
-    switch (kind) {
-    case SONAR_TRACK_KIND_NEW: return "new";
-    case SONAR_TRACK_KIND_MOVING: return "moving";
-    case SONAR_TRACK_KIND_RESTING: return "resting";
-    case SONAR_TRACK_KIND_STRUCTURE: return "structure";
-    default: return "?";
-    }
-}
-
-const struct sonar_track_revision *sonar_tracker_revisions(const struct sonar_tracker *tk, unsigned *n)
-{
-    *n = tk->nrev;
-    return tk->rev;
-}
-
-unsigned sonar_tracker_relabel(struct sonar_tracker *copy, const struct sonar_tracker *next, uint8_t *kept)
-{
-    uint8_t k, j, r;
-    for (k = 0, j = 0; k < copy->n; k++) {
-        struct sonar_track t = copy->t[k];
-        int gone = 0;
-        for (r = 0; r < next->nrev; r++)
-            if (next->rev[r].from == t.id) {
-                gone = next->rev[r].to == 0;
-                t.id = next->rev[r].to;
-                break;
-            }
-        if (gone)
-            continue;
-        kept[j] = k;
-        copy->t[j++] = t;
-    }
-    copy->n = j;
-    copy->nrev = 0;
-    return j;
 }
 
 /* Seconds from t's state to utime: never negative (no prediction backwards), clipped at max_dt_s. */
