@@ -10,7 +10,7 @@
 SONAR_STATIC_ASSERT(SONAR_ASSIGN_MAX <= 127, assignment_columns_fit_int8);
 
 /* A pair outside the gate: finite, so the assignment's arithmetic stays exact and branch-free. */
-#define BIG 1.0e9
+#define BIG ((double)SONAR_TRK_OUTSIDE)
 
 #ifndef SONAR_TRK_MERGE_M
 #define SONAR_TRK_MERGE_M 1.0f /* metres: a prediction this near another track's detection is on a merged echo */

@@ -6,8 +6,6 @@
 
 /* Alternatives more than this costlier than the assignment published (-2 ln: 100 times less likely) are not kept. */
 #define DEFER_MARGIN 9.21f
-/* A pair cost at or above this is outside the gates (tracker_assign.c's BIG is 1e9). */
-#define GATED 1.0e8f
 /* A revision is made only when the alternative explains both looks this much better: revisions cost their consumers. */
 #define REVISE_BY 2.0f
 
@@ -41,8 +39,11 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
                            float r2, int *clipped)
 {
     struct cand kept[SONAR_TRK_HYPOTHESES - 1], c;
+    float miss[SONAR_MAX_TRACKS];
     uint8_t n = 0, i, j, k;
     const float fresh = sonar_trk_fresh(tk, r2);
+    for (i = 0; i < tk->n; i++)
+        miss[i] = sonar_trk_miss_cost(&tk->t[i]);
     for (i = 0; i < tk->n; i++) {
         const struct sonar_track *ti = &tk->t[i];
         float cia;
@@ -55,20 +56,20 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
             if (j == i || (tj->det >= 0 && j < i))
                 continue; /* a swap once, from its lower slot */
             cja = sonar_trk_pair_cost(tk, tj, &obs[ti->det], r2, 0, clipped);
-            if (cja >= GATED)
+            if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.i = i;
             c.j = j;
             c.det = (uint8_t)ti->det;
             if (tj->det >= 0) {
                 float cib = sonar_trk_pair_cost(tk, ti, &obs[tj->det], r2, 0, clipped);
-                if (cib >= GATED)
+                if (cib >= SONAR_TRK_OUTSIDE)
                     continue;
                 c.how = SWAP;
                 c.delta = cib + cja - cia - sonar_trk_pair_cost(tk, tj, &obs[tj->det], r2, tj->chance, clipped);
             } else {
                 c.how = STEAL; /* i misses instead of j */
-                c.delta = (cja - sonar_trk_miss_cost(tj)) - (cia - sonar_trk_miss_cost(ti));
+                c.delta = (cja - miss[j]) - (cia - miss[i]);
             }
             keep(tk, kept, &n, &c);
         }
@@ -80,13 +81,13 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
             if (tk->t[j].det >= 0)
                 continue;
             cja = sonar_trk_pair_cost(tk, &tk->t[j], &obs[left[k]], r2, 0, clipped);
-            if (cja >= GATED)
+            if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.how = NEWBORN;
             c.i = 0;
             c.j = j;
             c.det = left[k];
-            c.delta = cja - sonar_trk_miss_cost(&tk->t[j]) - fresh;
+            c.delta = cja - miss[j] - fresh;
             keep(tk, kept, &n, &c);
         }
     }
@@ -156,8 +157,8 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
     for (i = 0; i < nr; i++) {
         int near = 0;
         for (k = 0; k < 4; k++) {
-            c4[nd][k] = four[k] != NULL ? sonar_trk_pair_cost(tk, four[k], &obs[rows[i]], r2, 0, clipped) : GATED * 10.0f;
-            near |= c4[nd][k] < GATED;
+            c4[nd][k] = four[k] != NULL ? sonar_trk_pair_cost(tk, four[k], &obs[rows[i]], r2, 0, clipped) : SONAR_TRK_OUTSIDE;
+            near |= c4[nd][k] < SONAR_TRK_OUTSIDE;
         }
         if (near)
             dets[nd++] = rows[i];
@@ -165,27 +166,29 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
     /* Columns 0 and 1: the pair in question; then every other live track that reaches one of the detections. */
     for (k = 0; nd > 0 && k < tk->n && nc < SONAR_MAX_TRACKS; k++) {
         const struct sonar_track *t = &tk->t[k];
+        float miss;
         int near = 0;
         if (t->id == not_id[0] || t->id == not_id[1])
             continue;
+        miss = sonar_trk_miss_cost(t);
         for (d = 0; d < nd; d++) {
             float c = sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped);
-            cost[d][nc] = c < GATED ? c - sonar_trk_miss_cost(t) : c; /* each miss paid below, refunded on a pair */
-            near |= c < GATED;
+            cost[d][nc] = c < SONAR_TRK_OUTSIDE ? c - miss : c; /* each miss paid below, refunded on a pair */
+            near |= c < SONAR_TRK_OUTSIDE;
         }
         if (near) {
-            misses += sonar_trk_miss_cost(t);
+            misses += miss;
             nc++;
         }
     }
     for (k = 0; k < 2; k++) {
         for (d = 0; d < nd; d++)
-            cost[d][k] = c4[d][k] < GATED ? c4[d][k] - miss4[k] : c4[d][k];
+            cost[d][k] = c4[d][k] < SONAR_TRK_OUTSIDE ? c4[d][k] - miss4[k] : c4[d][k];
     }
     *now = misses + miss4[0] + miss4[1] + (nd > 0 ? sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, fresh) : 0.0f);
     for (k = 0; k < 2; k++) {
         for (d = 0; d < nd; d++)
-            cost[d][k] = c4[d][k + 2] < GATED ? c4[d][k + 2] - miss4[k + 2] : c4[d][k + 2];
+            cost[d][k] = c4[d][k + 2] < SONAR_TRK_OUTSIDE ? c4[d][k + 2] - miss4[k + 2] : c4[d][k + 2];
     }
     *then = misses + miss4[2] + miss4[3] + (nd > 0 ? sonar_trk_best_total((const float (*)[SONAR_MAX_TRACKS])cost, nd, nc, fresh) : 0.0f);
 }
