@@ -73,27 +73,50 @@ int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_conf
     return SONAR_OK;
 }
 
+enum { MOVE_TURN = 0, MOVE_TO_WORLD = 1, MOVE_TO_BODY = 2 };
+
+/* A point of a track moved: turned by deg about (cx, cy), or into the world or body frame at pose p. */
+static void move_point(float *x, float *y, float deg, float cx, float cy, const struct sonar_pose *p, int how)
+{
+    float x0 = *x, y0 = *y;
+    if (how == MOVE_TO_WORLD) {
+        sonar_pose_to_world(p, x0, y0, x, y);
+    } else if (how == MOVE_TO_BODY) {
+        sonar_pose_to_body(p, x0, y0, x, y);
+    } else {
+        sonar_pose_rotate(deg, x0 - cx, y0 - cy, x, y);
+        *x += cx;
+        *y += cy;
+    }
+}
+
+/*
+ * Everything of t that has a place or a direction: its position, where it last moved and each
+ * model's position as points (move_point), its velocity and each model's turned by deg.
+ */
+static void move_track(struct sonar_track *t, float deg, float cx, float cy, const struct sonar_pose *p, int how)
+{
+    float vx = t->vx, vy = t->vy;
+    int j;
+    move_point(&t->px, &t->py, deg, cx, cy, p, how);
+    move_point(&t->ax, &t->ay, deg, cx, cy, p, how);
+    sonar_pose_rotate(deg, vx, vy, &t->vx, &t->vy);
+    for (j = 0; j < SONAR_TRK_MODELS; j++) {
+        struct sonar_track_model *m = &t->m[j];
+        vx = m->vx;
+        vy = m->vy;
+        move_point(&m->px, &m->py, deg, cx, cy, p, how);
+        sonar_pose_rotate(deg, vx, vy, &m->vx, &m->vy);
+    }
+}
+
 void sonar_tracker_reframe(struct sonar_tracker *tk, const struct sonar_pose *p, int to_world)
 {
     uint8_t k;
     if ((tk->world != 0) == (to_world != 0))
         return;
-    for (k = 0; k < tk->n; k++) {
-        struct sonar_track *t = &tk->t[k];
-        float x = t->px, y = t->py, vx = t->vx, vy = t->vy;
-        float ax = t->ax, ay = t->ay;
-        if (to_world) {
-            sonar_pose_to_world(p, x, y, &t->px, &t->py);
-            sonar_pose_to_world(p, ax, ay, &t->ax, &t->ay);
-            sonar_pose_rotate(p->yaw_deg, vx, vy, &t->vx, &t->vy);
-            sonar_trk_imm_move(t, p->yaw_deg, 0.0f, 0.0f, p, SONAR_TRK_MOVE_TO_WORLD);
-        } else {
-            sonar_pose_to_body(p, x, y, &t->px, &t->py);
-            sonar_pose_to_body(p, ax, ay, &t->ax, &t->ay);
-            sonar_pose_rotate(-p->yaw_deg, vx, vy, &t->vx, &t->vy);
-            sonar_trk_imm_move(t, -p->yaw_deg, 0.0f, 0.0f, p, SONAR_TRK_MOVE_TO_BODY);
-        }
-    }
+    for (k = 0; k < tk->n; k++)
+        move_track(&tk->t[k], to_world ? p->yaw_deg : -p->yaw_deg, 0.0f, 0.0f, p, to_world ? MOVE_TO_WORLD : MOVE_TO_BODY);
     tk->world = (uint8_t)(to_world != 0);
     tk->reframes++;
     tk->nalt = 0; /* its alternatives are in the frame left */
@@ -110,18 +133,8 @@ void sonar_tracker_turn(struct sonar_tracker *tk, float deg, const struct sonar_
         cx = at->north_m;
         cy = at->east_m;
     }
-    for (k = 0; k < tk->n; k++) {
-        struct sonar_track *t = &tk->t[k];
-        float vx = t->vx, vy = t->vy;
-        sonar_pose_rotate(deg, t->px - cx, t->py - cy, &t->px, &t->py);
-        sonar_pose_rotate(deg, t->ax - cx, t->ay - cy, &t->ax, &t->ay);
-        t->px += cx;
-        t->py += cy;
-        t->ax += cx;
-        t->ay += cy;
-        sonar_pose_rotate(deg, vx, vy, &t->vx, &t->vy);
-        sonar_trk_imm_move(t, deg, cx, cy, NULL, SONAR_TRK_MOVE_TURN);
-    }
+    for (k = 0; k < tk->n; k++)
+        move_track(&tk->t[k], deg, cx, cy, NULL, MOVE_TURN);
     tk->nalt = 0; /* its alternatives are in the frame left */
 }
 

@@ -234,22 +234,3 @@ void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, 
     mix(tk, t, post, BIRTH_P[tk->cfg.imm != 0]);
     set_mode(t, BIRTH_P[tk->cfg.imm != 0]);
 }
-
-void sonar_trk_imm_move(struct sonar_track *t, float deg, float cx, float cy, const struct sonar_pose *p, int how)
-{
-    int j;
-    for (j = 0; j < SONAR_TRK_MODELS; j++) {
-        struct sonar_track_model *m = &t->m[j];
-        float x = m->px, y = m->py, vx = m->vx, vy = m->vy;
-        if (how == SONAR_TRK_MOVE_TURN) {
-            sonar_pose_rotate(deg, x - cx, y - cy, &m->px, &m->py);
-            m->px += cx;
-            m->py += cy;
-        } else if (how == SONAR_TRK_MOVE_TO_WORLD) {
-            sonar_pose_to_world(p, x, y, &m->px, &m->py);
-        } else {
-            sonar_pose_to_body(p, x, y, &m->px, &m->py);
-        }
-        sonar_pose_rotate(deg, vx, vy, &m->vx, &m->vy);
-    }
-}

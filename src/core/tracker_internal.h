@@ -25,15 +25,12 @@ void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const 
  * so that one model gives d^2 + 2 ln(S / r2)), or SONAR_TRK_OUTSIDE when o is beyond the gate:
  * the combined prediction's squared Mahalanobis distance, or when wide (the second chance) the
  * least of its models' own. _hit: the update at o after dt s; returns the track's mode. _birth: a
- * new track at o. _move: every model turned by deg about (cx, cy) (SONAR_TRK_MOVE_TURN), or moved
- * into the world or body frame at pose p with velocities turned by deg.
+ * new track at o.
  */
 float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                          float r2, float dt, int wide);
 int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2, float dt);
 void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2);
-enum { SONAR_TRK_MOVE_TURN = 0, SONAR_TRK_MOVE_TO_WORLD = 1, SONAR_TRK_MOVE_TO_BODY = 2 };
-void sonar_trk_imm_move(struct sonar_track *t, float deg, float cx, float cy, const struct sonar_pose *p, int how);
 
 /*
  * One gated assignment of detections left[0 .. nl) to tracks cand[0 .. nc) (cost: scratch, nl
