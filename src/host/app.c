@@ -97,34 +97,29 @@ static void late_hold(struct app *a, const struct sonar_detections *d, const str
 static void to_sinks(struct app *a, const struct sonar_detections *d, const struct sonar_tracker *tk)
 {
     int64_t now = a->clock.mono_ns(a->clock.user);
-    const struct sonar_detections *sd = d;
-    const struct sonar_tracker *st = tk;
-    const struct msg_view *sv = &a->view;
     int late = a->late.on && tk != NULL;
     a->sweeps++;
     msg_view_of(&a->pipe, &a->view); /* d is the pipeline's own out, tk its tracker */
-    if (late)
-        give(a, d, tk, &a->view, 1); /* the autopilot's sinks: now, whatever the others wait for */
-    if (late && !a->late.have) {
-        late_hold(a, d, tk); /* the first sweep: nothing else to give yet */
-        return;
-    }
-    if (late) {
-        /* The held sweep, relabelled by this one's revisions, goes out; this one is held in its place after. */
-        uint8_t kept[SONAR_MAX_TRACKS];
-        msg_view_keep(&a->late.view, kept, sonar_tracker_relabel(&a->late.trk, tk, kept));
-        sd = &a->late.det;
-        st = &a->late.trk;
-        sv = &a->late.view;
-    }
     if (a->sweep_t0 != 0)
         a->last_sweep_s = (float)((double)(now - a->sweep_t0) * 1e-9);
     a->sweep_t0 = now;
-    give(a, sd, st, sv, late ? 0 : 2);
-    if (late)
-        late_hold(a, d, tk);
     if (a->max_sweeps > 0 && a->sweeps >= (uint32_t)a->max_sweeps)
         a->sweeps_done = 1;
+    if (!late) {
+        give(a, d, tk, &a->view, 2);
+        return;
+    }
+    /*
+     * One sweep late: the autopilot's sinks get this sweep now; the others the one held back,
+     * relabelled by this one's revisions (none on the first); this one is held in its place.
+     */
+    give(a, d, tk, &a->view, 1);
+    if (a->late.have) {
+        uint8_t kept[SONAR_MAX_TRACKS];
+        msg_view_keep(&a->late.view, kept, sonar_tracker_relabel(&a->late.trk, tk, kept));
+        give(a, &a->late.det, &a->late.trk, &a->late.view, 0);
+    }
+    late_hold(a, d, tk);
 }
 
 static void on_sweep(void *user, const struct sonar_detections *d)
