@@ -217,7 +217,7 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
         return nl;
     for (i = 0; i < nl; i++)
         for (k = 0; k < nc; k++)
-            cost[i][k] = sonar_trk_pair_cost(tk, &tk->t[cand[k]], &obs[left[i]], r2, wide, clipped);
+            cost[i][k] = sonar_trk_cost(tk, cand[k], left[i], r2, wide, clipped);
     c.m = &cost[0][0];
     c.stride = SONAR_MAX_TRACKS;
     c.real = nc;
@@ -237,21 +237,22 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
     return m;
 }
 
-float sonar_trk_pair_cost(struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                           float r2, int wide, int *clipped)
 {
-    /* A live track and one of this update's detections: from the cache (sonar_trk_cache_reset). */
-    if (!wide && tk->cache_obs != NULL && t >= tk->t && t < tk->t + tk->n && o >= tk->cache_obs &&
-        o < tk->cache_obs + SONAR_MAX_CLUSTERS) {
-        unsigned k = (unsigned)(t - tk->t), d = (unsigned)(o - tk->cache_obs);
-        uint64_t bit = (uint64_t)1 << k;
-        if (!(tk->cache_known[d] & bit)) {
-            tk->cache_cost[d][k] = pair_cost(tk, t, o, r2, 0, clipped);
-            tk->cache_known[d] |= bit;
-        }
-        return tk->cache_cost[d][k];
-    }
     return pair_cost(tk, t, o, r2, wide, clipped);
+}
+
+float sonar_trk_cost(struct sonar_tracker *tk, uint8_t k, uint8_t d, float r2, int wide, int *clipped)
+{
+    uint64_t bit = (uint64_t)1 << k;
+    if (wide)
+        return pair_cost(tk, &tk->t[k], &tk->cache_obs[d], r2, 1, clipped);
+    if (!(tk->cache_known[d] & bit)) {
+        tk->cache_cost[d][k] = pair_cost(tk, &tk->t[k], &tk->cache_obs[d], r2, 0, clipped);
+        tk->cache_known[d] |= bit;
+    }
+    return tk->cache_cost[d][k];
 }
 
 void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs)

@@ -49,24 +49,24 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
         float cia;
         if (ti->det < 0)
             continue;
-        cia = sonar_trk_pair_cost(tk, ti, &obs[ti->det], r2, ti->chance, clipped);
+        cia = sonar_trk_cost(tk, i, (uint8_t)ti->det, r2, ti->chance, clipped);
         for (j = 0; j < tk->n; j++) {
             const struct sonar_track *tj = &tk->t[j];
             float cja;
             if (j == i || (tj->det >= 0 && j < i))
                 continue; /* a swap once, from its lower slot */
-            cja = sonar_trk_pair_cost(tk, tj, &obs[ti->det], r2, 0, clipped);
+            cja = sonar_trk_cost(tk, j, (uint8_t)ti->det, r2, 0, clipped);
             if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.i = i;
             c.j = j;
             c.det = (uint8_t)ti->det;
             if (tj->det >= 0) {
-                float cib = sonar_trk_pair_cost(tk, ti, &obs[tj->det], r2, 0, clipped);
+                float cib = sonar_trk_cost(tk, i, (uint8_t)tj->det, r2, 0, clipped);
                 if (cib >= SONAR_TRK_OUTSIDE)
                     continue;
                 c.how = SWAP;
-                c.delta = cib + cja - cia - sonar_trk_pair_cost(tk, tj, &obs[tj->det], r2, tj->chance, clipped);
+                c.delta = cib + cja - cia - sonar_trk_cost(tk, j, (uint8_t)tj->det, r2, tj->chance, clipped);
             } else {
                 c.how = STEAL; /* i misses instead of j */
                 c.delta = (cja - miss[j]) - (cia - miss[i]);
@@ -80,7 +80,7 @@ void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_
             float cja;
             if (tk->t[j].det >= 0)
                 continue;
-            cja = sonar_trk_pair_cost(tk, &tk->t[j], &obs[left[k]], r2, 0, clipped);
+            cja = sonar_trk_cost(tk, j, left[k], r2, 0, clipped);
             if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.how = NEWBORN;
@@ -143,11 +143,11 @@ static int slot_of(const struct sonar_tracker *tk, uint32_t id)
 /*
  * The local part of this sweep's assignment that an alternative changes, both ways: the least
  * cost of the detections near either pair of tracks (four[0..1] as published, four[2..3] had the
- * alternative been chosen; NULL: no such track) and of the other live tracks that reach those
+ * alternative been chosen; NULL: no such track; slot4[k] a live track's slot, -1 for another) and of the other live tracks that reach those
  * detections, as published (*now) and as the alternative would have it (*then). Misses included.
  */
 static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS], const struct sonar_track *four[4],
-                        const uint32_t not_id[2], const struct sonar_tracker_obs *obs, const uint8_t *rows, uint8_t nr,
+                        const int slot4[4], const uint32_t not_id[2], const struct sonar_tracker_obs *obs, const uint8_t *rows, uint8_t nr,
                         float r2, int *clipped, float *now, float *then)
 {
     float c4[SONAR_MAX_CLUSTERS][4], misses = 0.0f, fresh = sonar_trk_fresh(tk, r2), miss4[4];
@@ -157,7 +157,9 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
     for (i = 0; i < nr; i++) {
         int near = 0;
         for (k = 0; k < 4; k++) {
-            c4[nd][k] = four[k] != NULL ? sonar_trk_pair_cost(tk, four[k], &obs[rows[i]], r2, 0, clipped) : SONAR_TRK_OUTSIDE;
+            c4[nd][k] = four[k] == NULL ? SONAR_TRK_OUTSIDE
+                        : slot4[k] >= 0 ? sonar_trk_cost(tk, (uint8_t)slot4[k], rows[i], r2, 0, clipped)
+                                        : sonar_trk_pair_cost(tk, four[k], &obs[rows[i]], r2, 0, clipped);
             near |= c4[nd][k] < SONAR_TRK_OUTSIDE;
         }
         if (near)
@@ -172,7 +174,7 @@ static void local_costs(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS
             continue;
         miss = sonar_trk_miss_cost(t);
         for (d = 0; d < nd; d++) {
-            float c = sonar_trk_pair_cost(tk, t, &obs[dets[d]], r2, 0, clipped);
+            float c = sonar_trk_cost(tk, k, dets[d], r2, 0, clipped);
             cost[d][nc] = c < SONAR_TRK_OUTSIDE ? c - miss : c; /* each miss paid below, refunded on a pair */
             near |= c < SONAR_TRK_OUTSIDE;
         }
@@ -240,7 +242,10 @@ void sonar_trk_defer_decide(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TR
         four[1] = s1 >= 0 ? &tk->t[s1] : NULL;
         four[2] = a->absent ? NULL : &a->t[0];
         four[3] = &a->t[1];
-        local_costs(tk, cost, four, a->id, obs, rows, nr, r2, clipped, &now, &then);
+        {
+            const int slot4[4] = {s0, s1, -1, -1};
+            local_costs(tk, cost, four, slot4, a->id, obs, rows, nr, r2, clipped, &now, &then);
+        }
         score = a->delta + then - now;
         if (score < best) {
             best = score;

@@ -42,13 +42,16 @@ uint8_t sonar_trk_pass(struct sonar_tracker *tk, float (*cost)[SONAR_MAX_TRACKS]
                        const struct sonar_tracker_obs *obs, uint8_t *left, uint8_t nl, float r2, int wide, int merge,
                        int *clipped);
 
-/*
- * The cost of continuing t with o (-2 ln of its mixture likelihood), or 1e9 outside its gate
- * (wide: the second chance's); a live track's with one of the update's detections is computed once
- * an update (tk's cache).
- */
-float sonar_trk_pair_cost(struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
+/* The cost of continuing t with o (-2 ln of its mixture likelihood), or 1e9 outside its gate (wide: the second chance's). */
+float sonar_trk_pair_cost(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                           float r2, int wide, int *clipped);
+
+/*
+ * The same for live track slot k and detection d of the update (sonar_trk_cache_reset's obs),
+ * computed once an update unless wide: the passes, the alternatives and the next look's decision
+ * all read it.
+ */
+float sonar_trk_cost(struct sonar_tracker *tk, uint8_t k, uint8_t d, float r2, int wide, int *clipped);
 
 /* Empties the pair cost cache for an update over obs (NULL: none); again whenever the live tracks change. */
 void sonar_trk_cache_reset(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs);
