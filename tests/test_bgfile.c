@@ -1,4 +1,4 @@
-/* test_bgfile.c -- the recorded background: an image round-trips bit for bit and learning goes on from it; every damage (magic, version, geometry, length, checksum, header, mode) is refused by name with the model unchanged; a world-frame or empty model is not written. */
+/* test_bgfile.c -- a site's background as an image: it round-trips bit for bit and learning goes on from it; every damage (magic, version, geometry, length, checksum, header, flags, places, mode) is refused by name with the model unchanged; places round-trip; a world-frame or empty model is not written. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -12,7 +12,7 @@
 
 #define N 300
 static struct sonar_background bg, bg2;
-static uint8_t img[SONAR_BGFILE_HEADER + SONAR_MAX_ANGLES + 1 + N + SONAR_MAX_ANGLES * N + 4 + 16];
+static uint8_t img[SONAR_BGFILE_MAX];
 
 /* A model learnt over a few sweeps of a pattern that differs by angle and range. */
 static void learn(struct sonar_background *b, uint8_t mode)
@@ -120,9 +120,17 @@ static void test_damage_refused_by_name(void **state)
     img[0] = 'X';
     refused(len, "not a sonard background file");
     len = (size_t)write_auto();
-    img[8] = 2; /* version 2 */
+    img[8] = 1; /* the version before */
     recrc(len);
     refused(len, "version");
+    len = (size_t)write_auto();
+    img[18] = 0x80; /* a flag this build does not know */
+    recrc(len);
+    refused(len, "flags");
+    len = (size_t)write_auto();
+    img[19] = SONAR_MAX_CLUSTERS + 1; /* more places than this build holds */
+    recrc(len);
+    refused(len, "places");
     len = (size_t)write_auto();
     img[10] = (uint8_t)((SONAR_MAX_ANGLES - 1) & 0xff); /* another build's angles */
     img[11] = (uint8_t)((SONAR_MAX_ANGLES - 1) >> 8);
@@ -138,14 +146,66 @@ static void test_damage_refused_by_name(void **state)
     refused(len, "header");
 }
 
-static void test_mode_mismatch_refused(void **state)
+/* A site's model is per angle: one learnt in auto mode loads into a per-angle background, never into a range one. */
+static void test_mode(void **state)
 {
     size_t len = (size_t)write_auto();
     const char *why = NULL;
+    struct sonar_background_config c = {SONAR_BACKGROUND_RANGE, 8, 1, 8};
     (void)state;
     learn(&bg2, SONAR_BACKGROUND_PER_ANGLE);
+    assert_int_equal(sonar_bgfile_load(&bg2, img, len, &why), SONAR_OK);
+    assert_memory_equal(bg.cell[20], bg2.cell[20], N);
+    assert_int_equal(sonar_background_init(&bg2, &c), SONAR_OK);
     assert_int_equal(sonar_bgfile_load(&bg2, img, len, &why), SONAR_ERR_STATE);
     assert_non_null(strstr(why, "mode"));
+}
+
+/* A place's kind, centroid and hull come back to the millimetre; a hull longer than SONAR_MAX_HULL is not read past. */
+static void test_place_round_trip(void **state)
+{
+    struct sonar_detection d, back;
+    uint8_t buf[SONAR_BGFILE_PLACE];
+    uint8_t v;
+    (void)state;
+    memset(&d, 0, sizeof(d));
+    d.kind = SONAR_DET_STRUCTURE;
+    d.x_m = -12.3456f;
+    d.y_m = 7.0f;
+    d.hull_count = 5;
+    for (v = 0; v < d.hull_count; v++) {
+        d.hull_x[v] = -12.0f - 0.1f * v;
+        d.hull_y[v] = 6.5f + 0.25f * v;
+    }
+    sonar_bgfile_put_place(buf, &d);
+    sonar_bgfile_get_place(buf, &back);
+    assert_int_equal(back.kind, SONAR_DET_STRUCTURE);
+    assert_int_equal(back.hull_count, 5);
+    assert_true(back.x_m > -12.3465f && back.x_m < -12.3445f);
+    assert_true(back.y_m > 6.9995f && back.y_m < 7.0005f);
+    for (v = 0; v < 5; v++) {
+        assert_true(back.hull_x[v] > d.hull_x[v] - 0.001f && back.hull_x[v] < d.hull_x[v] + 0.001f);
+        assert_true(back.hull_y[v] > d.hull_y[v] - 0.001f && back.hull_y[v] < d.hull_y[v] + 0.001f);
+    }
+    buf[1] = 200; /* more vertices than a place holds */
+    sonar_bgfile_get_place(buf, &back);
+    assert_int_equal(back.hull_count, SONAR_MAX_HULL);
+}
+
+/* The layout: levels, then the spread when flagged, then the places, then the CRC. */
+static void test_layout(void **state)
+{
+    struct sonar_bgfile_layout a, b;
+    (void)state;
+    assert_int_equal(sonar_bgfile_layout(N, 0, 0, &a), SONAR_OK);
+    assert_int_equal(sonar_bgfile_layout(N, SONAR_BGFILE_SPREAD, 3, &b), SONAR_OK);
+    assert_int_equal(a.levels, b.levels);
+    assert_int_equal(b.places - b.spread, (size_t)SONAR_MAX_ANGLES * N);
+    assert_int_equal(b.crc - b.places, 3u * SONAR_BGFILE_PLACE);
+    assert_int_equal(a.size, sonar_bgfile_size(N));
+    assert_true(b.size <= SONAR_BGFILE_MAX);
+    assert_int_equal(sonar_bgfile_layout(N, 0, SONAR_MAX_CLUSTERS + 1, &a), SONAR_ERR_ARG);
+    assert_int_equal(sonar_bgfile_layout(0, 0, 0, &a), SONAR_ERR_ARG);
 }
 
 static void test_nothing_to_write(void **state)
@@ -173,7 +233,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_damage_refused_by_name),
-        cmocka_unit_test(test_mode_mismatch_refused),
+        cmocka_unit_test(test_mode),
+        cmocka_unit_test(test_place_round_trip),
+        cmocka_unit_test(test_layout),
         cmocka_unit_test(test_nothing_to_write),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

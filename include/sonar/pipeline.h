@@ -13,6 +13,7 @@
 #include "sonar/median.h"
 #include "sonar/scan.h"
 #include "sonar/structure.h"
+#include "sonar/survey.h"
 #include "sonar/sweep.h"
 #include "sonar/tracker.h"
 
@@ -74,6 +75,8 @@ struct sonar_pipeline {
     struct sonar_detector det;
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
+    struct sonar_survey *sv;   /* the caller's (sonar_pipeline_set_survey), or NULL: no survey can be used */
+    uint32_t survey_unfit_sweep; /* the sweep at whose end the survey was last given up */
     uint32_t bg_sweeps;        /* sweeps since the background (re)started or was loaded */
     struct sonar_detections out;
     /*
@@ -148,10 +151,19 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d);
 SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b);
 
 /*
- * Starts the background from a recorded model (a bgfile.h image of len bytes, checked whole; see
- * sonar_bgfile_load), forgetting the structure learnt before: what stands out in the first sweeps
- * after it is there from the first look, as after a restart. Returns SONAR_OK, or < 0 with *why
- * naming what is wrong (why may be NULL; nothing changed).
+ * Where the pipeline keeps a site's survey (survey.h: the caller's, with its spread block; NULL:
+ * none can be used, and a recorded model is learnt on from instead). Call before loading one.
+ */
+void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv);
+
+/*
+ * Starts the background from a recorded one (a bgfile.h image of len bytes, checked whole), forgetting
+ * the structure learnt before. With a survey set (sonar_pipeline_set_survey) it is the site's survey:
+ * the angles it knows are judged against it and never learnt (survey.h), the rest learn; a survey
+ * that no longer fits the beams is given up at a sweep's end and the background learns afresh.
+ * Without, its levels are where the background goes on learning from, and what stands out in the
+ * first sweeps after it is there from the first look, as after a restart. Returns SONAR_OK, or < 0
+ * with *why naming what is wrong (why may be NULL; nothing changed).
  */
 SONAR_CHECK int sonar_pipeline_load_background(struct sonar_pipeline *p, const uint8_t *img, size_t len, const char **why);
 
@@ -232,6 +244,9 @@ int sonar_pipeline_gain(const struct sonar_pipeline *p);
 /* Backgrounds restarted because the beams' gain changed; sweeps cut because their range or samples did. */
 uint32_t sonar_pipeline_gain_restarts(const struct sonar_pipeline *p);
 uint32_t sonar_pipeline_geometry_changes(const struct sonar_pipeline *p);
+
+/* The survey as it is now (state, why, turn, its meta and places), or NULL when none is set. */
+const struct sonar_survey *sonar_pipeline_survey(const struct sonar_pipeline *p);
 
 /* Places promoted to structure since the start (a count that only grows), and those that are structure now. */
 uint32_t sonar_pipeline_structure_promoted(const struct sonar_pipeline *p);

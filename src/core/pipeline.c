@@ -105,6 +105,8 @@ int sonar_pipeline_init(struct sonar_pipeline *p, struct sonar_background *bg, c
 
 void sonar_pipeline_restart_background(struct sonar_pipeline *p)
 {
+    /* The survey's levels are in the background's rows: a restart gives it up (why already set when it was a misfit). */
+    sonar_survey_lost(p->sv, SONAR_SURVEY_RESTART);
     sonar_background_reset(p->bg);
     sonar_structure_restart(&p->st);
     p->bg_sweeps = 0;
@@ -115,11 +117,17 @@ int sonar_pipeline_load_background(struct sonar_pipeline *p, const uint8_t *img,
     int r;
     if (p == NULL || p->cfg == NULL)
         return SONAR_ERR_ARG;
-    if ((r = sonar_bgfile_load(p->bg, img, len, why)) != SONAR_OK)
+    if ((r = p->sv != NULL ? sonar_survey_use(p->sv, p->bg, img, len, why) : sonar_bgfile_load(p->bg, img, len, why)) !=
+        SONAR_OK)
         return r;
     sonar_structure_restart(&p->st);
     p->bg_sweeps = 0;
     return SONAR_OK;
+}
+
+void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv)
+{
+    p->sv = sv;
 }
 
 static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
@@ -308,9 +316,12 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint8_t *b = p->buf[p->cur], nkeep, nlearn;
     int r, done, seeding = sonar_background_seeding(p->bg, angle);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
+    sonar_survey_look(p->sv, angle, b, p->n);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
-    if (!done) {
+    if (done)
+        sonar_survey_lost(p->sv, SONAR_SURVEY_WORLD); /* the grid takes the background's bytes: the survey's levels go */
+    else if (!sonar_survey_apply(p->sv, p->bg, angle, b, b, p->n)) {
         nkeep = keep_spans(p, angle, sp, learn, &nlearn);
         if ((r = sonar_background_apply_spans(p->bg, angle, b, b, p->n, sp, nkeep, learn, nlearn)) != SONAR_OK)
             return r;
@@ -417,6 +428,11 @@ static int end_sweep(struct sonar_pipeline *p)
         return r;
     if ((r = sonar_pipe_finish_sweep(p, 1)) != SONAR_OK)
         return r;
+    if (sonar_survey_sweep(p->sv)) {
+        /* The survey no longer fits (said through the survey's why): the background learns afresh from the next beam. */
+        sonar_pipeline_restart_background(p);
+        p->survey_unfit_sweep = p->sweeps + 1u;
+    }
     p->open = 0;
     p->sweeps++;
     p->bg_sweeps++;
@@ -432,6 +448,11 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
         b->angle > SONAR_GRAD_MAX || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
+    if ((r = sonar_survey_fits_beam(p->sv, b->n, b->range_m, b->gain)) != SONAR_SURVEY_OK) {
+        /* Another setting than the survey's: its levels would call everything foreground (or nothing). */
+        sonar_survey_lost(p->sv, r);
+        sonar_pipeline_restart_background(p);
+    }
     if (b->gain >= 0) {
         /* The echoes' scale changed: a model learnt at the old gain would call everything foreground (or nothing). */
         if (p->last_gain >= 0 && b->gain != p->last_gain) {

@@ -65,3 +65,8 @@ int32_t sonar_pipeline_save_background(const struct sonar_pipeline *p, const str
 {
     return sonar_bgfile_write(p->bg, m, out, cap);
 }
+
+const struct sonar_survey *sonar_pipeline_survey(const struct sonar_pipeline *p)
+{
+    return p->sv;
+}

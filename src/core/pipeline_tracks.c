@@ -118,6 +118,8 @@ static int first_look(const struct sonar_pipeline *p, const struct sonar_detecti
     double g = (double)d->bearing_deg / SONAR_DEG_PER_GRAD - (double)p->cfg->detector.angle_offset;
     int at = sonar_frame_wrap((int)floor(g + 0.5)), best = SONAR_GRAD_TURN, e;
     uint16_t i, row = (uint16_t)at;
+    if (sonar_survey_covers(p->sv, row))
+        return 0; /* the survey knew the place before anything was in it */
     if (p->bg_sweeps < p->cfg->background.warmup)
         return 1;
     for (i = 0; i < p->out.beams; i++)

@@ -56,6 +56,11 @@ static void on_stage(void *user, int stage, const struct sonar_beam *b)
     struct sonar_record r;
     if (stage == SONAR_STAGE_RAW)
         return; /* app_push already gave the raw beam to the sinks, with all its metadata */
+    /* A refused recording (rec->why) ends the run: nothing more can make it a survey; its end says why. */
+    if (stage == SONAR_STAGE_MEDIAN && a->rec != NULL &&
+        sonar_survey_rec_beam(a->rec, b->angle, b->samples, b->n, b->range_m, (int16_t)sonar_pipeline_gain(&a->pipe),
+                              b->utime) != SONAR_OK)
+        a->sweeps_done = 1;
     r = a->cur;
     r.utime = b->utime;
     r.angle = b->angle; /* the 2-D median delays rows: the angle is the row's, not the input's */
@@ -126,6 +131,8 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
     app_gain_sweep(a, d->sweep);
+    if (a->rec != NULL && sonar_survey_rec_sweep(a->rec, sonar_pipeline_tracker(&a->pipe), d->world) != SONAR_OK)
+        a->sweeps_done = 1;
     if (sonar_pipeline_structure_promoted(&a->pipe) != a->structure_said) {
         unsigned n = sonar_pipeline_structure_count(&a->pipe);
         a->structure_said = sonar_pipeline_structure_promoted(&a->pipe);
@@ -175,6 +182,8 @@ int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipel
         return HOST_ERR_CONFIG;
     }
     sonar_pipeline_set_poses(&a->pipe, &a->poses);
+    sonar_survey_init(&a->survey, &a->spread, a->survey_places);
+    sonar_pipeline_set_survey(&a->pipe, &a->survey);
     if (dcfg != NULL) {
         int r;
         if ((why = sonar_ping360_config_check(dcfg)) != NULL) {
@@ -258,7 +267,6 @@ int app_push(struct app *a, const struct sonar_record *b)
     a->cur.stage = SONAR_STAGE_RAW;
     beam_pose(a, &a->cur);
     sinks_beam(a, &a->cur);
-    app_background_first_beam(a, b);
     sonar_device_beam(b, &pb); /* with its gain: the pipeline restarts its background on a change */
     t0 = a->clock.mono_ns(a->clock.user);
     {
@@ -283,6 +291,7 @@ int app_push(struct app *a, const struct sonar_record *b)
                     pb.n, (double)pb.range_m, (double)pb.utime * 1e-6, was_n, (double)was_m);
     }
     a->proc_us[a->nproc++ % APP_PROC_RING] = (float)((double)(a->clock.mono_ns(a->clock.user) - t0) * 1e-3);
+    app_survey_watch(a);
     return HOST_OK;
 }
 

@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 596 168 B, the pipeline and its background plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 076 176 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -13,6 +13,7 @@
 #include "sonar/pipeline.h"
 #include "sonar/pose.h"
 #include "sonar/status.h"
+#include "sonar/survey.h"
 #include "view.h"
 
 #define APP_MAX_SINKS 8
@@ -62,6 +63,7 @@ struct app_storage {
     union { int64_t i; double d; void *p; } align_;
     struct sonar_pipeline pipe_;
     struct sonar_background bg_;
+    struct sonar_survey_spread spread_;
     unsigned char rest_[APP_STORAGE_REST];
 };
 
@@ -181,18 +183,30 @@ uint32_t app_rows_bad(const struct app *a);
 float app_last_sweep_s(const struct app *a);
 
 /*
- * A recorded background (a bgfile.h image of len bytes, read by the caller) as the model to learn on
- * from: checked whole, its mode and filters against the running configuration; its range, samples
- * and gain against the first beam (a mismatch restarts the background there, said). Call before the
- * first beam. Returns HOST_OK, or HOST_ERR_CONFIG with err naming what is wrong (nothing changed).
+ * A site's survey, or a recorded background (a bgfile.h image of len bytes, read by the caller and
+ * kept by it for the app's life: it is taken back from there when the beams fit it again after a
+ * misfit): checked whole, its filters against the running configuration; then the angles it knows
+ * are judged against it (sonar_pipeline_load_background), and every beam and sweep against its
+ * setting and structure, a misfit said and learnt afresh from. Call before the first beam. Returns
+ * HOST_OK, or HOST_ERR_CONFIG with err naming what is wrong (nothing changed).
  */
 HOST_CHECK int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen);
 
 /*
  * The learnt model as a bgfile.h image into out (cap bytes). Returns its length, or < 0 with err
- * saying why: HOST_ERR_STATE (no beam yet, or the model is in the world frame), HOST_ERR_REFUSED (out too small).
+ * saying why: HOST_ERR_STATE (no beam yet, the model is in the world frame, or a survey is in use:
+ * nothing was learnt over it), HOST_ERR_REFUSED (out too small).
  */
 HOST_CHECK int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen);
+
+/* The survey as it is now: its state, why, meta and places (sonar/survey.h). */
+const struct sonar_survey *app_survey(const struct app *a);
+
+/*
+ * --survey N: every beam after the median goes into rec (the caller's, sonar_survey_rec_init'd), every
+ * sweep's tracks too (a move refuses it); NULL stops. The recording's refusals are rec's (rec->why).
+ */
+void app_record_survey(struct app *a, struct sonar_survey_rec *rec);
 
 /* The pipeline, read-only (tools that inspect the background: sonar-wallfit). */
 const struct sonar_pipeline *app_pipeline(const struct app *a);

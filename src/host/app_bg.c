@@ -1,16 +1,33 @@
-/* app_bg.c -- the app's recorded background: a loaded model checked against the configuration and the first beam, and the learnt model as an image; no RAM beyond struct app. */
+/* app_bg.c -- the app's site survey (or recorded background): loaded and checked against the configuration, its fate said beam by beam (given up, taken back), the learnt model as an image; no RAM beyond struct app. */
 #include "app_internal.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
+#include <time.h>
 
 #include "sonar/bgfile.h"
+
+/* "2026-12-05 10:31 UTC" for us since the epoch. */
+static void date_of(int64_t utime, char *out, size_t len)
+{
+    time_t t = (time_t)(utime / 1000000);
+    struct tm tm;
+    if (utime <= 0 || gmtime_r(&t, &tm) == NULL || strftime(out, len, "%Y-%m-%d %H:%M UTC", &tm) == 0)
+        snprintf(out, len, "an unknown date");
+}
+
+static const char *gain_str(uint8_t g)
+{
+    return g == 0 ? "0" : g == 1 ? "1" : g == 2 ? "2" : "unknown";
+}
 
 int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen)
 {
     const struct sonar_pipeline_config *c = sonar_pipeline_running(&a->pipe);
     struct sonar_bgfile_meta m;
     const char *why;
+    char date[40];
     if (sonar_bgfile_check(img, len, &m, &why) != SONAR_OK) {
         snprintf(err, errlen, "%s", why);
         return HOST_ERR_CONFIG;
@@ -24,31 +41,88 @@ int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err
         snprintf(err, errlen, "%s", why);
         return HOST_ERR_CONFIG;
     }
-    a->bg_file = m;
-    a->bg_pending = 1;
-    app_say(a, "background: loaded, %u samples over %.3f m at gain %s, learnt over %u sweeps", m.n,
-            (double)m.range_mm * 1e-3, m.gain == SONAR_BGFILE_GAIN_UNKNOWN ? "unknown" : (m.gain == 0 ? "0" : m.gain == 1 ? "1" : "2"),
-            m.sweeps);
+    a->survey_img = img;
+    a->survey_len = len;
+    a->survey_state = SONAR_SURVEY_IN_USE;
+    a->survey_why = SONAR_SURVEY_OK;
+    date_of(m.utime, date, sizeof(date));
+    if (m.flags & SONAR_BGFILE_SURVEY)
+        app_say(a, "survey: of %s, %u sweeps, %u samples over %.3f m at gain %s, %u structure place%s: in use (what it "
+                   "holds is never an object; what it does not, always is)",
+                date, m.sweeps, m.n, (double)m.range_mm * 1e-3, gain_str(m.gain), m.places, m.places == 1 ? "" : "s");
+    else
+        app_say(a, "background: loaded, %u samples over %.3f m at gain %s, learnt over %u sweeps (%s): learnt on from "
+                   "(a learnt model, not a survey: what stands in it from the start may be learnt)",
+                m.n, (double)m.range_mm * 1e-3, gain_str(m.gain), m.sweeps, date);
     return HOST_OK;
 }
 
-void app_background_first_beam(struct app *a, const struct sonar_record *b)
+/* Why the survey was given up, for people. */
+static void say_unfit(const struct app *a, const struct sonar_survey *sv)
 {
-    const struct sonar_bgfile_meta *m = &a->bg_file;
-    double range_mm = (double)b->range_m * 1e3;
-    int gain_off = b->gain >= 0 && m->gain != SONAR_BGFILE_GAIN_UNKNOWN && b->gain != (int)m->gain;
-    if (!a->bg_pending)
+    const char *then = "not used; the background learns afresh";
+    uint16_t n;
+    float range_m;
+    sonar_pipeline_geometry(&a->pipe, &n, &range_m);
+    switch (sv->why) {
+    case SONAR_SURVEY_GEOMETRY:
+    case SONAR_SURVEY_GAIN:
+        app_warn(a, "survey: recorded at %u samples over %.3f m, gain %s; the sonar gives %u over %.3f m, gain %d: %s (it is "
+                    "taken back when the beams are of its setting again)",
+                 sv->meta.n, (double)sv->meta.range_mm * 1e-3, gain_str(sv->meta.gain), n, (double)range_m,
+                 sonar_pipeline_gain(&a->pipe), then);
+        break;
+    case SONAR_SURVEY_TURNED:
+        app_warn(a, "survey: the site's structure is where the survey has it turned by about %+d gradians (%+.0f degrees): "
+                    "the mount turned? %s; turn it back, or record the survey again",
+                 sv->turn_grad, sv->turn_grad * 0.9, then);
+        break;
+    case SONAR_SURVEY_CHANGED:
+        app_warn(a, "survey: the site's structure is not where the survey has it (%u of 16 parts agree): the sonar moved "
+                    "or the site changed? %s; record the survey again",
+                 sv->agree16, then);
+        break;
+    case SONAR_SURVEY_STANDOUT:
+        app_warn(a, "survey: %.1f %% of the sweep stands out against it (the water level, or the site changed?): %s",
+                 sv->standout1000 * 0.1, then);
+        break;
+    case SONAR_SURVEY_WORLD:
+        app_warn(a, "survey: the vehicle's pose is known (the world frame): a survey is of a fixed site: not used");
+        break;
+    default:
+        app_warn(a, "survey: the background restarted (a new filter or background mode, or a co-processor's): not used");
+        break;
+    }
+}
+
+void app_survey_watch(struct app *a)
+{
+    const struct sonar_survey *sv = &a->survey;
+    const char *why;
+    if (sv->state == SONAR_SURVEY_UNFIT && sv->refit && a->survey_img != NULL) {
+        /* Fits again: taken back from the image it was loaded from (the same checks pass: they did). */
+        if (sonar_pipeline_load_background(&a->pipe, a->survey_img, a->survey_len, &why) == SONAR_OK)
+            app_say(a, "survey: the beams fit it again: in use from sweep %u", (unsigned)a->sweeps + 1u);
+        else
+            app_warn(a, "survey: fits again, but could not be taken back: %s", why);
+    }
+    if (sv->state == a->survey_state && sv->unfits == a->survey_unfits)
         return;
-    a->bg_pending = 0;
-    /* The range is the sample period times the speed of sound: 1 mm covers rounding, not another setting. */
-    if (b->n == m->n && fabs(range_mm - (double)m->range_mm) <= 1.0 && !gain_off)
-        return;
-    sonar_pipeline_restart_background(&a->pipe);
-    a->bg_restarts++;
-    app_warn(a, "background: the loaded file was recorded at %u samples over %.3f m, gain %d; the sonar gives %u over "
-               "%.3f m, gain %d: refused, the background learns afresh",
-            m->n, (double)m->range_mm * 1e-3, m->gain == SONAR_BGFILE_GAIN_UNKNOWN ? -1 : (int)m->gain, b->n,
-            (double)b->range_m, (int)b->gain);
+    if (sv->state == SONAR_SURVEY_UNFIT)
+        say_unfit(a, sv);
+    a->survey_state = sv->state;
+    a->survey_why = sv->why;
+    a->survey_unfits = sv->unfits;
+}
+
+const struct sonar_survey *app_survey(const struct app *a)
+{
+    return &a->survey;
+}
+
+void app_record_survey(struct app *a, struct sonar_survey_rec *rec)
+{
+    a->rec = rec;
 }
 
 int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen)
@@ -57,16 +131,22 @@ int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char
     struct sonar_bgfile_meta m;
     float range_m;
     int32_t r;
+    memset(&m, 0, sizeof(m));
     sonar_pipeline_geometry(&a->pipe, &m.n, &range_m);
     m.mode = c->background.mode;
     m.median = c->median2d ? 1 : c->median;
     m.median2d = c->median2d;
     m.gain = a->last_gain >= 0 && a->last_gain <= 2 ? (uint8_t)a->last_gain : SONAR_BGFILE_GAIN_UNKNOWN;
     m.range_mm = (uint32_t)lrint((double)range_m * 1e3);
-    m.sound_mm_s = 0;
     m.sweeps = a->sweeps;
+    m.utime = a->cur.utime;
     if (m.n == 0 || m.range_mm == 0) {
         snprintf(err, errlen, "background: no beam yet, nothing learnt to save");
+        return HOST_ERR_STATE;
+    }
+    if (a->survey.state == SONAR_SURVEY_IN_USE) {
+        snprintf(err, errlen, "background: the site's survey is in use, nothing was learnt over it: not saved (record a "
+                              "survey with --survey N)");
         return HOST_ERR_STATE;
     }
     r = sonar_pipeline_save_background(&a->pipe, &m, out, cap);

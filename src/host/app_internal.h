@@ -4,6 +4,7 @@
 
 #include "app.h"
 #include "sonar/bgfile.h"
+#include "sonar/survey.h"
 
 struct app {
     struct sonar_pipeline_config pcfg[2]; /* running and reloaded; the pipeline points at one */
@@ -26,8 +27,15 @@ struct app {
     uint32_t gain_refused;
     int32_t last_gain;          /* the gain of the beam before, -1: none yet */
     uint32_t bg_restarts;       /* backgrounds restarted for a change of the beams' gain */
-    struct sonar_bgfile_meta bg_file; /* a loaded background: what it is a model of (app_bg.c) ... */
-    int bg_pending;             /* ... still to be checked against the first beam */
+    struct sonar_survey survey; /* the site's survey, in use or not (app_bg.c) */
+    struct sonar_survey_spread spread; /* its cells' spread */
+    struct sonar_detection survey_places[SONAR_MAX_CLUSTERS]; /* its structure */
+    const uint8_t *survey_img;  /* the loaded image (the caller's, outliving the app): taken back when it fits again */
+    size_t survey_len;
+    int survey_state;           /* the survey's state and why, and its misfits, when last said */
+    int survey_why;
+    uint32_t survey_unfits;
+    struct sonar_survey_rec *rec; /* --survey N: the recording each beam after the median goes into, or NULL */
     uint32_t structure_said;    /* places promoted to structure when it was last said */
     uint32_t hyp_overflow_said; /* the tracker's alternatives that did not fit, when it was last said */
     int passive_idle;           /* --passive: the beams stopped (said); the next one is said too */
@@ -54,8 +62,8 @@ struct app {
     unsigned long nproc;
 };
 
-/* app_bg.c: a loaded background checked against the first beam (its range, samples and gain); a mismatch restarts it, said. */
-void app_background_first_beam(struct app *a, const struct sonar_record *b);
+/* app_bg.c: after each beam, what became of the survey (given up, fitting again: taken back), said once. */
+void app_survey_watch(struct app *a);
 
 /* app_device.c: --gain auto's decision at the end of sweep number `sweep` (before the sinks see it). */
 void app_gain_sweep(struct app *a, uint32_t sweep);

@@ -1,4 +1,4 @@
-/* bgstore.c -- a recorded background file read whole and written atomically (bgstore.h); one static image buffer, no heap. */
+/* bgstore.c -- a site's survey or recorded background file read whole and written atomically (bgstore.h); one static image buffer, no heap. */
 #include "bgstore.h"
 
 #include <errno.h>
@@ -10,25 +10,24 @@
 
 #include "sonar/bgfile.h"
 
-/* The largest image: SONAR_MAX_ANGLES x SONAR_MAX_SAMPLES plus its header, visits and CRC. */
-#define BGSTORE_MAX ((size_t)SONAR_BGFILE_HEADER + SONAR_MAX_ANGLES + 1u + SONAR_MAX_SAMPLES + \
-                     (size_t)SONAR_MAX_ANGLES * SONAR_MAX_SAMPLES + 4u)
-static uint8_t image[BGSTORE_MAX + 1]; /* + 1: a longer file is seen to be longer */
+/* The largest image (SONAR_BGFILE_MAX), + 1: a longer file is seen to be longer. It stays the app's after a load
+   (app_background_load keeps it to take the survey back); only the writes at the end of a run use it again. */
+static uint8_t image[SONAR_BGFILE_MAX + 1];
 
-int bgstore_load(struct app *a, const char *path, char *err, size_t errlen)
+int bgstore_load(struct app *a, const char *what, const char *path, char *err, size_t errlen)
 {
     size_t len = 0;
     ssize_t got;
     int fd = open(path, O_RDONLY);
     if (fd < 0) {
-        snprintf(err, errlen, "--background-load %s: %s", path, strerror(errno));
+        snprintf(err, errlen, "%s %s: %s", what, path, strerror(errno));
         return HOST_ERR_IO;
     }
     while (len < sizeof(image) && (got = read(fd, image + len, sizeof(image) - len)) != 0) {
         if (got < 0 && errno == EINTR)
             continue;
         if (got < 0) {
-            snprintf(err, errlen, "--background-load %s: %s", path, strerror(errno));
+            snprintf(err, errlen, "%s %s: %s", what, path, strerror(errno));
             close(fd);
             return HOST_ERR_IO;
         }
@@ -38,7 +37,7 @@ int bgstore_load(struct app *a, const char *path, char *err, size_t errlen)
     if (app_background_load(a, image, len, err, errlen) != HOST_OK) {
         char why[256];
         snprintf(why, sizeof(why), "%s", err);
-        snprintf(err, errlen, "--background-load %s: %s", path, why);
+        snprintf(err, errlen, "%s %s: %s", what, path, why);
         return HOST_ERR_CONFIG;
     }
     return HOST_OK;
@@ -77,35 +76,39 @@ static void fsync_dir(const char *path)
     }
 }
 
-int bgstore_save(const struct app *a, const char *path, char *err, size_t errlen)
+int bgstore_write(const char *what, const char *path, const uint8_t *img, size_t len, char *err, size_t errlen)
 {
     char tmp[4200];
-    int32_t len = app_background_image(a, image, sizeof(image), err, errlen);
     int fd, e;
-    if (len < 0)
-        return len == HOST_ERR_STATE ? HOST_ERR_STATE : HOST_ERR_IO;
     if ((size_t)snprintf(tmp, sizeof(tmp), "%s.tmp.%ld", path, (long)getpid()) >= sizeof(tmp)) {
-        snprintf(err, errlen, "--background-save %s: the path is too long", path);
+        snprintf(err, errlen, "%s %s: the path is too long", what, path);
         return HOST_ERR_IO;
     }
     if ((fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644)) < 0) {
-        snprintf(err, errlen, "--background-save %s: %s: %s", path, tmp, strerror(errno));
+        snprintf(err, errlen, "%s %s: %s: %s", what, path, tmp, strerror(errno));
         return HOST_ERR_IO;
     }
-    if (write_all(fd, image, (size_t)len) != 0 || fsync(fd) != 0) {
+    if (write_all(fd, img, len) != 0 || fsync(fd) != 0) {
         e = errno;
         close(fd);
         unlink(tmp);
-        snprintf(err, errlen, "--background-save %s: writing %s: %s; the previous file is unchanged", path, tmp,
-                 strerror(e));
+        snprintf(err, errlen, "%s %s: writing %s: %s; the previous file is unchanged", what, path, tmp, strerror(e));
         return HOST_ERR_IO;
     }
     if (close(fd) != 0 || rename(tmp, path) != 0) {
         e = errno;
         unlink(tmp);
-        snprintf(err, errlen, "--background-save %s: %s; the previous file is unchanged", path, strerror(e));
+        snprintf(err, errlen, "%s %s: %s; the previous file is unchanged", what, path, strerror(e));
         return HOST_ERR_IO;
     }
     fsync_dir(path);
     return HOST_OK;
+}
+
+int bgstore_save(const struct app *a, const char *path, char *err, size_t errlen)
+{
+    int32_t len = app_background_image(a, image, sizeof(image), err, errlen);
+    if (len < 0)
+        return len == HOST_ERR_STATE ? HOST_ERR_STATE : HOST_ERR_IO;
+    return bgstore_write("--background-save", path, image, (size_t)len, err, errlen);
 }

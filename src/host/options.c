@@ -126,6 +126,8 @@ static const struct opt_spec spec[] = {
      NULL, NULL},
     {"background-save", "FILE", OPT_STR, 1, 0, F(bg_save), 0, 0, "file", NULL,
      "at exit, write the learnt background there (atomically: the old file\nstays whole if the write fails); not for a moving vehicle", NULL, NULL},
+    {"survey", "PATH|N", OPT_CUSTOM, 1, 0, 0, 0, 0, "file, or sweeps 8..255", "none",
+     "PATH: the site's survey (the empty site, recorded once), loaded at start when\nit exists: what it holds is never an object; N (command line): record N\nsweeps of the empty site into PATH, then exit (docs/install.md)", NULL, options_parse_survey},
     SECTION("detector (once per sweep)"),
     {"threshold-mode", "MODE", OPT_CHOICE, 1, 1, D(threshold_mode), 0, 0, "cfar or global",
      "cfar; global with --background range (the study's)",
@@ -258,8 +260,7 @@ static void usage(void)
     opt_usage(&schema, stdout);
 }
 
-/* Was the option named given (on the command line or in a --config file)? */
-static int given(const struct sonard_options *o, const char *name)
+int options_given(const struct sonard_options *o, const char *name)
 {
     int k = opt_find(&schema, name);
     return k >= 0 && opt_was_given(&o->given, (size_t)k);
@@ -269,7 +270,7 @@ static int given(const struct sonard_options *o, const char *name)
 static void mode_defaults(struct sonard_options *o)
 {
     /* Warm-up counts observations: a sweep per cell in per-angle mode, a beam per bin in range mode. */
-    if (!given(o, "bg-warmup"))
+    if (!options_given(o, "bg-warmup"))
         o->pipeline.background.warmup = o->pipeline.background.mode == SONAR_BACKGROUND_RANGE ? 8 : 2;
     /* The study's median background goes with its rules, unless they are given: its configuration replays as it always has. */
     {
@@ -277,15 +278,15 @@ static void mode_defaults(struct sonard_options *o)
         sonar_pipeline_defaults(&d);
         if (o->pipeline.background.mode == SONAR_BACKGROUND_RANGE)
             sonar_pipeline_study_rules(&d.detector);
-        if (!given(o, "threshold-mode"))
+        if (!options_given(o, "threshold-mode"))
             o->pipeline.detector.threshold_mode = d.detector.threshold_mode;
-        if (!given(o, "min-points"))
+        if (!options_given(o, "min-points"))
             o->pipeline.detector.min_points = d.detector.min_points;
-        if (!given(o, "max-extent"))
+        if (!options_given(o, "max-extent"))
             o->pipeline.detector.max_extent_m = d.detector.max_extent_m;
-        if (!given(o, "max-aspect"))
+        if (!options_given(o, "max-aspect"))
             o->pipeline.detector.max_aspect = d.detector.max_aspect;
-        if (!given(o, "min-area"))
+        if (!options_given(o, "min-area"))
             o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
     }
 }
@@ -305,12 +306,49 @@ static int check_passive(struct sonard_options *o, char *err, size_t errlen)
         return HOST_ERR_CONFIG;
     }
     for (i = 0; i < sizeof head / sizeof head[0]; i++)
-        if (given(o, head[i])) {
+        if (options_given(o, head[i])) {
             snprintf(err, errlen, "--%s commands the head: with --passive the program driving it chooses that", head[i]);
             return HOST_ERR_CONFIG;
         }
-    if (!given(o, "sweep-gap"))
+    if (!options_given(o, "sweep-gap"))
         o->pipeline.sweep_gap_s = 2.0f;
+    return HOST_OK;
+}
+
+/* --survey N records a fixed, empty site into the survey's file with sonard's own per-angle background, then stops. */
+static int check_survey(struct sonard_options *o, char *err, size_t errlen)
+{
+    const char *moving = o->pose_file ? "--pose" : o->mavlink ? "--mavlink" : o->pose_lcm ? "--pose-lcm" : NULL;
+    if (o->survey != NULL && o->bg_load != NULL) {
+        snprintf(err, errlen, "survey %s and --background-load %s name two files for one thing: give one", o->survey, o->bg_load);
+        return HOST_ERR_CONFIG;
+    }
+    if (o->survey_sweeps == 0)
+        return HOST_OK;
+    if (o->survey == NULL) {
+        snprintf(err, errlen, "--survey %ld writes the site's survey: give its file too (survey = PATH in the --config "
+                              "file, or --survey PATH)", o->survey_sweeps);
+        return HOST_ERR_CONFIG;
+    }
+    if (moving != NULL) {
+        snprintf(err, errlen, "--survey records a fixed site; with %s the sonar moves (the world frame): a survey is of a "
+                              "site, not of where a vehicle was", moving);
+        return HOST_ERR_CONFIG;
+    }
+    if (o->coprocessor != NULL || o->bg_save != NULL || options_given(o, "sweeps")) {
+        snprintf(err, errlen, "--survey %ld records the survey from sonard's own beams for that many sweeps: it takes no %s",
+                 o->survey_sweeps, o->coprocessor != NULL ? "--coprocessor (the firmware keeps its beams)"
+                                   : o->bg_save != NULL ? "--background-save (the survey is the file written)" : "--sweeps");
+        return HOST_ERR_CONFIG;
+    }
+    if (o->pipeline.background.mode != SONAR_BACKGROUND_PER_ANGLE && o->pipeline.background.mode != SONAR_BACKGROUND_AUTO) {
+        snprintf(err, errlen, "--survey keeps a per-angle model: it goes with --background auto or per-angle");
+        return HOST_ERR_CONFIG;
+    }
+    /* Nothing held out of the background while the site is recorded: all that stands still is learnt (what stood
+       there from the first ping included, as it must be), and what moves stands out, is tracked and refuses it. */
+    o->pipeline.background.mode = SONAR_BACKGROUND_PER_ANGLE;
+    o->sweeps = o->survey_sweeps;
     return HOST_OK;
 }
 
@@ -334,6 +372,8 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
                  (double)o->pipeline.structure_s);
         return HOST_ERR_CONFIG;
     }
+    if (check_survey(o, err, errlen) != HOST_OK)
+        return HOST_ERR_CONFIG;
     if ((o->bg_load != NULL || o->bg_save != NULL) && o->coprocessor != NULL) {
         snprintf(err, errlen, "--background-load and --background-save are for sonard's own pipeline: with --coprocessor "
                               "the background is the firmware's");

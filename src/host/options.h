@@ -1,4 +1,4 @@
-/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 10 480 B, most of it the string pool. */
+/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 10 496 B, most of it the string pool. */
 #ifndef SONARD_OPTIONS_H
 #define SONARD_OPTIONS_H
 
@@ -39,6 +39,8 @@ struct sonard_options {
     const char *csv_out;        /* export / recording file */
     const char *bg_load;        /* a recorded background to start from (bgstore.h) */
     const char *bg_save;        /* where the learnt background is written at exit */
+    const char *survey;         /* the site's survey file (survey = PATH): loaded at start when it exists */
+    long survey_sweeps;         /* --survey N: record N sweeps of the empty site into it, then exit; 0 = no */
     const char *lcm_url;        /* NULL: LCM's default ($LCM_DEFAULT_URL, else udpm ttl=0) */
     const char *channel_prefix; /* prepended to every channel; "" by default */
     uint8_t stage;              /* enum sonar_stage exported to csv_out (replay) */
@@ -78,6 +80,9 @@ const struct opt_schema *options_schema(void);
 void options_say_unknown(const struct sonard_options *o, FILE *f);
 
 HOST_CHECK int options_parse(int argc, char **argv, struct sonard_options *o, char *err, size_t errlen);
+
+/* Whether the option named (its long name) was given, on the command line or in a --config file. */
+int options_given(const struct sonard_options *o, const char *name);
 
 /* The Markdown option reference (docs/configuration.md is generated from it). */
 void options_markdown(FILE *f);

@@ -15,5 +15,6 @@ int options_parse_tx(void *base, const char *v, char *err, size_t n);
 int options_parse_sector(void *base, const char *v, char *err, size_t n);
 int options_parse_ignore(void *base, const char *v, char *err, size_t n);
 int options_parse_median(void *base, const char *v, char *err, size_t n);
+int options_parse_survey(void *base, const char *v, char *err, size_t n);
 
 #endif

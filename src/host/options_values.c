@@ -150,3 +150,31 @@ int options_parse_median(void *base, const char *v, char *err, size_t n)
     o->pipeline.median2d = 0;
     return HOST_OK;
 }
+
+/* survey: a whole number records that many sweeps into the survey's file (--survey N); anything else is the file. */
+int options_parse_survey(void *base, const char *v, char *err, size_t n)
+{
+    struct sonard_options *o = base;
+    const char *c = v;
+    long sweeps;
+    while (*c >= '0' && *c <= '9')
+        c++;
+    if (*v == '\0') {
+        snprintf(err, n, "--survey: empty: give the survey's file, or the sweeps to record into it");
+        return HOST_ERR_CONFIG;
+    }
+    if (*c != '\0') {
+        o->survey = v;
+        return HOST_OK;
+    }
+    sweeps = strtol(v, NULL, 10);
+    if (sweeps < SONAR_SURVEY_MIN_LOOKS || sweeps > SONAR_SURVEY_MAX_LOOKS) {
+        snprintf(err, n, "--survey: '%s' sweeps is not %d..%d: each cell must be looked at %d times to know its level and "
+                         "spread (a sector scanned back and forth at a step that does not divide it looks at each angle "
+                         "every other sweep: twice that)",
+                 v, SONAR_SURVEY_MIN_LOOKS, SONAR_SURVEY_MAX_LOOKS, SONAR_SURVEY_MIN_LOOKS);
+        return HOST_ERR_CONFIG;
+    }
+    o->survey_sweeps = sweeps;
+    return HOST_OK;
+}

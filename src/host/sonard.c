@@ -20,8 +20,9 @@
 #include "mav.h"
 #include "source_pose_lcm.h"
 #include "source_replay.h"
+#include "survey_run.h"
 
-/* Everything sonard holds (~2.3 MB: the pipeline and the CSV reader): static in main, never global. */
+/* Everything sonard holds (~7 MB: the pipeline, a survey's spread, the CSV reader, --survey's recording; pages never used cost nothing): static in main, never global. */
 /* --ignore-deg's arcs are copied whole from the options into the endpoint's config. */
 SONAR_STATIC_ASSERT(SONARD_MAX_IGNORE == MAV_MAX_IGNORE, ignore_arcs_match);
 
@@ -46,6 +47,7 @@ struct sonard {
     FILE *csv_out;
     int have_lcm;
     char sonar_url[160]; /* --sonar blueos...: the URL the ping service named (or its fallback) */
+    struct survey_run survey; /* --survey N: the recording (3.9 MB, untouched otherwise) */
 };
 
 static int64_t mono_ns(void *user)
@@ -198,6 +200,37 @@ static void sink_summary(const struct app *a)
                 k->n_detections, k->n_statuses, k->errors);
 }
 
+/*
+ * The site's background at start: --survey N records one (nothing loaded: the recording is the site as it is now);
+ * else the survey's file when it exists, or --background-load's. A file that cannot be used is said, and the
+ * background learns from scratch: nothing else changes.
+ */
+static void site_background(struct sonard *s)
+{
+    char err[320];
+    if (s->opt.survey_sweeps > 0) {
+        survey_run_start(&s->survey, s->app);
+        if (shows(s, APP_INFO))
+            fprintf(stderr, "sonard: survey: recording %ld sweeps of the site into %s (the site must be empty and still; the "
+                            "file there now is replaced only if this one is kept)\n", s->opt.survey_sweeps, s->opt.survey);
+    } else if (s->opt.survey != NULL && s->opt.coprocessor != NULL) {
+        if (shows(s, APP_WARN))
+            fprintf(stderr, "sonard: warning: survey %s: not used with --coprocessor (the firmware's background is its "
+                            "own)\n", s->opt.survey);
+    } else if (s->opt.survey != NULL) {
+        if (access(s->opt.survey, F_OK) != 0 && errno == ENOENT) {
+            if (shows(s, APP_INFO))
+                fprintf(stderr, "sonard: survey: none at %s yet (record one with --survey N when the site is empty): no "
+                                "survey: learning, and nothing present at the start is learnt\n", s->opt.survey);
+        } else if (bgstore_load(s->app, "survey", s->opt.survey, err, sizeof(err)) != HOST_OK) {
+            fprintf(stderr, "sonard: %s; no survey: the background learns afresh\n", err);
+        }
+    } else if (s->opt.bg_load != NULL && bgstore_load(s->app, "--background-load", s->opt.bg_load, err, sizeof(err)) !=
+                                             HOST_OK) {
+        fprintf(stderr, "sonard: %s; the background learns afresh\n", err);
+    }
+}
+
 static int run_live(struct sonard *s)
 {
     struct sonar_status st;
@@ -335,9 +368,7 @@ int main(int argc, char **argv)
     }
     app_set_log(s.app, log_stderr, &s);
     app_set_track_late(s.app, s.opt.track_late);
-    /* A file that cannot be used is said, and the background learns from scratch: nothing else changes. */
-    if (s.opt.bg_load != NULL && bgstore_load(s.app, s.opt.bg_load, err, sizeof(err)) != HOST_OK)
-        fprintf(stderr, "sonard: %s; the background learns afresh\n", err);
+    site_background(&s);
     if (s.opt.mavlink != NULL) {
         struct mav_config mc;
         mc.url = s.opt.mavlink;
@@ -371,6 +402,10 @@ int main(int argc, char **argv)
     if (s.opt.replay != NULL)
         app_set_link(s.app, s.opt.replay);
     rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);
+    if (s.opt.survey_sweeps > 0 && survey_run_finish(&s.survey, s.app, &s.opt, stderr, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonard: %s\n", err);
+        rc = rc != 0 ? rc : 1;
+    }
     if (s.opt.bg_save != NULL) {
         if (bgstore_save(s.app, s.opt.bg_save, err, sizeof(err)) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);

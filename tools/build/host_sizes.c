@@ -7,6 +7,7 @@
 #include "sinks.h"
 #include "source_coproc.h"
 #include "source_link.h"
+#include "survey_run.h"
 
 /* One array per struct: sizeof_<header>__<struct>. */
 #define SIZE(h, s) unsigned char sizeof_##h##__##s[sizeof(struct s)];
@@ -19,3 +20,4 @@ SIZE(source_coproc, source_coproc)
 SIZE(sinks, sink_lcm)
 SIZE(sinks, sink_csv)
 SIZE(sinks, sink_report)
+SIZE(survey_run, survey_run)

@@ -14,6 +14,7 @@
 #include "sonar/scan.h"
 #include "sonar/sweep.h"
 #include "sonar/structure.h"
+#include "sonar/survey.h"
 #include "sonar/tracker.h"
 
 /* One array per struct: sizeof_<header>__<struct>. */
@@ -36,6 +37,9 @@ SIZE(ping360, sonar_ping360)
 SIZE(device, sonar_device)
 SIZE(status, sonar_status)
 SIZE(cpframe, sonar_cpf_parser)
+SIZE(survey, sonar_survey)
+SIZE(survey, sonar_survey_rec)
+SIZE(survey, sonar_survey_spread)
 SIZE(pipeline, sonar_pipeline_config)
 /* What the limits in config.h multiply: a run, a detection, a place, a track, a pose, an echo. */
 SIZE(kmeans, sonar_point)

@@ -1,0 +1,308 @@
+/* survey.c -- a site's survey in use (survey.h): one compare pass and one strongest-echo search a beam, a check of its fit each sweep; no heap. Recording is survey_rec.c. */
+#include "sonar/survey.h"
+
+#include <string.h>
+
+#include "survey_internal.h"
+
+#define NONE 0xFFFFu
+
+const char *sonar_survey_why_str(int why)
+{
+    switch (why) {
+    case SONAR_SURVEY_OK: return "ok";
+    case SONAR_SURVEY_MOVED: return "moved";
+    case SONAR_SURVEY_GEOMETRY: return "geometry";
+    case SONAR_SURVEY_GAIN: return "gain";
+    case SONAR_SURVEY_ANGLES: return "angles";
+    case SONAR_SURVEY_TURNED: return "turned";
+    case SONAR_SURVEY_CHANGED: return "changed";
+    case SONAR_SURVEY_STANDOUT: return "standout";
+    case SONAR_SURVEY_WORLD: return "world";
+    case SONAR_SURVEY_RESTART: return "restart";
+    default: return "?";
+    }
+}
+
+void sonar_survey_init(struct sonar_survey *sv, struct sonar_survey_spread *spread, struct sonar_detection *places)
+{
+    memset(sv, 0, sizeof(*sv));
+    sv->spread = spread;
+    sv->places = places;
+}
+
+/*
+ * Each row's structure: the sample of its strongest level beyond the ring-down, when that level is
+ * SONAR_SURVEY_SIG_LEVEL or more and SONAR_SURVEY_SIG_TIMES its median there (a wall, a ladder,
+ * not the water's speckle); with the level there, for a look that only sees it behind something.
+ */
+static void signature(struct sonar_survey *sv, const struct sonar_background *bg, unsigned row, uint8_t *sig_level)
+{
+    uint16_t hist[256], i, at = 0;
+    const uint8_t *lv = bg->cell[row];
+    uint8_t top = 0, med;
+    sv->sig[row] = NONE;
+    if (sv->near >= sv->meta.n)
+        return;
+    memset(hist, 0, sizeof(hist));
+    for (i = sv->near; i < sv->meta.n; i++) {
+        hist[lv[i]]++;
+        if (lv[i] > top) {
+            top = lv[i];
+            at = i;
+        }
+    }
+    med = hist_median(hist, (unsigned)(sv->meta.n - sv->near));
+    if (top >= SONAR_SURVEY_SIG_LEVEL && (unsigned)top >= SONAR_SURVEY_SIG_TIMES * (unsigned)med) {
+        sv->sig[row] = at;
+        sig_level[row] = top;
+    }
+}
+
+/* Forgets the sweep's looks: rows looked at, their agreement and their stand-out. */
+static void new_sweep(struct sonar_survey *sv)
+{
+    memset(sv->looked, 0, sizeof(sv->looked));
+    sv->checked = sv->agreed = 0;
+    sv->cells = sv->standout = 0;
+}
+
+int sonar_survey_use(struct sonar_survey *sv, struct sonar_background *bg, const uint8_t *img, size_t len, const char **why)
+{
+    struct sonar_bgfile_meta m;
+    struct sonar_bgfile_layout l;
+    const char *dummy;
+    unsigned row, known, fill = SONAR_SURVEY_FILL * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
+    uint8_t k;
+    int r;
+    if (why == NULL)
+        why = &dummy;
+    *why = "bad argument";
+    if (sv == NULL || bg == NULL)
+        return SONAR_ERR_ARG;
+    if ((r = sonar_bgfile_check(img, len, &m, why)) != SONAR_OK)
+        return r;
+    if (sonar_bgfile_layout(m.n, m.flags, m.places, &l) != SONAR_OK)
+        return SONAR_ERR_ARG;
+    if ((r = sonar_bgfile_load(bg, img, len, why)) != SONAR_OK)
+        return r;
+    sv->meta = m;
+    sv->fixed = (uint8_t)((m.flags & SONAR_BGFILE_SURVEY) != 0);
+    sv->has_spread = (uint8_t)(sv->spread != NULL && (m.flags & SONAR_BGFILE_SPREAD));
+    if (sv->has_spread)
+        for (row = 0; row < SONAR_MAX_ANGLES; row++)
+            memcpy(sv->spread->s[row], img + l.spread + (size_t)row * m.n, m.n);
+    /* A checked survey knows a row it looked at SONAR_SURVEY_MIN_LOOKS times; a learnt model one past its warm-up. */
+    known = (m.flags & SONAR_BGFILE_SURVEY) ? SONAR_SURVEY_MIN_LOOKS : (unsigned)bg->warmup + 1u;
+    sv->near = near_samples(m.n, (double)m.range_mm * 1e-3);
+    /*
+     * A row is judged with its own levels when the survey looked at it at all; one it looked at fewer times than it
+     * knows (a sector's end, looked along once a turn-around) takes the larger spread of the nearest row it knows. A
+     * row it never looked at takes the nearest known row within SONAR_SURVEY_FILL gradians (the beam's width).
+     */
+    for (row = 0; row < SONAR_MAX_ANGLES; row++) {
+        unsigned d, near_known = NONE, i;
+        for (d = 0; d <= fill && near_known == NONE; d++) {
+            unsigned lo = (row + SONAR_MAX_ANGLES - d) % SONAR_MAX_ANGLES, hi = (row + d) % SONAR_MAX_ANGLES;
+            near_known = bg->visits[lo] >= known ? lo : bg->visits[hi] >= known ? hi : NONE;
+        }
+        sv->src[row] = (uint16_t)(bg->visits[row] > 0 ? row : near_known);
+        if (sv->has_spread && bg->visits[row] > 0 && bg->visits[row] < known && near_known != NONE)
+            for (i = 0; i < m.n; i++)
+                if (sv->spread->s[near_known][i] > sv->spread->s[row][i])
+                    sv->spread->s[row][i] = sv->spread->s[near_known][i];
+    }
+    {
+        uint8_t sig_level[SONAR_MAX_ANGLES];
+        for (row = 0; row < SONAR_MAX_ANGLES; row++) {
+            sv->sig[row] = NONE;
+            if (bg->visits[row] >= known)
+                signature(sv, bg, row, sig_level);
+            sv->sig_level[row] = sv->sig[row] == NONE ? 0 : sig_level[row];
+        }
+    }
+    sv->nplaces = 0;
+    for (k = 0; sv->places != NULL && k < m.places; k++)
+        sonar_bgfile_get_place(img + l.places + (size_t)k * SONAR_BGFILE_PLACE, &sv->places[sv->nplaces++]);
+    sv->state = SONAR_SURVEY_IN_USE;
+    sv->why = SONAR_SURVEY_OK;
+    sv->turn_grad = 0;
+    sv->bad_run = sv->good_run = 0;
+    sv->refit = 0;
+    sv->sweeps_in_use = 0;
+    new_sweep(sv);
+    *why = "ok";
+    return SONAR_OK;
+}
+
+void sonar_survey_lost(struct sonar_survey *sv, int why)
+{
+    if (sv == NULL || sv->state != SONAR_SURVEY_IN_USE)
+        return;
+    sv->state = SONAR_SURVEY_UNFIT;
+    sv->why = (uint8_t)why;
+    sv->unfits++;
+    sv->good_run = sv->bad_run = 0;
+    sv->refit = 0;
+}
+
+int sonar_survey_fits_beam(struct sonar_survey *sv, uint16_t n, float range_m, int16_t gain)
+{
+    int geometry, fits;
+    if (sv == NULL || sv->state == SONAR_SURVEY_NONE)
+        return SONAR_SURVEY_OK;
+    geometry = n == sv->meta.n && same_range(range_m, (double)sv->meta.range_mm);
+    fits = geometry && (gain < 0 || sv->meta.gain == SONAR_BGFILE_GAIN_UNKNOWN || gain == (int16_t)sv->meta.gain);
+    if (sv->state == SONAR_SURVEY_UNFIT) {
+        /* Given up for its geometry or gain: beams of its own again are the survey's site again. */
+        if (fits && (sv->why == SONAR_SURVEY_GEOMETRY || sv->why == SONAR_SURVEY_GAIN))
+            sv->refit = 1;
+        return SONAR_SURVEY_OK;
+    }
+    return fits ? SONAR_SURVEY_OK : geometry ? SONAR_SURVEY_GAIN : SONAR_SURVEY_GEOMETRY;
+}
+
+/* The beam's strongest echo beyond the ring-down, its sample. */
+static uint16_t strongest(const uint8_t *in, uint16_t from, uint16_t n)
+{
+    uint16_t i, at = from;
+    uint8_t top = 0;
+    for (i = from; i < n; i++)
+        if (in[i] > top) {
+            top = in[i];
+            at = i;
+        }
+    return at;
+}
+
+/* Samples that make SONAR_SURVEY_SIG_M at the survey's range (at least 2). */
+static uint16_t sig_tolerance(const struct sonar_survey *sv)
+{
+    double t = (double)SONAR_SURVEY_SIG_M * (double)sv->meta.n / ((double)sv->meta.range_mm * 1e-3);
+    return (uint16_t)(t < 2.0 ? 2.0 : t);
+}
+
+void sonar_survey_look(struct sonar_survey *sv, uint16_t angle, const uint8_t *in, uint16_t n)
+{
+    unsigned row = row_of(angle), src;
+    uint16_t at, sig, tol, lo, hi, i;
+    uint8_t top = 0;
+    if (sv == NULL || sv->state == SONAR_SURVEY_NONE || n != sv->meta.n || sv->near >= n)
+        return;
+    at = strongest(in, sv->near, n);
+    sv->obs[row] = at;
+    sv->looked[row / 8] = (uint8_t)(sv->looked[row / 8] | 1u << (row % 8));
+    src = sv->src[row];
+    if (src == NONE || (sig = sv->sig[src]) == NONE)
+        return;
+    /* It agrees where its strongest echo is the survey's, or the survey's still echoes behind something brighter. */
+    tol = sig_tolerance(sv);
+    lo = sig > tol ? (uint16_t)(sig - tol) : 0;
+    hi = (uint16_t)(sig + tol < n ? sig + tol : n - 1u);
+    for (i = lo; i <= hi; i++)
+        top = in[i] > top ? in[i] : top;
+    sv->checked++;
+    sv->agreed = (uint16_t)(sv->agreed + ((at >= lo && at <= hi) || 2u * top >= sv->sig_level[src]));
+}
+
+int sonar_survey_apply(struct sonar_survey *sv, const struct sonar_background *bg, uint16_t angle, const uint8_t *in,
+                       uint8_t *fg, uint16_t n)
+{
+    unsigned src;
+    const uint8_t *lv, *sp;
+    uint32_t out = 0;
+    uint16_t i;
+    uint8_t margin;
+    if (sv == NULL || sv->state != SONAR_SURVEY_IN_USE || !sv->fixed || n != sv->meta.n ||
+        (src = sv->src[row_of(angle)]) == NONE)
+        return 0;
+    lv = bg->cell[src];
+    sp = sv->has_spread ? sv->spread->s[src] : NULL;
+    margin = bg->margin;
+    for (i = 0; i < n; i++) {
+        unsigned x = in[i], l = lv[i], g = (l * margin) >> 4, t;
+        if (sp != NULL) {
+            unsigned gs = ((unsigned)sp[i] * SONAR_SURVEY_SPREADS16) >> 4;
+            g = gs > g ? gs : g;
+        }
+        t = l + g;
+        /* With a spread the echo keeps its contrast above the level (a faint body far out its whole contrast); by the
+           level alone it is what exceeds the margin, as a learnt background's foreground is. */
+        fg[i] = (uint8_t)(x > t ? x - (sp != NULL ? l : t) : 0u);
+        out += x > t;
+    }
+    sv->cells += n;
+    sv->standout += out;
+    return 1;
+}
+
+/*
+ * The turn that puts this sweep's strongest echoes where the survey has its structure: the shift s
+ * (rows) under which the most looked-at rows r agree with the survey's row r + s, among shifts with
+ * SONAR_SURVEY_MIN_SIG such rows and a majority agreeing. Returns 1 and *best, or 0 when none does.
+ */
+static int find_turn(const struct sonar_survey *sv, int *best)
+{
+    const int max = SONAR_SURVEY_MAX_TURN * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
+    uint16_t tol = sig_tolerance(sv);
+    unsigned best_agree = 0, best_n = 1;
+    int s, found = 0;
+    for (s = -max; s <= max; s++) {
+        unsigned r, agree = 0, cnt = 0;
+        for (r = 0; r < SONAR_MAX_ANGLES; r++) {
+            unsigned q = (unsigned)(((int)r + s + SONAR_MAX_ANGLES) % SONAR_MAX_ANGLES);
+            uint16_t sig = sv->sig[q];
+            if (!(sv->looked[r / 8] & (1u << (r % 8))) || sig == NONE)
+                continue;
+            cnt++;
+            agree += (sv->obs[r] > sig ? sv->obs[r] - sig : sig - sv->obs[r]) <= tol;
+        }
+        if (cnt >= SONAR_SURVEY_MIN_SIG && 16u * agree >= SONAR_SURVEY_AGREE16 * cnt && agree * best_n > best_agree * cnt) {
+            best_agree = agree;
+            best_n = cnt;
+            *best = s;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+int sonar_survey_sweep(struct sonar_survey *sv)
+{
+    int agree_known, agrees, quiet, turn = 0, gave_up = 0;
+    if (sv == NULL || sv->state == SONAR_SURVEY_NONE)
+        return 0;
+    agree_known = sv->checked >= SONAR_SURVEY_MIN_SIG;
+    agrees = !agree_known || 16u * sv->agreed >= (unsigned)SONAR_SURVEY_AGREE16 * sv->checked;
+    /* Only a spread says how much of the water stands out by chance: by the level alone a fifth of a speckled cell's looks do. */
+    quiet = !sv->has_spread || sv->cells == 0 ||
+            1000u * (uint64_t)sv->standout <= (uint64_t)SONAR_SURVEY_STANDOUT1000 * sv->cells;
+    sv->agree16 = (uint8_t)(agree_known ? 16u * sv->agreed / sv->checked : 16u);
+    sv->standout1000 = (uint8_t)(sv->cells ? (1000u * (uint64_t)sv->standout / sv->cells > 255u
+                                                  ? 255u : 1000u * (uint64_t)sv->standout / sv->cells) : 0u);
+    if (sv->state == SONAR_SURVEY_IN_USE) {
+        sv->sweeps_in_use++;
+        sv->bad_run = (uint8_t)(agrees && quiet ? 0u : sv->bad_run + 1u);
+        if (sv->bad_run >= SONAR_SURVEY_UNFIT_SWEEPS) {
+            sonar_survey_lost(sv, !agrees ? SONAR_SURVEY_CHANGED : SONAR_SURVEY_STANDOUT);
+            if (!agrees && find_turn(sv, &turn) && turn != 0) {
+                sv->why = SONAR_SURVEY_TURNED;
+                sv->turn_grad = (int16_t)(turn * (int)SONAR_GRAD_TURN / SONAR_MAX_ANGLES);
+            }
+            gave_up = 1;
+        }
+    } else if (sv->why == SONAR_SURVEY_TURNED || sv->why == SONAR_SURVEY_CHANGED || sv->why == SONAR_SURVEY_STANDOUT) {
+        /* Its structure back where it was, three quarters of the rows agreeing, sweeps in a row: it may be taken back. */
+        int back = agree_known && 4u * sv->agreed >= 3u * sv->checked;
+        sv->good_run = (uint8_t)(back ? (sv->good_run < 255u ? sv->good_run + 1u : 255u) : 0u);
+        if (sv->good_run >= SONAR_SURVEY_REFIT_SWEEPS)
+            sv->refit = 1;
+    }
+    new_sweep(sv);
+    return gave_up;
+}
+
+int sonar_survey_covers(const struct sonar_survey *sv, uint16_t angle)
+{
+    return sv != NULL && sv->state == SONAR_SURVEY_IN_USE && sv->fixed && sv->src[row_of(angle)] != NONE;
+}
