@@ -63,6 +63,14 @@ struct sonar_pipeline_config {
  * spread over three it would be diluted away.
  */
 #define SONAR_PIPE_ACROSS_GAP 3
+/*
+ * ... and this close for a beam judged against a survey (survey.h): its foreground is then only what
+ * stands out against each cell's own spread, at its full contrast, so spread over a neighbour 4
+ * gradians away an echo is still there, while the far water's one-beam spikes, which one look at 4
+ * gradians cannot tell from a small echo, are diluted (a full-circle pool at 4 gradians: precision
+ * 0.62 -> 0.92 at the same recall, docs/decisions.md).
+ */
+#define SONAR_PIPE_ACROSS_GAP_SURVEY 4
 #define SONAR_PIPE_KEEP_MIN_M 0.3f /* auto background: the least radius about a track the per-angle model never learns, metres */
 #define SONAR_PIPE_LEARN_MAX 16     /* structure places a beam learns at once, at most (spans on the stack: 4 B each) */
 
@@ -76,6 +84,7 @@ struct sonar_pipeline {
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
     struct sonar_survey *sv;   /* the caller's (sonar_pipeline_set_survey), or NULL: no survey can be used */
+    struct sonar_survey_rec *rec; /* a survey being recorded (sonar_pipeline_set_recording), or NULL */
     uint32_t survey_unfit_sweep; /* the sweep at whose end the survey was last given up */
     uint32_t bg_sweeps;        /* sweeps since the background (re)started or was loaded */
     struct sonar_detections out;
@@ -88,6 +97,7 @@ struct sonar_pipeline {
     uint8_t cur;
     uint8_t waiting;                           /* a beam waits in buf[cur ^ 1] for its next neighbour */
     uint8_t wait_alone;                        /* its row was seeding: its window stays on it alone */
+    uint8_t wait_gap;                          /* the widest gap to a neighbour its window spreads over, gradians */
     uint8_t have_before;                       /* before holds the block sums of the beam before it */
     uint16_t wait_angle;                       /* the waiting beam's angle (gradians) ... */
     int64_t wait_utime;                        /* ... and time */
@@ -155,6 +165,14 @@ SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar
  * none can be used, and a recorded model is learnt on from instead). Call before loading one.
  */
 void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv);
+
+/*
+ * Records the site's survey into rec (the caller's, sonar_survey_rec_init'd; NULL stops): every beam
+ * after the median joins it, judged first against what it holds so far (sonar_survey_rec_apply: rows
+ * with too few looks by the background), and every sweep's tracks are checked for something that
+ * moves (sonar_survey_rec_sweep). A refusal is rec's (rec->why); the pipeline runs on.
+ */
+void sonar_pipeline_set_recording(struct sonar_pipeline *p, struct sonar_survey_rec *rec);
 
 /*
  * Starts the background from a recorded one (a bgfile.h image of len bytes, checked whole), forgetting

@@ -32,7 +32,7 @@
  * CFAR after it.
  *
  * Recording refuses, naming why: a track that moved more than SONAR_SURVEY_MOVED_M (someone was in
- * the water: a track of SONAR_TRK_KIND_HITS hits or more that its models call moving), a change of samples, range or gain, and (sonar_survey_rec_check) angles of the sector
+ * the water: over a track's last SONAR_SURVEY_PATH hits it went more than that, and in a line), a change of samples, range or gain, and (sonar_survey_rec_check) angles of the sector
  * not looked at SONAR_SURVEY_MIN_LOOKS times.
  *
  * In use, every beam is checked against the survey's geometry and gain, and every sweep against
@@ -42,18 +42,26 @@
  * the background learns afresh: sonard never blinds itself with a survey of somewhere else.
  */
 #define SONAR_SURVEY_MIN_LOOKS 8      /* looks at each cell before its level and spread are known */
+#define SONAR_SURVEY_REC_LOOKS 4      /* looks after which a recording judges a row against what it holds so far */
 #define SONAR_SURVEY_MAX_LOOKS 255    /* looks a cell's sums hold (uint16 of 255 levels) */
 #define SONAR_SURVEY_SPREADS16 48     /* the gate: 3 spreads above the level (16ths of a spread) */
-#define SONAR_SURVEY_MOVED_M 0.5f     /* a track that moved this far from where it was first seen: someone in the water */
+#ifndef SONAR_SURVEY_MOVED_M
+#define SONAR_SURVEY_MOVED_M 0.5f     /* a track that moved this far over its last hits, on a straight path: someone in the water */
+#endif
+#define SONAR_SURVEY_PATH 4           /* ... its last hits (within SONAR_SURVEY_PATH + 2 sweeps) ... */
+#define SONAR_SURVEY_STRAIGHT 0.7f    /* ... the distance at least this part of the path's length (clutter a track
+                                         joins zigzags; a swimmer, a drifting float or a walker goes somewhere); or
+                                         the mean of its last hits this far from the mean of its first (a slow drift) */
 #define SONAR_SURVEY_FILL 2           /* gradians: an angle the survey did not look at takes one it did this close */
 #define SONAR_SURVEY_NEAR_M 0.5f      /* the ring-down: no structure is looked for nearer */
 #define SONAR_SURVEY_SIG_LEVEL 48     /* an angle holds structure when its strongest level is at least this ... */
 #define SONAR_SURVEY_SIG_TIMES 4      /* ... and this many times its median level beyond the ring-down */
-#define SONAR_SURVEY_SIG_M 0.3f       /* a look agrees when its strongest echo is this close to the survey's, metres */
-#define SONAR_SURVEY_MIN_SIG 8        /* angles with structure a sweep needs before it can say the survey fits or not */
+#define SONAR_SURVEY_SIG_M 0.06f      /* a look agrees when its strongest echo is this close to the survey's, metres (at least 2 samples) */
+#define SONAR_SURVEY_MIN_SIG 16       /* angles with structure a sweep needs before it can say the survey fits or not */
 #define SONAR_SURVEY_AGREE16 8        /* a sweep fits when this many 16ths of those angles agree ... */
 #define SONAR_SURVEY_STANDOUT1000 250 /* ... and no more than this many thousandths of its cells stand out (a crowd is a tenth) */
 #define SONAR_SURVEY_UNFIT_SWEEPS 2   /* sweeps in a row that do not fit before the survey is given up */
+#define SONAR_SURVEY_NEW_SWEEPS 2     /* ... or of the last 3 with structure it does not hold (no person makes a line) */
 #define SONAR_SURVEY_REFIT_SWEEPS 3   /* sweeps in a row that fit again before it may be taken back */
 #define SONAR_SURVEY_MAX_TURN 100     /* gradians either way a turned mount is looked for */
 
@@ -68,7 +76,8 @@ enum sonar_survey_why {
     SONAR_SURVEY_CHANGED = 6,  /* in use: the structure is not where the survey has it (moved, the site changed) */
     SONAR_SURVEY_STANDOUT = 7, /* in use: too much of the sweep stands out against it */
     SONAR_SURVEY_WORLD = 8,    /* a moving sonar (poses): a survey is of a fixed site */
-    SONAR_SURVEY_RESTART = 9   /* in use: the background restarted (a reload's new filter or mode) */
+    SONAR_SURVEY_RESTART = 9,  /* in use: the background restarted (a reload's new filter or mode) */
+    SONAR_SURVEY_NEW = 10      /* in use: structure it does not hold stands out (lines wider than any object) */
 };
 
 /* "moved", "geometry", ... (enum sonar_survey_why), or "?". */
@@ -86,14 +95,18 @@ struct sonar_survey_rec {
     int16_t gain;                                      /* of the first beam, -1 unknown */
     int64_t first_utime, last_utime;                   /* us since the epoch */
     uint32_t beams, sweeps;
+    uint32_t judged, sweep_beams;                      /* this sweep's beams judged against the sums, and all its beams */
     uint8_t why;                                       /* enum sonar_survey_why: SONAR_SURVEY_OK while it may be kept */
     uint32_t moved_id;                                 /* SONAR_SURVEY_MOVED: the track, how far, and where it was then */
     float moved_m, moved_x, moved_y;
-    struct {
-        uint32_t id;
-        float x, y;                                    /* where it was first seen (the tracker's frame) */
-    } first[SONAR_MAX_TRACKS];
-    uint8_t nfirst;
+    struct sonar_survey_path {
+        uint32_t id;                                   /* a live track's, 0: free */
+        uint8_t n;                                     /* hits kept in x, y (the last SONAR_SURVEY_PATH) */
+        uint32_t sweep[SONAR_SURVEY_PATH];             /* the sweep of each hit, oldest first */
+        float x[SONAR_SURVEY_PATH], y[SONAR_SURVEY_PATH]; /* where it was, the tracker's frame */
+        uint16_t hits;                                 /* hits since its first kept one ... */
+        float x0, y0;                                  /* ... and their first SONAR_SURVEY_PATH's mean (a drift from it) */
+    } path[SONAR_MAX_TRACKS];
 };
 
 /* Empties rec for a new recording. */
@@ -109,10 +122,22 @@ SONAR_CHECK int sonar_survey_rec_beam(struct sonar_survey_rec *rec, uint16_t ang
                                       float range_m, int16_t gain, int64_t utime);
 
 /*
- * A sweep's end with its tracks (tk, or NULL when not tracking): a confirmed track farther than
- * SONAR_SURVEY_MOVED_M from where it was first seen refuses the recording (SONAR_SURVEY_MOVED, the
- * track, distance and place in rec). world: the sweep was in the world frame (a moving sonar):
- * refused (SONAR_SURVEY_WORLD). Returns as sonar_survey_rec_beam.
+ * The beam judged against what the recording holds so far, before it joins it (sonar_survey_rec_beam
+ * after): once its row has SONAR_SURVEY_REC_LOOKS looks, fg[i] = in[i] - mean where in[i] stands out
+ * over the mean by 3 standard deviations and margin / 16 of the mean, else 0 (in and fg may be the same
+ * buffer), so that what moves through the site stands out while it is recorded and is tracked.
+ * Returns 1 when done, 0 when the row has too few looks yet (the caller's background judges it).
+ */
+int sonar_survey_rec_apply(struct sonar_survey_rec *rec, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n,
+                           uint8_t margin);
+
+/*
+ * A sweep's end with its tracks (tk, or NULL when not tracking): a confirmed track whose last
+ * SONAR_SURVEY_PATH hits, within SONAR_SURVEY_PATH + 2 sweeps of which at least half the beams were
+ * judged against the sums (sonar_survey_rec_apply), went more than SONAR_SURVEY_MOVED_M and at least
+ * SONAR_SURVEY_STRAIGHT of their path's length refuses the recording
+ * (SONAR_SURVEY_MOVED, the track, distance and place in rec). world: the sweep was in the world
+ * frame (a moving sonar): refused (SONAR_SURVEY_WORLD). Returns as sonar_survey_rec_beam.
  */
 SONAR_CHECK int sonar_survey_rec_sweep(struct sonar_survey_rec *rec, const struct sonar_tracker *tk, int world);
 
@@ -170,6 +195,7 @@ struct sonar_survey {
     uint16_t checked, agreed;                /* this sweep: rows with structure looked at, and those that agree */
     uint32_t cells, standout;                /* this sweep: surveyed cells compared, and those that stood out */
     uint8_t bad_run, good_run;               /* sweeps in a row that did not fit / fit (while unfit) */
+    uint8_t lines;                           /* bit k: the sweep k sweeps ago had structure the survey does not hold */
     uint8_t refit;                           /* 1: it fits again: the caller may take it back (sonar_pipeline_load_background) */
     uint32_t unfits;                         /* times it was given up */
     uint32_t sweeps_in_use;                  /* sweeps judged against it */
@@ -227,11 +253,12 @@ int sonar_survey_apply(struct sonar_survey *sv, const struct sonar_background *b
                        uint8_t *fg, uint16_t n);
 
 /*
- * The sweep's end: whether the survey fits (in use) or fits again (unfit). Returns 1 when it has just
- * stopped fitting (sv->why, and turn_grad for a turn: the caller gives it up, sonar_survey_lost, and
- * learns), else 0. Sets refit when an unfit survey fits again.
+ * The sweep's end, with the detections of kind structure it made (lines wider than any object, which
+ * a survey in use should hold): whether the survey fits (in use) or fits again (unfit). Returns 1
+ * when it has just stopped fitting (sv->why, and turn_grad for a turn; sv is then unfit: the caller
+ * restarts the background and learns), else 0. Sets refit when an unfit survey fits again.
  */
-int sonar_survey_sweep(struct sonar_survey *sv);
+int sonar_survey_sweep(struct sonar_survey *sv, unsigned structures);
 
 /* Whether angle's row is judged against the survey now (a fixed survey, in use and covering it). */
 int sonar_survey_covers(const struct sonar_survey *sv, uint16_t angle);

@@ -130,6 +130,28 @@ void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv
     p->sv = sv;
 }
 
+void sonar_pipeline_set_recording(struct sonar_pipeline *p, struct sonar_survey_rec *rec)
+{
+    p->rec = rec;
+}
+
+/*
+ * A survey being recorded: the beam judged against what it holds so far (returns 1: done; 0: the
+ * background judges it), then added to it. A refusal is kept in the recording (rec->why, its
+ * SONAR_ERR_STATE): the beams still go through.
+ */
+static int record(struct sonar_pipeline *p, int64_t utime, uint16_t angle, uint8_t *b)
+{
+    uint8_t kept[SONAR_MAX_SAMPLES];
+    int done, r;
+    if (p->rec == NULL)
+        return 0;
+    memcpy(kept, b, p->n);
+    done = sonar_survey_rec_apply(p->rec, angle, kept, b, p->n, p->cfg->background.margin);
+    r = sonar_survey_rec_beam(p->rec, angle, kept, p->n, p->range_m, p->last_gain, utime);
+    return r == SONAR_ERR_ARG ? r : done;
+}
+
 static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16_t angle, const uint8_t *s)
 {
     struct sonar_beam b;
@@ -279,10 +301,9 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
      * echo breaks into wall-sized pieces that the extent rule no longer sees as one.
      */
     int alone = p->wait_alone, r;
-    const uint16_t *before = p->have_before && sonar_frame_gap(p->before_angle, p->wait_angle) <= SONAR_PIPE_ACROSS_GAP
-                                 ? p->before
-                                 : NULL;
-    if (next != NULL && sonar_frame_gap(next_angle, p->wait_angle) > SONAR_PIPE_ACROSS_GAP)
+    const uint16_t *before = p->have_before && sonar_frame_gap(p->before_angle, p->wait_angle) <= p->wait_gap ? p->before
+                                                                                                             : NULL;
+    if (next != NULL && sonar_frame_gap(next_angle, p->wait_angle) > p->wait_gap)
         next = NULL;
     /*
      * A beam with one neighbour (a sector's end, where the head turns back; a sweep's first or last
@@ -314,14 +335,16 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     struct sonar_bg_span sp[SONAR_MAX_TRACKS], learn[SONAR_PIPE_LEARN_MAX];
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
     uint8_t *b = p->buf[p->cur], nkeep, nlearn;
-    int r, done, seeding = sonar_background_seeding(p->bg, angle);
+    int r, done, judged = 0, seeding = sonar_background_seeding(p->bg, angle);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     sonar_survey_look(p->sv, angle, b, p->n);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
     if (done)
         sonar_survey_lost(p->sv, SONAR_SURVEY_WORLD); /* the grid takes the background's bytes: the survey's levels go */
-    else if (!sonar_survey_apply(p->sv, p->bg, angle, b, b, p->n)) {
+    else if ((judged = record(p, utime, angle, b)) < 0)
+        return judged;
+    else if (!judged && !(judged = sonar_survey_apply(p->sv, p->bg, angle, b, b, p->n))) {
         nkeep = keep_spans(p, angle, sp, learn, &nlearn);
         if ((r = sonar_background_apply_spans(p->bg, angle, b, b, p->n, sp, nkeep, learn, nlearn)) != SONAR_OK)
             return r;
@@ -338,6 +361,7 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     memcpy(p->wait_sums, sums, sizeof(sums));
     p->waiting = 1;
     p->wait_alone = (uint8_t)seeding;
+    p->wait_gap = judged ? SONAR_PIPE_ACROSS_GAP_SURVEY : SONAR_PIPE_ACROSS_GAP;
     p->wait_angle = angle;
     p->wait_utime = utime;
     p->cur ^= 1u;
@@ -406,6 +430,15 @@ void sonar_pipeline_set_poses(struct sonar_pipeline *p, const struct sonar_pose_
     p->poses = poses;
 }
 
+/* The sweep's detections of kind structure: lines wider than any object (the survey in use should hold them). */
+static unsigned structures(const struct sonar_detections *d)
+{
+    unsigned k, n = 0;
+    for (k = 0; k < d->count; k++)
+        n += d->det[k].kind == SONAR_DET_STRUCTURE;
+    return n;
+}
+
 static int end_sweep(struct sonar_pipeline *p)
 {
     struct sonar_median_row meta;
@@ -428,7 +461,10 @@ static int end_sweep(struct sonar_pipeline *p)
         return r;
     if ((r = sonar_pipe_finish_sweep(p, 1)) != SONAR_OK)
         return r;
-    if (sonar_survey_sweep(p->sv)) {
+    if (p->rec != NULL && sonar_survey_rec_sweep(p->rec, p->cfg->track ? &p->trk : NULL, p->out.world) != SONAR_OK) {
+        /* Refused: said by its recorder (rec->why); the sweep goes out as usual. */
+    }
+    if (sonar_survey_sweep(p->sv, structures(&p->out))) {
         /* The survey no longer fits (said through the survey's why): the background learns afresh from the next beam. */
         sonar_pipeline_restart_background(p);
         p->survey_unfit_sweep = p->sweeps + 1u;

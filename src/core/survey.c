@@ -20,6 +20,7 @@ const char *sonar_survey_why_str(int why)
     case SONAR_SURVEY_STANDOUT: return "standout";
     case SONAR_SURVEY_WORLD: return "world";
     case SONAR_SURVEY_RESTART: return "restart";
+    case SONAR_SURVEY_NEW: return "new structure";
     default: return "?";
     }
 }
@@ -143,6 +144,7 @@ void sonar_survey_lost(struct sonar_survey *sv, int why)
     sv->why = (uint8_t)why;
     sv->unfits++;
     sv->good_run = sv->bad_run = 0;
+    sv->lines = 0;
     sv->refit = 0;
 }
 
@@ -236,40 +238,60 @@ int sonar_survey_apply(struct sonar_survey *sv, const struct sonar_background *b
     return 1;
 }
 
+/* Rows looked at this sweep whose row r + s (shift s in rows) has structure, and those of them that agree with it. */
+static void shifted(const struct sonar_survey *sv, int s, uint16_t tol, unsigned *cnt, unsigned *agree)
+{
+    unsigned r;
+    *cnt = *agree = 0;
+    for (r = 0; r < SONAR_MAX_ANGLES; r++) {
+        unsigned q = (unsigned)(((int)r + s + SONAR_MAX_ANGLES) % SONAR_MAX_ANGLES);
+        uint16_t sig = sv->sig[q];
+        if (!(sv->looked[r / 8] & (1u << (r % 8))) || sig == NONE)
+            continue;
+        (*cnt)++;
+        *agree += (sv->obs[r] > sig ? sv->obs[r] - sig : sig - sv->obs[r]) <= tol;
+    }
+}
+
 /*
- * The turn that puts this sweep's strongest echoes where the survey has its structure: the shift s
- * (rows) under which the most looked-at rows r agree with the survey's row r + s, among shifts with
- * SONAR_SURVEY_MIN_SIG such rows and a majority agreeing. Returns 1 and *best, or 0 when none does.
+ * The turn that puts this sweep's strongest echoes where the survey has its structure: among the
+ * shifts s (rows) with SONAR_SURVEY_MIN_SIG rows to compare and a majority of them agreeing, the
+ * middle of those within a sixteenth of the best agreement (a wall agrees over a few shifts: the
+ * tolerance spans them). Returns 1 and *best, or 0 when no shift is a majority.
  */
 static int find_turn(const struct sonar_survey *sv, int *best)
 {
     const int max = SONAR_SURVEY_MAX_TURN * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
     uint16_t tol = sig_tolerance(sv);
-    unsigned best_agree = 0, best_n = 1;
-    int s, found = 0;
+    unsigned top16 = 0, cnt, agree;
+    int s, lo = 1, hi = 0;
     for (s = -max; s <= max; s++) {
-        unsigned r, agree = 0, cnt = 0;
-        for (r = 0; r < SONAR_MAX_ANGLES; r++) {
-            unsigned q = (unsigned)(((int)r + s + SONAR_MAX_ANGLES) % SONAR_MAX_ANGLES);
-            uint16_t sig = sv->sig[q];
-            if (!(sv->looked[r / 8] & (1u << (r % 8))) || sig == NONE)
-                continue;
-            cnt++;
-            agree += (sv->obs[r] > sig ? sv->obs[r] - sig : sig - sv->obs[r]) <= tol;
-        }
-        if (cnt >= SONAR_SURVEY_MIN_SIG && 16u * agree >= SONAR_SURVEY_AGREE16 * cnt && agree * best_n > best_agree * cnt) {
-            best_agree = agree;
-            best_n = cnt;
-            *best = s;
-            found = 1;
+        shifted(sv, s, tol, &cnt, &agree);
+        if (cnt >= SONAR_SURVEY_MIN_SIG && 16u * agree >= SONAR_SURVEY_AGREE16 * cnt && 256u * agree / cnt > top16)
+            top16 = 256u * agree / cnt;
+    }
+    if (top16 == 0)
+        return 0;
+    for (s = -max; s <= max; s++) {
+        shifted(sv, s, tol, &cnt, &agree);
+        if (cnt >= SONAR_SURVEY_MIN_SIG && 256u * agree / cnt + 16u >= top16) {
+            lo = lo > hi ? s : lo;
+            hi = s;
         }
     }
-    return found;
+    *best = (lo + hi) / 2;
+    return 1;
 }
 
-int sonar_survey_sweep(struct sonar_survey *sv)
+/* Bits set in the low three of b: sweeps of the last three with structure the survey does not hold. */
+static unsigned last3(uint8_t b)
 {
-    int agree_known, agrees, quiet, turn = 0, gave_up = 0;
+    return (b & 1u) + ((b >> 1) & 1u) + ((b >> 2) & 1u);
+}
+
+int sonar_survey_sweep(struct sonar_survey *sv, unsigned structures)
+{
+    int agree_known, agrees, quiet, turn = 0, gave_up = 0, lines;
     if (sv == NULL || sv->state == SONAR_SURVEY_NONE)
         return 0;
     agree_known = sv->checked >= SONAR_SURVEY_MIN_SIG;
@@ -280,18 +302,21 @@ int sonar_survey_sweep(struct sonar_survey *sv)
     sv->agree16 = (uint8_t)(agree_known ? 16u * sv->agreed / sv->checked : 16u);
     sv->standout1000 = (uint8_t)(sv->cells ? (1000u * (uint64_t)sv->standout / sv->cells > 255u
                                                   ? 255u : 1000u * (uint64_t)sv->standout / sv->cells) : 0u);
+    sv->lines = (uint8_t)(sv->lines << 1 | (sv->state == SONAR_SURVEY_IN_USE && sv->fixed && structures > 0));
+    lines = last3(sv->lines) >= SONAR_SURVEY_NEW_SWEEPS;
     if (sv->state == SONAR_SURVEY_IN_USE) {
         sv->sweeps_in_use++;
         sv->bad_run = (uint8_t)(agrees && quiet ? 0u : sv->bad_run + 1u);
-        if (sv->bad_run >= SONAR_SURVEY_UNFIT_SWEEPS) {
-            sonar_survey_lost(sv, !agrees ? SONAR_SURVEY_CHANGED : SONAR_SURVEY_STANDOUT);
+        if (sv->bad_run >= SONAR_SURVEY_UNFIT_SWEEPS || lines) {
+            sonar_survey_lost(sv, !agrees ? SONAR_SURVEY_CHANGED : !quiet ? SONAR_SURVEY_STANDOUT : SONAR_SURVEY_NEW);
             if (!agrees && find_turn(sv, &turn) && turn != 0) {
                 sv->why = SONAR_SURVEY_TURNED;
                 sv->turn_grad = (int16_t)(turn * (int)SONAR_GRAD_TURN / SONAR_MAX_ANGLES);
             }
             gave_up = 1;
         }
-    } else if (sv->why == SONAR_SURVEY_TURNED || sv->why == SONAR_SURVEY_CHANGED || sv->why == SONAR_SURVEY_STANDOUT) {
+    } else if (sv->why == SONAR_SURVEY_TURNED || sv->why == SONAR_SURVEY_CHANGED || sv->why == SONAR_SURVEY_STANDOUT ||
+               sv->why == SONAR_SURVEY_NEW) {
         /* Its structure back where it was, three quarters of the rows agreeing, sweeps in a row: it may be taken back. */
         int back = agree_known && 4u * sv->agreed >= 3u * sv->checked;
         sv->good_run = (uint8_t)(back ? (sv->good_run < 255u ? sv->good_run + 1u : 255u) : 0u);

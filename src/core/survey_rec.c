@@ -18,6 +18,27 @@ static int refuse(struct sonar_survey_rec *rec, int why)
     return SONAR_ERR_STATE;
 }
 
+int sonar_survey_rec_apply(struct sonar_survey_rec *rec, uint16_t angle, const uint8_t *in, uint8_t *fg, uint16_t n,
+                           uint8_t margin)
+{
+    unsigned row, v;
+    uint16_t i;
+    if (rec == NULL || in == NULL || fg == NULL || angle > SONAR_GRAD_MAX || n != rec->n || n == 0)
+        return 0;
+    row = row_of(angle);
+    if ((v = rec->looks[row]) < SONAR_SURVEY_REC_LOOKS)
+        return 0;
+    for (i = 0; i < n; i++) {
+        double mean = (double)rec->sum[row][i] / v, var = (double)rec->sq[row][i] / v - mean * mean;
+        double gate = 3.0 * (var > 0.0 ? sqrt(var) : 0.0), floor16 = mean * margin / 16.0;
+        double x = in[i];
+        gate = gate > floor16 ? gate : floor16;
+        fg[i] = (uint8_t)(x > mean + gate ? x - mean + 0.5 : 0.0);
+    }
+    rec->judged++;
+    return 1;
+}
+
 int sonar_survey_rec_beam(struct sonar_survey_rec *rec, uint16_t angle, const uint8_t *samples, uint16_t n, float range_m,
                           int16_t gain, int64_t utime)
 {
@@ -42,6 +63,7 @@ int sonar_survey_rec_beam(struct sonar_survey_rec *rec, uint16_t angle, const ui
     }
     rec->last_utime = utime;
     rec->beams++;
+    rec->sweep_beams++;
     row = row_of(angle);
     if (rec->looks[row] >= SONAR_SURVEY_MAX_LOOKS)
         return SONAR_OK; /* enough is known of it: the sums would overflow */
@@ -57,9 +79,69 @@ int sonar_survey_rec_beam(struct sonar_survey_rec *rec, uint16_t angle, const ui
     return SONAR_OK;
 }
 
+/* The path slot of track id (a free one, or the slot of a track that is gone, when it has none); NULL when full. */
+static int path_slot(struct sonar_survey_rec *rec, const struct sonar_tracker *tk, uint32_t id)
+{
+    int k, free_at = -1;
+    uint8_t i;
+    for (k = 0; k < SONAR_MAX_TRACKS; k++) {
+        int live = 0;
+        if (rec->path[k].id == id)
+            return k;
+        for (i = 0; i < tk->n && !live; i++)
+            live = tk->t[i].id == rec->path[k].id;
+        if (free_at < 0 && (rec->path[k].id == 0 || !live))
+            free_at = k;
+    }
+    if (free_at >= 0) {
+        memset(&rec->path[free_at], 0, sizeof(rec->path[free_at]));
+        rec->path[free_at].id = id;
+    }
+    return free_at;
+}
+
+/* Whether a path of SONAR_SURVEY_PATH hits went more than SONAR_SURVEY_MOVED_M, and in a line; *d the distance. */
+static int went(const float *x, const float *y, float *d)
+{
+    float len = 0.0f, dx, dy;
+    int k;
+    for (k = 1; k < SONAR_SURVEY_PATH; k++) {
+        dx = x[k] - x[k - 1];
+        dy = y[k] - y[k - 1];
+        len += sqrtf(dx * dx + dy * dy);
+    }
+    dx = x[SONAR_SURVEY_PATH - 1] - x[0];
+    dy = y[SONAR_SURVEY_PATH - 1] - y[0];
+    *d = sqrtf(dx * dx + dy * dy);
+    return *d > SONAR_SURVEY_MOVED_M && *d >= SONAR_SURVEY_STRAIGHT * len;
+}
+
+/* The mean of a path's kept hits. */
+static void mean_of(const struct sonar_survey_path *p, float *x, float *y)
+{
+    float sx = 0.0f, sy = 0.0f;
+    uint8_t k;
+    for (k = 0; k < p->n; k++) {
+        sx += p->x[k];
+        sy += p->y[k];
+    }
+    *x = p->n ? sx / (float)p->n : 0.0f;
+    *y = p->n ? sy / (float)p->n : 0.0f;
+}
+
+/* Whether the mean of a path's last hits is more than SONAR_SURVEY_MOVED_M from the mean of its first: a slow drift. */
+static int drifted(const struct sonar_survey_path *p, float *d)
+{
+    float x, y;
+    mean_of(p, &x, &y);
+    *d = sqrtf((x - p->x0) * (x - p->x0) + (y - p->y0) * (y - p->y0));
+    return *d > SONAR_SURVEY_MOVED_M;
+}
+
 int sonar_survey_rec_sweep(struct sonar_survey_rec *rec, const struct sonar_tracker *tk, int world)
 {
-    uint8_t i, j;
+    uint8_t i;
+    int judged;
     if (rec == NULL)
         return SONAR_ERR_ARG;
     if (rec->why != SONAR_SURVEY_OK)
@@ -67,29 +149,38 @@ int sonar_survey_rec_sweep(struct sonar_survey_rec *rec, const struct sonar_trac
     rec->sweeps++;
     if (world)
         return refuse(rec, SONAR_SURVEY_WORLD);
+    judged = 2u * rec->judged >= rec->sweep_beams && rec->sweep_beams > 0;
+    rec->judged = rec->sweep_beams = 0;
+    if (!judged) {
+        /* Learnt per angle, not yet against the sums: the site's own clutter stands out; paths start afresh. */
+        memset(rec->path, 0, sizeof(rec->path));
+        return SONAR_OK;
+    }
     for (i = 0; tk != NULL && i < tk->n; i++) {
         const struct sonar_track *t = &tk->t[i];
-        float dx, dy, d;
-        if (t->state == SONAR_TRACK_TENTATIVE)
+        int k, m;
+        float d;
+        if (t->state == SONAR_TRACK_TENTATIVE || t->det < 0 || (k = path_slot(rec, tk, t->id)) < 0)
             continue;
-        for (j = 0; j < rec->nfirst && rec->first[j].id != t->id; j++)
-            ;
-        if (j == rec->nfirst) {
-            /* Where it was when first confirmed; a full table keeps the first ones (more than
-               SONAR_MAX_TRACKS things in an empty site is itself a refusal to come). */
-            if (rec->nfirst < SONAR_MAX_TRACKS) {
-                rec->first[rec->nfirst].id = t->id;
-                rec->first[rec->nfirst].x = t->px;
-                rec->first[rec->nfirst].y = t->py;
-                rec->nfirst++;
+        if (rec->path[k].n == SONAR_SURVEY_PATH) {
+            for (m = 1; m < SONAR_SURVEY_PATH; m++) {
+                rec->path[k].sweep[m - 1] = rec->path[k].sweep[m];
+                rec->path[k].x[m - 1] = rec->path[k].x[m];
+                rec->path[k].y[m - 1] = rec->path[k].y[m];
             }
-            continue;
+            rec->path[k].n--;
         }
-        dx = t->px - rec->first[j].x;
-        dy = t->py - rec->first[j].y;
-        d = sqrtf(dx * dx + dy * dy);
-        /* Moving by its models, over enough hits that it is something (two flukes joined make a young track jump). */
-        if (d > SONAR_SURVEY_MOVED_M && t->hits >= SONAR_TRK_KIND_HITS && t->kind == SONAR_TRACK_KIND_MOVING) {
+        m = rec->path[k].n++;
+        rec->path[k].sweep[m] = rec->sweeps;
+        rec->path[k].x[m] = t->px;
+        rec->path[k].y[m] = t->py;
+        if (rec->path[k].hits < 0xFFFFu)
+            rec->path[k].hits++;
+        if (rec->path[k].hits == SONAR_SURVEY_PATH)
+            mean_of(&rec->path[k], &rec->path[k].x0, &rec->path[k].y0);
+        if (rec->path[k].n == SONAR_SURVEY_PATH &&
+            ((rec->sweeps - rec->path[k].sweep[0] <= SONAR_SURVEY_PATH + 1u && went(rec->path[k].x, rec->path[k].y, &d)) ||
+             (rec->path[k].hits >= 2 * SONAR_SURVEY_PATH && drifted(&rec->path[k], &d)))) {
             rec->moved_id = t->id;
             rec->moved_m = d;
             rec->moved_x = t->px;

@@ -56,11 +56,7 @@ static void on_stage(void *user, int stage, const struct sonar_beam *b)
     struct sonar_record r;
     if (stage == SONAR_STAGE_RAW)
         return; /* app_push already gave the raw beam to the sinks, with all its metadata */
-    /* A refused recording (rec->why) ends the run: nothing more can make it a survey; its end says why. */
-    if (stage == SONAR_STAGE_MEDIAN && a->rec != NULL &&
-        sonar_survey_rec_beam(a->rec, b->angle, b->samples, b->n, b->range_m, (int16_t)sonar_pipeline_gain(&a->pipe),
-                              b->utime) != SONAR_OK)
-        a->sweeps_done = 1;
+
     r = a->cur;
     r.utime = b->utime;
     r.angle = b->angle; /* the 2-D median delays rows: the angle is the row's, not the input's */
@@ -131,7 +127,8 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
     app_gain_sweep(a, d->sweep);
-    if (a->rec != NULL && sonar_survey_rec_sweep(a->rec, sonar_pipeline_tracker(&a->pipe), d->world) != SONAR_OK)
+    /* A refused recording ends the run: nothing more can make it a survey; its end says why. */
+    if (a->rec != NULL && a->rec->why != SONAR_SURVEY_OK)
         a->sweeps_done = 1;
     if (sonar_pipeline_structure_promoted(&a->pipe) != a->structure_said) {
         unsigned n = sonar_pipeline_structure_count(&a->pipe);

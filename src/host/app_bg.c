@@ -86,6 +86,11 @@ static void say_unfit(const struct app *a, const struct sonar_survey *sv)
         app_warn(a, "survey: %.1f %% of the sweep stands out against it (the water level, or the site changed?): %s",
                  sv->standout1000 * 0.1, then);
         break;
+    case SONAR_SURVEY_NEW:
+        app_warn(a, "survey: lines wider than any object stand out against it in %d of the last 3 sweeps (walls, a dock, "
+                    "ropes it does not hold): the site changed or the sonar moved? %s; record the survey again",
+                 SONAR_SURVEY_NEW_SWEEPS, then);
+        break;
     case SONAR_SURVEY_WORLD:
         app_warn(a, "survey: the vehicle's pose is known (the world frame): a survey is of a fixed site: not used");
         break;
@@ -123,6 +128,7 @@ const struct sonar_survey *app_survey(const struct app *a)
 void app_record_survey(struct app *a, struct sonar_survey_rec *rec)
 {
     a->rec = rec;
+    sonar_pipeline_set_recording(&a->pipe, rec);
 }
 
 int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen)

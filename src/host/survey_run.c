@@ -16,9 +16,9 @@ static void refused(const struct sonar_survey_rec *rec, char *err, size_t errlen
 {
     switch (rec->why) {
     case SONAR_SURVEY_MOVED:
-        snprintf(err, errlen, "track %u moved %.1f m from where it was first seen (to %.1f, %.1f m) by sweep %u: someone or "
+        snprintf(err, errlen, "track %u went %.1f m over its last %d looks (to %.1f, %.1f m) by sweep %u: someone or "
                               "something was in the water; record the survey again when the site is empty and still",
-                 (unsigned)rec->moved_id, (double)rec->moved_m, (double)rec->moved_x, (double)rec->moved_y,
+                 (unsigned)rec->moved_id, (double)rec->moved_m, SONAR_SURVEY_PATH, (double)rec->moved_x, (double)rec->moved_y,
                  (unsigned)rec->sweeps);
         break;
     case SONAR_SURVEY_GEOMETRY:

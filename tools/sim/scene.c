@@ -38,6 +38,10 @@ static double rayleigh(struct scene_rng *g)
  *             with two swaying lane ropes and a ladder (structure, there from the first ping); two
  *             swimmers doing lengths from 10 s and 20 s, and one who swims for 20 s and then rests
  *             (40 passes).
+ *   laps:     full turns at 4 gradians, 600 samples over 15 m (6.3 s a turn): the sonar hangs in the
+ *             middle of a 16 x 25 m pool, walls all round (its corners beyond the range), two swaying
+ *             lane ropes, a ladder (structure); three swimmers doing lengths at 0.6 m/s, one standing
+ *             from the first ping (30 turns).
  */
 static int pool_scene(struct scene *s, const char *name)
 {
@@ -98,6 +102,31 @@ static int pool_scene(struct scene *s, const char *name)
         memcpy(s->rope, r, sizeof(r));
         s->nrope = 2;
         s->sweeps = 40;
+        memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "laps") == 0) {
+        static const struct scene_wall w[4] = {{-8, -12.5, 8, -12.5}, {8, -12.5, 8, 12.5}, {8, 12.5, -8, 12.5},
+                                               {-8, 12.5, -8, -12.5}};
+        static const struct scene_rope r[2] = {{-4.0, -12.5, 12.5, 80, 0.15, 6.0}, {4.0, -12.5, 12.5, 80, 0.15, 7.0}};
+        static const struct scene_object o[] = {
+            {"ladder", 7.6, 9.0, 0.15, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0, 1},
+            {"swim_a", 0, 0, 0.35, 0, 0, 150, 0, 7, {0, 37, 74, 111, 148, 185, 200}, {-6.0, -6.0, -6.0, -6.0, -6.0, -6.0, -6.0},
+             {-11, 11, -11, 11, -11, 11, 2}, 0, 0},
+            {"swim_b", 0, 0, 0.35, 0, 0, 150, 0, 7, {12, 46, 80, 114, 148, 182, 200}, {2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0},
+             {11, -9, 11, -9, 11, -9, 1.6}, 0, 0},
+            {"swim_c", 0, 0, 0.35, 0, 0, 145, 0, 5, {30, 70, 110, 150, 200}, {6.0, 6.0, 6.0, 6.0, 6.0},
+             {-10, 10, -10, 10, -15}, 0, 0},
+            {"stand", -2.0, -6.0, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
+        };
+        memcpy(s->wall, w, sizeof(w));
+        s->nwall = 4;
+        memcpy(s->rope, r, sizeof(r));
+        s->nrope = 2;
+        /* Full turns from the +y axis: the sonar hangs in the middle of the pool, and a turn ends where no lane runs. */
+        s->start = s->stop = 100;
+        s->samples = 600;
+        s->step = 4;
+        s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else {
@@ -221,7 +250,7 @@ int scene_make(struct scene *s, const char *name)
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
         s->veh = v;
     } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0 ||
-               strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0) {
+               strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0 || strcmp(name, "laps") == 0) {
         return pool_scene(s, name);
     } else {
         return -1;
@@ -294,8 +323,9 @@ int scene_angle(const struct scene *s, int sweep, int i)
 {
     int n, a;
     if (s->start == s->stop) {
+        /* Full turns from start. */
         a = i * s->step;
-        return a < 400 ? a : -1;
+        return a < 400 ? (s->start + a) % 400 : -1;
     }
     /* Sweep 0 is start..stop; after that each pass leaves out the end it turned at. */
     n = (s->stop - s->start) / s->step + (sweep == 0);
