@@ -58,6 +58,7 @@
 #define SONAR_SURVEY_SIG_TIMES 4      /* ... and this many times its median level beyond the ring-down */
 #define SONAR_SURVEY_SIG_M 0.06f      /* a look agrees when its strongest echo is this close to the survey's, metres (at least 2 samples) */
 #define SONAR_SURVEY_MIN_SIG 16       /* angles with structure a sweep needs before it can say the survey fits or not */
+#define SONAR_SURVEY_OCCLUDE_M 0.5f   /* an echo standing out this much nearer than the structure hides it (not counted) */
 #define SONAR_SURVEY_AGREE16 8        /* a sweep fits when this many 16ths of those angles agree ... */
 #define SONAR_SURVEY_STANDOUT1000 250 /* ... and no more than this many thousandths of its cells stand out (a crowd is a tenth) */
 #define SONAR_SURVEY_UNFIT_SWEEPS 2   /* sweeps in a row that do not fit before the survey is given up */
@@ -192,7 +193,9 @@ struct sonar_survey {
     uint8_t sig_level[SONAR_MAX_ANGLES];     /* ... and its level */
     uint16_t obs[SONAR_MAX_ANGLES];          /* this sweep's strongest echo per row looked at, 0xFFFF none */
     uint8_t looked[SONAR_MAX_ANGLES / 8 + 1]; /* rows looked at this sweep */
-    uint16_t checked, agreed;                /* this sweep: rows with structure looked at, and those that agree */
+    uint16_t checked, agreed;                /* this sweep: rows with structure looked at, and those that agree ... */
+    uint16_t occluded;                       /* ... and those hidden behind something nearer (not counted: unless they
+                                                are most: then the site in front of the structure changed) */
     uint32_t cells, standout;                /* this sweep: surveyed cells compared, and those that stood out */
     uint8_t bad_run, good_run;               /* sweeps in a row that did not fit / fit (while unfit) */
     uint8_t lines;                           /* bit k: the sweep k sweeps ago had structure the survey does not hold */
@@ -238,11 +241,14 @@ void sonar_survey_lost(struct sonar_survey *sv, int why);
 int sonar_survey_fits_beam(struct sonar_survey *sv, uint16_t n, float range_m, int16_t gain);
 
 /*
- * One beam after the median, before its comparison (in use or unfit): its strongest echo beyond the
- * ring-down is kept for the sweep's check, and where the survey has structure at its angle, whether
- * it agrees (its strongest echo there, or the survey's still echoing behind something brighter).
+ * One beam after the median, before its comparison (in use or unfit; bg holds the survey's levels
+ * while it is in use): its strongest echo beyond the ring-down is kept for the sweep's check, and
+ * where the survey has structure at its angle, whether it agrees (its strongest echo there, or the
+ * survey's still echoing behind something brighter). A beam whose strongest echo is nearer and
+ * stands out against the survey there is occluded (a person in front of the wall) and not counted.
  */
-void sonar_survey_look(struct sonar_survey *sv, uint16_t angle, const uint8_t *in, uint16_t n);
+void sonar_survey_look(struct sonar_survey *sv, const struct sonar_background *bg, uint16_t angle, const uint8_t *in,
+                       uint16_t n);
 
 /*
  * The beam compared with the survey: fg as above from bg's surveyed row (in and fg may be the same

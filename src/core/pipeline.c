@@ -337,7 +337,7 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint8_t *b = p->buf[p->cur], nkeep, nlearn;
     int r, done, judged = 0, seeding = sonar_background_seeding(p->bg, angle);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
-    sonar_survey_look(p->sv, angle, b, p->n);
+    sonar_survey_look(p->sv, p->bg, angle, b, p->n);
     if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
     if (done)

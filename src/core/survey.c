@@ -64,7 +64,7 @@ static void signature(struct sonar_survey *sv, const struct sonar_background *bg
 static void new_sweep(struct sonar_survey *sv)
 {
     memset(sv->looked, 0, sizeof(sv->looked));
-    sv->checked = sv->agreed = 0;
+    sv->checked = sv->agreed = sv->occluded = 0;
     sv->cells = sv->standout = 0;
 }
 
@@ -184,7 +184,26 @@ static uint16_t sig_tolerance(const struct sonar_survey *sv)
     return (uint16_t)(t < 2.0 ? 2.0 : t);
 }
 
-void sonar_survey_look(struct sonar_survey *sv, uint16_t angle, const uint8_t *in, uint16_t n)
+/* The level and the gate over it of cell i of surveyed row src: its level plus the larger of the margin and 3 spreads. */
+static unsigned gate_over(unsigned l, unsigned spread, int has_spread, uint8_t margin)
+{
+    unsigned g = (l * margin) >> 4, gs = (spread * SONAR_SURVEY_SPREADS16) >> 4;
+    return l + (has_spread && gs > g ? gs : g);
+}
+
+static unsigned gate_at(const struct sonar_survey *sv, const struct sonar_background *bg, unsigned src, uint16_t i)
+{
+    return gate_over(bg->cell[src][i], sv->has_spread ? sv->spread->s[src][i] : 0u, sv->has_spread, bg->margin);
+}
+
+/* Samples that make SONAR_SURVEY_OCCLUDE_M at the survey's range. */
+static unsigned occlude_samples(const struct sonar_survey *sv)
+{
+    return (unsigned)((double)SONAR_SURVEY_OCCLUDE_M * (double)sv->meta.n / ((double)sv->meta.range_mm * 1e-3));
+}
+
+void sonar_survey_look(struct sonar_survey *sv, const struct sonar_background *bg, uint16_t angle, const uint8_t *in,
+                       uint16_t n)
 {
     unsigned row = row_of(angle), src;
     uint16_t at, sig, tol, lo, hi, i;
@@ -203,6 +222,16 @@ void sonar_survey_look(struct sonar_survey *sv, uint16_t angle, const uint8_t *i
     hi = (uint16_t)(sig + tol < n ? sig + tol : n - 1u);
     for (i = lo; i <= hi; i++)
         top = in[i] > top ? in[i] : top;
+    /*
+     * Occluded: something a body's depth nearer (SONAR_SURVEY_OCCLUDE_M) that stands out against the survey there (an
+     * object: above the gate, which the water's spikes seldom pass) hides the structure: a person in front of the wall
+     * says nothing of the survey's fit.
+     */
+    if (sv->state == SONAR_SURVEY_IN_USE && sv->fixed && (unsigned)at + occlude_samples(sv) < sig &&
+        in[at] > gate_at(sv, bg, src, at)) {
+        sv->occluded++;
+        return;
+    }
     sv->checked++;
     sv->agreed = (uint16_t)(sv->agreed + ((at >= lo && at <= hi) || 2u * top >= sv->sig_level[src]));
 }
@@ -222,12 +251,7 @@ int sonar_survey_apply(struct sonar_survey *sv, const struct sonar_background *b
     sp = sv->has_spread ? sv->spread->s[src] : NULL;
     margin = bg->margin;
     for (i = 0; i < n; i++) {
-        unsigned x = in[i], l = lv[i], g = (l * margin) >> 4, t;
-        if (sp != NULL) {
-            unsigned gs = ((unsigned)sp[i] * SONAR_SURVEY_SPREADS16) >> 4;
-            g = gs > g ? gs : g;
-        }
-        t = l + g;
+        unsigned x = in[i], l = lv[i], t = gate_over(l, sp != NULL ? sp[i] : 0u, sp != NULL, margin);
         /* With a spread the echo keeps its contrast above the level (a faint body far out its whole contrast); by the
            level alone it is what exceeds the margin, as a learnt background's foreground is. */
         fg[i] = (uint8_t)(x > t ? x - (sp != NULL ? l : t) : 0u);
@@ -255,26 +279,29 @@ static void shifted(const struct sonar_survey *sv, int s, uint16_t tol, unsigned
 
 /*
  * The turn that puts this sweep's strongest echoes where the survey has its structure: among the
- * shifts s (rows) with SONAR_SURVEY_MIN_SIG rows to compare and a majority of them agreeing, the
- * middle of those within a sixteenth of the best agreement (a wall agrees over a few shifts: the
- * tolerance spans them). Returns 1 and *best, or 0 when no shift is a majority.
+ * shifts s (rows) with SONAR_SURVEY_MIN_SIG rows to compare, the best agreeing one when a quarter of
+ * its rows and three times the unturned share agree (a strongest echo is noisy along a wall's
+ * return, but no other shift comes near the right one), reported as the middle of the shifts within
+ * a sixteenth of the best (a wall agrees over a few shifts). Returns 1 and *best, or 0 when none does.
  */
 static int find_turn(const struct sonar_survey *sv, int *best)
 {
     const int max = SONAR_SURVEY_MAX_TURN * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
     uint16_t tol = sig_tolerance(sv);
-    unsigned top16 = 0, cnt, agree;
+    unsigned top256 = 0, at0 = 0, cnt, agree;
     int s, lo = 1, hi = 0;
     for (s = -max; s <= max; s++) {
         shifted(sv, s, tol, &cnt, &agree);
-        if (cnt >= SONAR_SURVEY_MIN_SIG && 16u * agree >= SONAR_SURVEY_AGREE16 * cnt && 256u * agree / cnt > top16)
-            top16 = 256u * agree / cnt;
+        if (cnt >= SONAR_SURVEY_MIN_SIG && 256u * agree / cnt > top256)
+            top256 = 256u * agree / cnt;
+        if (s == 0 && cnt > 0)
+            at0 = 256u * agree / cnt;
     }
-    if (top16 == 0)
+    if (top256 < 64u || top256 < 3u * at0)
         return 0;
     for (s = -max; s <= max; s++) {
         shifted(sv, s, tol, &cnt, &agree);
-        if (cnt >= SONAR_SURVEY_MIN_SIG && 256u * agree / cnt + 16u >= top16) {
+        if (cnt >= SONAR_SURVEY_MIN_SIG && 256u * agree / cnt + 16u >= top256) {
             lo = lo > hi ? s : lo;
             hi = s;
         }
@@ -294,6 +321,16 @@ int sonar_survey_sweep(struct sonar_survey *sv, unsigned structures)
     int agree_known, agrees, quiet, turn = 0, gave_up = 0, lines;
     if (sv == NULL || sv->state == SONAR_SURVEY_NONE)
         return 0;
+    if (!sv->fixed) {
+        /* A learnt model is learnt on: it follows the site as it is (only its setting is checked, beam by beam). */
+        new_sweep(sv);
+        return 0;
+    }
+    /* Most of the structure hidden by what stands out in front of it is no person in front of a wall: the site changed. */
+    if (sv->occluded > sv->checked && sv->occluded + sv->checked >= SONAR_SURVEY_MIN_SIG) {
+        sv->checked = (uint16_t)(sv->checked + sv->occluded);
+        sv->occluded = 0;
+    }
     agree_known = sv->checked >= SONAR_SURVEY_MIN_SIG;
     agrees = !agree_known || 16u * sv->agreed >= (unsigned)SONAR_SURVEY_AGREE16 * sv->checked;
     /* Only a spread says how much of the water stands out by chance: by the level alone a fifth of a speckled cell's looks do. */
@@ -309,7 +346,8 @@ int sonar_survey_sweep(struct sonar_survey *sv, unsigned structures)
         sv->bad_run = (uint8_t)(agrees && quiet ? 0u : sv->bad_run + 1u);
         if (sv->bad_run >= SONAR_SURVEY_UNFIT_SWEEPS || lines) {
             sonar_survey_lost(sv, !agrees ? SONAR_SURVEY_CHANGED : !quiet ? SONAR_SURVEY_STANDOUT : SONAR_SURVEY_NEW);
-            if (!agrees && find_turn(sv, &turn) && turn != 0) {
+            /* Whatever said it, a turn that puts the structure back where the survey has it is what happened. */
+            if (find_turn(sv, &turn) && turn != 0) {
                 sv->why = SONAR_SURVEY_TURNED;
                 sv->turn_grad = (int16_t)(turn * (int)SONAR_GRAD_TURN / SONAR_MAX_ANGLES);
             }
