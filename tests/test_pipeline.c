@@ -24,7 +24,8 @@ struct log {
     uint8_t world[16], det_world[16];
     float north[16], east[16], speed[16]; /* the first detection in the world; the fastest confirmed track */
     uint8_t confirmed[16];
-    uint8_t objects[16], structure[16]; /* detections of each kind */
+    uint8_t objects[16], structure[16], since[16]; /* detections that are objects (static since start too), structure,
+                                                      and objects static since start */
 };
 
 static struct sonar_pipeline pipe_;
@@ -46,7 +47,8 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     if (l->sweeps < 16) {
         uint8_t i;
         for (i = 0; i < d->count; i++) {
-            l->objects[l->sweeps] = (uint8_t)(l->objects[l->sweeps] + (d->det[i].kind == SONAR_DET_OBJECT));
+            l->objects[l->sweeps] = (uint8_t)(l->objects[l->sweeps] + (d->det[i].kind != SONAR_DET_STRUCTURE));
+            l->since[l->sweeps] = (uint8_t)(l->since[l->sweeps] + (d->det[i].kind == SONAR_DET_STATIC_START));
             l->structure[l->sweeps] = (uint8_t)(l->structure[l->sweeps] + (d->det[i].kind == SONAR_DET_STRUCTURE));
         }
         l->last_count[l->sweeps] = d->count;
@@ -441,10 +443,15 @@ static void test_structure_learnt(void **state)
         if (k >= 4)
             assert_true(lg.objects[k] >= 1);
     }
-    /* The ladder: an object while structure_s runs (turns 0-3), then structure at 40 s. */
+    /* The ladder: an object while structure_s runs (turns 0-3), then structure at 40 s; static since start once it
+       has been seen 3 times (turns 2 and 3); the diver, who came in later, never. */
     assert_int_equal(first, 4);
-    for (k = 0; k < first; k++)
+    for (k = 0; k < first; k++) {
         assert_int_equal(lg.objects[k], 1);
+        assert_int_equal(lg.since[k], k >= SONAR_PLACE_MIN_SEEN - 1);
+    }
+    for (k = first; k < 14; k++)
+        assert_int_equal(lg.since[k], 0);
     for (k = first; k < 14; k++)
         assert_int_equal(lg.objects[k], 1); /* the diver alone */
     assert_int_equal(sonar_structure_count(&pipe_.st), 1);

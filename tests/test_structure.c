@@ -41,9 +41,9 @@ static void test_first_look_that_stands_is_structure_after_structure_s(void **st
         /* The ladder: there at the first look (sweeps 0-1), then seen where the background has learnt. */
         struct sonar_structure_obs o = at(-0.5f + 0.05f * (float)(k % 3), 8.0f, k < 2, k);
         int r = sweep(&o, 1, k, is);
-        /* 30 s is sweep 7.5: structure from sweep 8 on, an object before. */
+        /* 30 s is sweep 7.5: structure from sweep 8 on, an object before: static since start once seen 3 times. */
         assert_int_equal(r, k >= 8 ? 1 : 0);
-        assert_int_equal(is[0], k >= 8);
+        assert_int_equal(is[0], k >= 8 ? SONAR_DET_STRUCTURE : k >= 2 ? SONAR_DET_STATIC_START : SONAR_DET_OBJECT);
     }
     assert_int_equal(sonar_structure_count(&s), 1);
     assert_int_equal(s.promoted, 1);
@@ -84,6 +84,7 @@ static void test_what_came_in_later_is_never_structure(void **state)
         /* A diver who swam in and stopped: first seen where the background knew the water. */
         struct sonar_structure_obs o = at(3.0f, 3.0f, 0, k);
         assert_int_equal(sweep(&o, 1, k, is), 0);
+        assert_int_equal(is[0], SONAR_DET_OBJECT); /* nor static since start */
     }
     assert_int_equal(sonar_structure_count(&s), 0);
     assert_int_equal(s.n, 0); /* not even a place: nothing that came in later is kept */
@@ -98,14 +99,16 @@ static void test_comes_and_goes_is_never_structure(void **state)
     for (k = 0; k < 40; k++) {
         /* Seen at the first look, then one sweep in three (a swimmer's lane crossing it): it did not stand there. */
         struct sonar_structure_obs o = at(2.0f, -4.0f, k < 2, k);
-        if (k < 2 || (k >= 4 && k % 3 == 1))
+        if (k < 2 || (k >= 4 && k % 3 == 1)) {
             assert_int_equal(sweep(&o, 1, k, is), 0);
-        else
+            assert_int_equal(is[0], SONAR_DET_OBJECT); /* it did not stand there since the first look */
+        } else
             assert_int_equal(sweep(NULL, 0, k, is), 0);
     }
     assert_int_equal(sonar_structure_count(&s), 0);
 }
 
+/* Off (no survey, --structure-s 0): never structure, but what stood since the first look says so: static since start. */
 static void test_off_means_never(void **state)
 {
     uint8_t is[1];
@@ -115,6 +118,7 @@ static void test_off_means_never(void **state)
     for (k = 0; k < 100; k++) {
         struct sonar_structure_obs o = at(1.0f, 1.0f, 1, k);
         assert_int_equal(sweep(&o, 1, k, is), 0);
+        assert_int_equal(is[0], k >= SONAR_PLACE_MIN_SEEN - 1 ? SONAR_DET_STATIC_START : SONAR_DET_OBJECT);
     }
     assert_int_equal(s.promoted, 0);
 }

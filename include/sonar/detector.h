@@ -85,11 +85,20 @@ struct sonar_detector_config {
                               same at every range, unlike a cell count), 0..100; 0 = no such rule */
 };
 
-/* What a detection is: an object, or structure (a track that never moved, tracker.h; a wall or rope). */
+/*
+ * What a detection is: an object; structure (a wall or rope, wider than any object; a place learnt as
+ * structure, structure.h), never an object; or an object that has stood where it is since the first
+ * look (structure.h): with no survey of the site it cannot be told from the site's own structure, so
+ * it stays an object and says so.
+ */
 enum sonar_det_kind {
     SONAR_DET_OBJECT = 0,
-    SONAR_DET_STRUCTURE = 1
+    SONAR_DET_STRUCTURE = 1,
+    SONAR_DET_STATIC_START = 2
 };
+
+/* "object", "structure", "static since start" (enum sonar_det_kind), or "?". */
+const char *sonar_det_kind_str(int kind);
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */
 struct sonar_detection {

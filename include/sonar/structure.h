@@ -5,6 +5,7 @@
 #include <stdint.h>
 
 #include "sonar/config.h"
+#include "sonar/detector.h"
 #include "sonar/err.h"
 
 /*
@@ -20,7 +21,8 @@
  *
  * The rule cannot tell structure from a person motionless from the first ping: both were there
  * before the background, and stand. structure_s is how long such an echo is an object before it is
- * structure (0: never). A fixed installation records its empty background instead (bgfile.h).
+ * structure (0: never); until then its detections are objects of kind "static since start". A fixed
+ * installation records a survey of its empty site instead (survey.h), and then nothing is a first look.
  *
  * Places not seen for SONAR_PLACE_FORGET_S are forgotten, except structure, which is kept until the
  * background restarts (its echo learnt, it is seldom seen, and if it comes back it is still
@@ -79,12 +81,15 @@ void sonar_structure_turn(struct sonar_structure *s, float deg);
 
 /*
  * One sweep's detections (n <= SONAR_MAX_CLUSTERS; obs may be NULL when n is 0) at the sweep's end
- * utime: each joins or starts a place, places are promoted and forgotten, and is_structure[i] is
- * set to 1 for a detection at a structure place (else 0). Returns how many are structure, or
- * SONAR_ERR_ARG (NULL, n too large, a non-finite coordinate; nothing changed).
+ * utime: each joins or starts a place, places are promoted and forgotten, and kind[i] says what the
+ * detection is by its place (enum sonar_det_kind): SONAR_DET_STRUCTURE at a structure place;
+ * SONAR_DET_STATIC_START at a place that has stood there since the first look (seen
+ * SONAR_PLACE_MIN_SEEN times and in 3 of every 4 sweeps), not yet structure; else SONAR_DET_OBJECT.
+ * Returns how many are structure, or SONAR_ERR_ARG (NULL, n too large, a non-finite coordinate;
+ * nothing changed).
  */
 SONAR_CHECK int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structure_obs *obs, uint8_t n,
-                                      int64_t utime, uint8_t *is_structure);
+                                      int64_t utime, uint8_t *kind);
 
 /* How many places are structure now. */
 unsigned sonar_structure_count(const struct sonar_structure *s);

@@ -1,4 +1,4 @@
-/* survey.h -- the empty site recorded once (each cell's level and spread over N sweeps, its structure) and judged against while it fits; RAM: sizeof(struct sonar_survey_rec) = 3 360 848 B to record (host), sizeof(struct sonar_survey) = 2 944 B and a spread block, sizeof(struct sonar_survey_spread) = 480 000 B, to use. */
+/* survey.h -- the empty site recorded once (each cell's level and spread over N sweeps, its structure) and judged against while it fits; RAM: sizeof(struct sonar_survey_rec) = 3 362 648 B to record (host), sizeof(struct sonar_survey) = 2 944 B and a spread block, sizeof(struct sonar_survey_spread) = 480 000 B, to use. */
 #ifndef SONAR_SURVEY_H
 #define SONAR_SURVEY_H
 

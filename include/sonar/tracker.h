@@ -34,7 +34,9 @@ enum sonar_track_kind {
     SONAR_TRACK_KIND_NEW = 0,       /* not yet enough looks to say (fewer than SONAR_TRK_KIND_HITS hits) */
     SONAR_TRACK_KIND_MOVING = 1,    /* it has moved, and moves now */
     SONAR_TRACK_KIND_RESTING = 2,   /* it moved once and stands still now (the pool watcher's case) */
-    SONAR_TRACK_KIND_STRUCTURE = 3  /* never moved since first seen, over SONAR_TRK_KIND_HITS hits or more */
+    SONAR_TRACK_KIND_STRUCTURE = 3, /* never moved since first seen, over SONAR_TRK_KIND_HITS hits or more */
+    SONAR_TRACK_KIND_STATIC_START = 4 /* never moved, on what has stood there since the first look (structure.h): with no
+                                         survey it cannot be told from the site; it stays a track */
 };
 
 enum sonar_track_state {
@@ -253,7 +255,14 @@ const char *sonar_track_state_str(int state);
 /* "moving", "turning", "resting" (enum sonar_track_mode), or "?". */
 const char *sonar_track_mode_str(int mode);
 
-/* "new", "moving", "resting", "structure" (enum sonar_track_kind), or "?". */
+/*
+ * After sonar_tracker_update: the update's detections (by index, n of them) that stand where something
+ * has stood since the first look (SONAR_DET_STATIC_START): each track hit by one that never moved is
+ * of kind SONAR_TRACK_KIND_STATIC_START. O(tracks).
+ */
+void sonar_tracker_static_start(struct sonar_tracker *tk, const uint8_t *is_static, unsigned n);
+
+/* "new", "moving", "resting", "structure", "static since start" (enum sonar_track_kind), or "?". */
 const char *sonar_track_kind_str(int kind);
 
 /*

@@ -174,3 +174,13 @@ int64_t sonar_detector_beam_utime(const struct sonar_detector *d, uint16_t i)
 {
     return d->t0 + (int64_t)d->dt_ms[i] * 1000;
 }
+
+const char *sonar_det_kind_str(int kind)
+{
+    switch (kind) {
+    case SONAR_DET_OBJECT: return "object";
+    case SONAR_DET_STRUCTURE: return "structure";
+    case SONAR_DET_STATIC_START: return "static since start";
+    default: return "?";
+    }
+}

@@ -201,7 +201,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
 {
     struct sonar_tracker_obs obs[SONAR_MAX_CLUSTERS];
     struct sonar_tracker_sweep sw;
-    uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0, no = 0, map[SONAR_MAX_CLUSTERS];
+    uint8_t cover[SONAR_GRAD_TURN / 8], i, n = 0, no = 0, map[SONAR_MAX_CLUSTERS], still[SONAR_MAX_CLUSTERS];
     float gx[SONAR_MAX_CLUSTERS], gy[SONAR_MAX_CLUSTERS];
     const int world = w->world;
     int64_t ahead;
@@ -217,9 +217,10 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     }
     /* Objects only: structure is not tracked (no track, so no keep, can hold it out of the background). */
     for (i = 0; i < p->out.count; i++) {
-        if (p->out.det[i].kind != SONAR_DET_OBJECT)
+        if (p->out.det[i].kind == SONAR_DET_STRUCTURE)
             continue;
         map[no] = i;
+        still[no] = p->out.det[i].kind == SONAR_DET_STATIC_START;
         obs[no].x_m = world ? w->north[i] : p->out.det[i].x_m;
         obs[no].y_m = world ? w->east[i] : p->out.det[i].y_m;
         obs[no].utime = p->out.det[i].utime;
@@ -239,6 +240,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     sw.origin_y = world ? w->pose.east_m : 0.0f;
     if ((r = sonar_tracker_update(&p->trk, obs, no, &sw)) != SONAR_OK)
         return r;
+    sonar_tracker_static_start(&p->trk, still, no);
     for (i = 0; i < p->trk.n; i++)
         if (p->trk.t[i].det >= 0)
             p->trk.t[i].det = (int8_t)map[p->trk.t[i].det]; /* back to the sweep's own numbering */
@@ -257,15 +259,18 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
 
 /*
  * The sweep's structure (structure.h), in the body frame (the world grid learns what stands still
- * there as it is): each detection joins its place, and those at structure places become structure.
+ * there as it is): each detection joins its place, those at structure places become structure, and
+ * those at places that have stood since the first look are objects of kind static since start. A
+ * background with no per-angle rows knows no first look: there it runs only for --structure-s.
  */
 static int structure(struct sonar_pipeline *p, const struct located *w)
 {
     struct sonar_structure_obs o[SONAR_MAX_CLUSTERS];
-    uint8_t is[SONAR_MAX_CLUSTERS], i;
+    uint8_t kind[SONAR_MAX_CLUSTERS], i;
     int r;
     uint8_t n = 0, map[SONAR_MAX_CLUSTERS];
-    if (w->world || p->cfg->structure_s <= 0.0f)
+    const int rows = p->cfg->background.mode == SONAR_BACKGROUND_PER_ANGLE || p->cfg->background.mode == SONAR_BACKGROUND_AUTO;
+    if (w->world || (!rows && p->cfg->structure_s <= 0.0f))
         return SONAR_OK;
     /* Objects only: what the detector called structure (wider than any object) is already that. */
     for (i = 0; i < p->out.count; i++) {
@@ -279,11 +284,10 @@ static int structure(struct sonar_pipeline *p, const struct located *w)
         o[n].first_look = (uint8_t)first_look(p, &p->out.det[i]);
         n++;
     }
-    if ((r = sonar_structure_sweep(&p->st, o, n, p->out.utime, is)) < 0)
+    if ((r = sonar_structure_sweep(&p->st, o, n, p->out.utime, kind)) < 0)
         return r;
     for (i = 0; i < n; i++)
-        if (is[i])
-            p->out.det[map[i]].kind = SONAR_DET_STRUCTURE;
+        p->out.det[map[i]].kind = kind[i];
     return SONAR_OK;
 }
 

@@ -86,12 +86,12 @@ static int slot(struct sonar_structure *s)
 }
 
 int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structure_obs *obs, uint8_t n, int64_t utime,
-                          uint8_t *is_structure)
+                          uint8_t *kind)
 {
     uint32_t hit = 0; /* places seen this sweep: each counts once, however many detections are there */
     uint8_t i, k, j;
     int count = 0;
-    if (s == NULL || is_structure == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
+    if (s == NULL || kind == NULL || n > SONAR_MAX_CLUSTERS || (n > 0 && obs == NULL))
         return SONAR_ERR_ARG;
     for (i = 0; i < n; i++)
         if (!isfinite(obs[i].x_m) || !isfinite(obs[i].y_m) || !isfinite(obs[i].radius_m))
@@ -102,7 +102,8 @@ int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structur
         int at = nearest(s, o->x_m, o->y_m);
         struct sonar_place *q;
         int64_t ms;
-        is_structure[i] = 0;
+        int stood;
+        kind[i] = SONAR_DET_OBJECT;
         /* Only what was there at the first look starts a place: nothing else can become structure. */
         if (at < 0 && o->first_look && (at = slot(s)) >= 0) {
             q = &s->p[at];
@@ -123,13 +124,14 @@ int sonar_structure_sweep(struct sonar_structure *s, const struct sonar_structur
         if (!(hit & (1u << at)) && q->seen < UINT16_MAX)
             q->seen++;
         hit |= 1u << at;
-        if (!q->structure && s->structure_s > 0.0f && q->seen >= SONAR_PLACE_MIN_SEEN &&
-            4u * (uint32_t)q->seen >= 3u * (s->sweeps + 2u - q->first_sweep) &&
+        /* Stood there since the first look: seen often enough, and in 3 of every 4 sweeps since. */
+        stood = q->seen >= SONAR_PLACE_MIN_SEEN && 4u * (uint32_t)q->seen >= 3u * (s->sweeps + 2u - q->first_sweep);
+        if (!q->structure && stood && s->structure_s > 0.0f &&
             (double)(o->utime - q->first_us) >= (double)s->structure_s * 1e6) {
             q->structure = 1;
             s->promoted++;
         }
-        is_structure[i] = q->structure;
+        kind[i] = q->structure ? SONAR_DET_STRUCTURE : stood ? SONAR_DET_STATIC_START : SONAR_DET_OBJECT;
         count += q->structure;
     }
     /* Forget what has not been seen for a while (not structure: its echo is learnt, so it is seldom seen). */

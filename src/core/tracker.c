@@ -470,3 +470,13 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     sonar_trk_cache_reset(tk, NULL); /* the hits moved the tracks: nothing in it holds now */
     return SONAR_OK;
 }
+
+void sonar_tracker_static_start(struct sonar_tracker *tk, const uint8_t *is_static, unsigned n)
+{
+    uint8_t k;
+    for (k = 0; k < tk->n; k++) {
+        struct sonar_track *t = &tk->t[k];
+        if (t->det >= 0 && (unsigned)t->det < n && is_static[t->det] && !t->moved)
+            t->kind = SONAR_TRACK_KIND_STATIC_START;
+    }
+}

@@ -29,8 +29,9 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         fputs("]", f);
         if (v != NULL && v->det_world[i])
             fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f", (double)v->det_north[i], (double)v->det_east[i]);
-        if (o->kind == SONAR_DET_STRUCTURE) /* objects carry no kind: their lines are as they always were */
-            fputs(",\"kind\":\"structure\"", f);
+        /* Plain objects carry no kind: their lines are as they always were. */
+        if (o->kind == SONAR_DET_STRUCTURE || o->kind == SONAR_DET_STATIC_START)
+            fprintf(f, ",\"kind\":\"%s\"", sonar_det_kind_str(o->kind));
         fputs("}", f);
     }
     fputs("]", f);
@@ -83,7 +84,7 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         const struct sonar_detection *o = &d->det[i];
         fprintf(f, "  #%u  x %7.2f m  y %7.2f m  range %6.2f m  bearing %6.1f deg  area %6.3f m2  %5" PRIu32 " cells  mean %5.1f%s\n",
                 i + 1, (double)o->x_m, (double)o->y_m, (double)o->range_m, (double)o->bearing_deg, (double)o->area_m2,
-                o->points, (double)o->mean_intensity, o->kind == SONAR_DET_STRUCTURE ? "  structure" : "");
+                o->points, (double)o->mean_intensity, o->kind == SONAR_DET_OBJECT ? "" : o->kind == SONAR_DET_STRUCTURE ? "  structure" : "  static since start");
     }
     for (i = 0; tk != NULL && i < sonar_tracker_count(tk); i++) {
         const struct sonar_track *t = sonar_tracker_track(tk, i);
