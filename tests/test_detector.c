@@ -326,6 +326,35 @@ static void test_min_area(void **state)
     assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
 }
 
+/*
+ * The resolution floor: a cluster must cover a point target's footprint at its range (the sample's depth times
+ * the beam's 2 degrees). Cells 1 gradian wide are under half of one: one beam's run is not an echo, three beams'
+ * is; near the sonar a small object passes where 0.05 m^2 would drop it.
+ */
+static void test_min_footprints(void **state)
+{
+    struct sonar_detector_config c = cfg();
+    (void)state;
+    c.min_points = 1;
+    c.min_footprints = 1.0f;
+    memset(fg, 0, sizeof(fg));
+    blob(100, 100, 300, 300, 200); /* one cell: 0.0157 rad x 6 m x 0.02 m, under 0.0349 rad x 6 m x 0.02 m */
+    assert_int_equal(run_sweep(&c), 0);
+    memset(fg, 0, sizeof(fg));
+    blob(100, 102, 300, 300, 200); /* three beams, 1 sample: 3 x 0.0157 = 0.047 rad of the 0.0349 */
+    assert_int_equal(run_sweep(&c), 1);
+    memset(fg, 0, sizeof(fg));
+    blob(100, 104, 30, 39, 200); /* 5 beams x 10 samples at 0.7 m: 0.0011 m^2, 0.002 of the footprints' worth */
+    assert_int_equal(run_sweep(&c), 1);
+    c.min_area_m2 = 0.05f; /* an absolute floor drops it */
+    assert_int_equal(run_sweep(&c), 0);
+    c.min_area_m2 = 0.0f;
+    c.min_footprints = -1.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+    c.min_footprints = (float)SONAR_DET_FOOTPRINTS_MAX + 1.0f;
+    assert_int_equal(sonar_detector_init(&det, &c), SONAR_ERR_ARG);
+}
+
 static void test_min_range_and_aspect(void **state)
 {
     struct sonar_detector_config c = cfg();
@@ -563,6 +592,7 @@ int main(void)
         cmocka_unit_test(test_lines_are_not_cut),
         cmocka_unit_test(test_structure_after_objects),
         cmocka_unit_test(test_min_area),
+        cmocka_unit_test(test_min_footprints),
         cmocka_unit_test(test_min_range_and_aspect),
         cmocka_unit_test(test_tracking_confirms_with_fewer_cells),
         cmocka_unit_test(test_linking_matches_brute_force),

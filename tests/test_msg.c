@@ -217,6 +217,7 @@ static void odd_config(struct sonar_ping360_config *d, struct sonar_pipeline_con
     p->detector.join_beams = 3;
     p->detector.min_points = 21;
     p->detector.min_area_m2 = 0.125f;
+    p->detector.min_footprints = 2.5f;
     p->structure_s = 45.0f;
     p->detector.join_m = 0.7f;
     p->detector.angle_offset = 100.0f;

@@ -21,7 +21,8 @@
  * rope, never cut). Lloyd's iterations stay inside each group
  * (a wall's centre cannot take an object's runs). Each cluster becomes a detection when it has
  * >= min_points cells (>= track_points within track_m of a detection of the previous sweep) covering
- * >= min_area_m2 square metres,
+ * >= min_area_m2 square metres and >= min_footprints of a point target's footprint at its range (the
+ * sample's depth times the beam's width there: what the sonar resolves, which no echo is smaller than),
  * spans >= min_beams beams, lies at >= min_range_m, is no longer along the beam than max_aspect
  * times its width across, and, when cut from a wider group, has >= split_points cells. At most
  * max_clusters detections, the largest first. A cluster that passes every rule but is wider than
@@ -53,6 +54,7 @@ enum sonar_det_threshold {
 #define SONAR_DET_ASPECT_MAX 100
 #define SONAR_DET_TRACK_M_MAX 100     /* metres */
 #define SONAR_DET_AREA_MAX 100        /* min_area_m2: 0..100 square metres */
+#define SONAR_DET_FOOTPRINTS_MAX 100  /* min_footprints: 0..100 */
 /*
  * A line (a wall, a lane rope, a dock's edge): a group whose extent along each beam is at most
  * SONAR_DET_LINE_M on all but SONAR_DET_LINE_THICK_16 sixteenths of its beams (a person is 0.5-1 m
@@ -83,6 +85,8 @@ struct sonar_detector_config {
     uint16_t track_points; /* cells a cluster inside the gate needs (used when < min_points) */
     float min_area_m2;     /* square metres its cells must cover (each r x step x range/n at its range: the
                               same at every range, unlike a cell count), 0..100; 0 = no such rule */
+    float min_footprints;  /* point-target footprints its cells must cover at its range (each range/n deep
+                              and SONAR_BEAM_WIDTH_DEG wide there: the sonar's resolution), 0..100; 0 = none */
 };
 
 /*

@@ -14,6 +14,7 @@
 #define SONAR_MAX_TX_US 500u
 #define SONAR_DEVICE_MAX_SAMPLES 1200u
 #define SONAR_DEVICE_MIN_SAMPLES 200u
+#define SONAR_BEAM_WIDTH_DEG 2.0       /* the Ping360's beam between its half-power points, degrees */
 
 /*
  * The sonar frame is in frame.h. Sample i of N over range R covers [i, i+1) * R / N and sits

@@ -6,6 +6,7 @@
 
 #include "sonar/config.h"
 #include "sonar/err.h"
+#include "sonar/geometry.h"
 #include "sonar/pose.h"
 
 /*
@@ -52,8 +53,8 @@ struct sonar_obstacle_config {
  */
 #define SONAR_OBS_LINK_DEG 10.0
 
-/* The Ping360's beam is 2 degrees wide: an echo's leading edge may lie up to this far off its axis. */
-#define SONAR_OBS_HALF_BEAM_DEG 1.0
+/* Half the Ping360's beam: an echo's leading edge may lie up to this far off its axis. */
+#define SONAR_OBS_HALF_BEAM_DEG (SONAR_BEAM_WIDTH_DEG / 2.0)
 
 struct sonar_obstacle_echo {
     int64_t utime;      /* us since the epoch of its beam */

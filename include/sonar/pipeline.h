@@ -147,7 +147,8 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg);
  * The detector's rules that go with the range background (the study's median across scans) when
  * nothing else is asked for: the study's mean + k std threshold, 20 cells, no width or aspect
  * limit, sonard's defaults before the CFAR; so the study's configuration replays as it always has.
- * Sets d's threshold_mode, min_points, max_extent_m, max_aspect and min_area_m2 (0: the study has no such rule).
+ * Sets d's threshold_mode, min_points, max_extent_m, max_aspect, min_area_m2 and min_footprints (0: the study
+ * has no such rules).
  */
 void sonar_pipeline_study_rules(struct sonar_detector_config *d);
 

@@ -32,6 +32,8 @@ const char *sonar_detector_config_check(const struct sonar_detector_config *cfg)
         return "angle_offset: -" SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) ".." SONAR_STR(SONAR_DET_ANGLE_OFFSET_MAX) " gradians";
     if (!(c->min_area_m2 >= 0.0f && c->min_area_m2 <= (float)SONAR_DET_AREA_MAX))
         return "min_area_m2: 0.." SONAR_STR(SONAR_DET_AREA_MAX) " square metres";
+    if (!(c->min_footprints >= 0.0f && c->min_footprints <= (float)SONAR_DET_FOOTPRINTS_MAX))
+        return "min_footprints: 0.." SONAR_STR(SONAR_DET_FOOTPRINTS_MAX) " footprints";
     if (!(c->max_extent_m >= 0.0f && c->max_extent_m <= (float)SONAR_DET_DISTANCE_MAX))
         return "max_extent_m: 0.." SONAR_STR(SONAR_DET_DISTANCE_MAX) " metres";
     if (!(c->min_range_m >= 0.0f && c->min_range_m <= (float)SONAR_DET_DISTANCE_MAX))

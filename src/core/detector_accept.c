@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "detector_internal.h"
+#include "sonar/geometry.h"
 
 /* A cluster's hull being built: the points so far and the hull's vertices (1.5 KB, on the stack of one emission). */
 struct hull_scratch {
@@ -65,10 +66,13 @@ static int passes(const struct sonar_detector *d, const struct sonar_det_cluster
         need = d->cfg.track_points;
     if (w < need || cl->nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
         return 0;
-    if (d->cfg.min_area_m2 > 0.0f) {
-        /* Each cell is range/n deep and r x step wide at its range r = (sample + 1/2) range/n. */
+    if (d->cfg.min_area_m2 > 0.0f || d->cfg.min_footprints > 0.0f) {
+        /* Each cell is range/n deep and r x step wide at its range r = (sample + 1/2) range/n; a point target's
+           footprint at the cluster's range, range/n deep and the beam's width across. */
         double dr = (double)d->range_m / (double)d->n;
-        if ((double)cl->rw * 0.5 * dr * dr * sonar_frame_rad((double)sweep_step(d)) < (double)d->cfg.min_area_m2)
+        double area = (double)cl->rw * 0.5 * dr * dr * sonar_frame_rad((double)sweep_step(d));
+        double foot = dr * rc * SONAR_BEAM_WIDTH_DEG * SONAR_RAD_PER_DEG;
+        if (area < (double)d->cfg.min_area_m2 || area < (double)d->cfg.min_footprints * foot)
             return 0;
     }
     if (d->cfg.max_aspect > 0.0f) {

@@ -34,11 +34,12 @@ void sonar_pipeline_defaults(struct sonar_pipeline_config *cfg)
     cfg->detector.join_beams = 2;
     cfg->detector.min_points = 12;
     /*
-     * Half the cells' area of the smallest object in the scenes (a 0.1 m post through the 2-degree beam
-     * covers 0.08-0.1 m^2 at any range and setting): a noise floor that means the same at 1200 samples
-     * and 1-gradian steps as at 500 and 3, where 12 cells is ten times the area (docs/results.md).
+     * No echo is smaller than a point target's footprint: the sample's depth times the beam's width at its
+     * range, a floor that scales with the range and the setting as the sonar's resolution does (an absolute
+     * area dropped a 0.2 m buoy at 0.66 m on a 5 m range, docs/decisions.md).
      */
-    cfg->detector.min_area_m2 = 0.05f;
+    cfg->detector.min_area_m2 = 0.0f;
+    cfg->detector.min_footprints = 1.0f;
     cfg->detector.join_m = 0.15f;
     cfg->detector.max_extent_m = 3.5f;
     cfg->detector.max_aspect = 2.0f;
@@ -55,6 +56,7 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d)
     d->max_extent_m = 0.0f;
     d->max_aspect = 0.0f;
     d->min_area_m2 = 0.0f;
+    d->min_footprints = 0.0f;
 }
 
 const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)

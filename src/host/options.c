@@ -154,9 +154,11 @@ static const struct opt_spec spec[] = {
      "cells must exceed at least T", NULL, NULL},
     {"clusters", "MAX", OPT_U8, 1, 1, D(max_clusters), 1, SONAR_MAX_CLUSTERS, "clusters", "8", "most detections per sweep", NULL, NULL},
     {"min-points", "N", OPT_U16, 1, 1, D(min_points), 1, 65535, "cells", "12; 20 with --background range", "cells a detection needs", NULL, NULL},
-    {"min-area", "M2", OPT_F32, 1, 1, D(min_area_m2), 0, SONAR_DET_AREA_MAX, "square metres (0 = no rule)",
-     "0.05; 0 with --background range",
-     "square metres a detection's cells must cover (the same at every range and\nsetting, unlike --min-points: a cell is range/samples deep and r x step wide)", NULL, NULL},
+    {"min-footprints", "F", OPT_F32, 1, 1, D(min_footprints), 0, SONAR_DET_FOOTPRINTS_MAX, "point-target footprints (0 = no rule)",
+     "1; 0 with --background range",
+     "a detection's cells must cover F footprints of a point target at its range\n(range/samples deep, the beam's 2 degrees wide: what the sonar resolves there)", NULL, NULL},
+    {"min-area", "M2", OPT_F32, 1, 1, D(min_area_m2), 0, SONAR_DET_AREA_MAX, "square metres (0 = no rule)", "0",
+     "square metres a detection's cells must cover (the same at every range and\nsetting; a floor of your own, e.g. for one size of target)", NULL, NULL},
     {"min-beams", "N", OPT_U8, 1, 1, D(min_beams), 0, 255, "beams (0 or 1: any)", "0", "beams a detection must span", NULL, NULL},
     {"max-extent", "M", OPT_F32, 1, 1, D(max_extent_m), 0, SONAR_DET_DISTANCE_MAX, "metres (0 = no limit)", "3.5; 0 with --background range",
      "drop detections wider than M (structure: walls, lane ropes)", NULL, NULL},
@@ -288,6 +290,8 @@ static void mode_defaults(struct sonard_options *o)
             o->pipeline.detector.max_aspect = d.detector.max_aspect;
         if (!options_given(o, "min-area"))
             o->pipeline.detector.min_area_m2 = d.detector.min_area_m2;
+        if (!options_given(o, "min-footprints"))
+            o->pipeline.detector.min_footprints = d.detector.min_footprints;
     }
 }
 

@@ -68,6 +68,7 @@ void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipelin
     c->track_max_dt_s = p->tracker.max_dt_s;
     c->beam_every = (int16_t)(beam_every > 32767u ? 32767u : beam_every);
     c->min_area_m2 = p->detector.min_area_m2;
+    c->min_footprints = p->detector.min_footprints;
     c->structure_s = p->structure_s;
     c->track_imm = (int8_t)p->tracker.imm;
     c->track_defer = (int8_t)p->tracker.defer;
@@ -148,6 +149,7 @@ void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_
     p->tracker.max_dt_s = c->track_max_dt_s;
     *beam_every = (uint16_t)(c->beam_every < 0 ? 0 : c->beam_every);
     p->detector.min_area_m2 = c->min_area_m2;
+    p->detector.min_footprints = c->min_footprints;
     p->structure_s = c->structure_s;
     p->tracker.imm = to_u8(c->track_imm, 255);
     p->tracker.defer = to_u8(c->track_defer, 255);

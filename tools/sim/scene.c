@@ -167,6 +167,15 @@ int scene_make(struct scene *s, const char *name)
         s->obj[1] = (struct scene_object){"buoy", -2.0, 3.0, 0.25, 0.3, 0.0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
         s->obj[2] = (struct scene_object){"diver", 1.0, -6.0, 0.30, 0.0, 0.4, 150, 0, 0, {0}, {0}, {0}, 0, 0};
         s->nobj = 3;
+    } else if (strcmp(name, "near") == 0) {
+        /* Open water at a 5 m range (1200 samples, 1-gradian steps): three 0.2 m buoys close to the sonar, at 0.66,
+           0.9 and 1.2 m, in its first 4 turns; an object the size of a point target's footprint at most. */
+        s->range_m = 5.0;
+        s->sweeps = 4;
+        s->obj[0] = (struct scene_object){"buoy_066", 0.66 * 0.7071, 0.66 * 0.7071, 0.10, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[1] = (struct scene_object){"buoy_090", -0.9, 0.0, 0.10, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->obj[2] = (struct scene_object){"buoy_120", 0.0, -1.2, 0.10, 0, 0, 190, 0, 0, {0}, {0}, {0}, 0, 0};
+        s->nobj = 3;
     } else if (strcmp(name, "faces") == 0) {
         /*
          * Open water, two posts ahead: a near one 10 degrees to starboard (3 m) and a far one 10 degrees

@@ -91,7 +91,7 @@ struct scene_rng {
     uint64_t s;
 };
 
-/* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far", "still", "faces", "faint", "lanes" or "laps"; returns 0, or -1 for an unknown name. */
+/* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far", "still", "faces", "faint", "lanes", "laps" or "near"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);
 
 /*
