@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: passive-test blueos blueos-test pi-cost test-arm structure-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
@@ -173,7 +173,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test structure-test live passive-test scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test survey-test structure-test live passive-test scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -246,6 +246,10 @@ golden-update: all
 ## bgfile-test: the recorded background (--background-save / --background-load): an empty pool recorded and loaded, damaged and mismatched files refused by name, a failed save leaving the old file whole
 bgfile-test: all
 	@sh tests/bgfile.sh $(BUILD)
+
+## survey-test: the site survey: recorded (replay and live) and used on the pool scenes (precision and recall from the second sweep, nothing replayed against itself), each refusal, a survey that no longer fits (another range, a turned mount, another site) and taken back, bad files; without one, static since start; the resolution floor
+survey-test: all
+	@sh tests/survey.sh $(BUILD)
 
 ## structure-test: structure is not an object: the lanes scene under the default, --structure-s and a recorded empty pool; walls reported as structure and never tracked; bad settings
 structure-test: all

@@ -143,6 +143,16 @@ static void status_round_trip(void **state)
     s.structure.promoted = 146;
     s.structure.detections = 147;
     s.structure.restarts = 148;
+    s.survey.state = SONAR_SURVEY_UNFIT;
+    s.survey.why = SONAR_SURVEY_TURNED;
+    s.survey.fixed = 1;
+    s.survey.utime = 1733390000123456;
+    s.survey.sweeps = 153;
+    s.survey.turn_grad = -12;
+    s.survey.unfits = 154;
+    s.survey.agree16 = 5;
+    s.survey.standout1000 = 23;
+    s.survey.nplaces = 6; /* the places themselves go on SONAR_SURVEY */
     msg_status(&s, &m);
     n = sonar_status_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_true(n > 0);
@@ -163,6 +173,48 @@ static void status_round_trip(void **state)
     msg_status_in(&m, &back);
     assert_int_equal(back.parser.frames, 0);
     assert_int_equal(back.driver.beams, 4294967295u);
+}
+
+/* The survey's structure on SONAR_SURVEY: each place's kind, centroid and hull; none without a survey's places. */
+static void survey_places(void **state)
+{
+    struct sonar_status s;
+    struct sonar_detection places[2];
+    sonar_detection_t det[SONAR_MAX_CLUSTERS];
+    sonar_survey_t m, in;
+    int n;
+    (void)state;
+    memset(&s, 0, sizeof(s));
+    memset(places, 0, sizeof(places));
+    places[0].kind = SONAR_DET_STRUCTURE;
+    places[0].x_m = -14.5f;
+    places[0].hull_count = 2;
+    places[0].hull_x[1] = 3.0f;
+    places[1].kind = SONAR_DET_OBJECT;
+    places[1].y_m = 8.0f;
+    s.utime = 7;
+    s.survey.state = SONAR_SURVEY_IN_USE;
+    s.survey.fixed = 1;
+    s.survey.utime = 5;
+    s.survey.sweeps = 20;
+    s.survey.nplaces = 2;
+    s.survey.places = places;
+    msg_survey(&s, det, &m);
+    n = sonar_survey_t_encode(wire, 0, (int)sizeof(wire), &m);
+    assert_true(n > 0);
+    assert_int_equal(sonar_survey_t_decode(wire, 0, n, &in), n);
+    assert_int_equal(in.count, 2);
+    assert_int_equal(in.state, SONAR_SURVEY_IN_USE);
+    assert_int_equal(in.fixed, 1);
+    assert_int_equal(in.recorded_utime, 5);
+    assert_int_equal(in.sweeps, 20);
+    assert_int_equal(in.places[0].kind, SONAR_DET_STRUCTURE);
+    assert_true(in.places[0].x_m == -14.5f && in.places[0].hull_count == 2 && in.places[0].hull_x[1] == 3.0f);
+    assert_true(in.places[1].y_m == 8.0f);
+    sonar_survey_t_decode_cleanup(&in);
+    s.survey.places = NULL; /* a co-processor's status: the count, no places */
+    msg_survey(&s, det, &m);
+    assert_int_equal(m.count, 0);
 }
 
 static void pose_round_trip(void **state)
@@ -410,6 +462,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(beam_round_trip),
         cmocka_unit_test(status_round_trip),
+        cmocka_unit_test(survey_places),
         cmocka_unit_test(pose_round_trip),
         cmocka_unit_test(config_round_trip),
         cmocka_unit_test(config_bad_values_are_refused_by_name),

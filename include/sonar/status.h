@@ -68,6 +68,18 @@ struct sonar_status {
         uint32_t promoted, detections, restarts; /* its counters since the start */
     } structure;                           /* all 0 with --structure-s 0 */
     struct {
+        int state;                         /* enum sonar_survey_state: none (learning), in use, unfit (learning) */
+        int why;                           /* enum sonar_survey_why, while unfit */
+        int fixed;                         /* 1: a recorded survey; 0: a learnt model learnt on from */
+        int64_t utime;                     /* when it was recorded (its last beam), us since the epoch */
+        uint32_t sweeps;                   /* sweeps it was recorded over */
+        int turn_grad;                     /* unfit for a turn: the turn estimated, gradians */
+        uint32_t unfits;                   /* times it was given up since the start */
+        uint32_t agree16, standout1000;    /* the last sweep's agreement (16ths) and stand-out (thousandths) */
+        uint32_t nplaces;                  /* its structure places ... */
+        const struct sonar_detection *places; /* ... borrowed from the survey, NULL with none */
+    } survey;                              /* state 0 and the rest 0 with no survey */
+    struct {
         int on;                            /* 1: listen-only (--passive): another program drives the head */
         int idle;                          /* 1: no beam for SONAR_P360_IDLE_US */
         int samples;                       /* the driving program's settings, from its latest beam ... */
@@ -83,6 +95,9 @@ struct sonar_status {
  * Other fields are left as they are.
  */
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p);
+
+/* The survey's part (s->survey) from sv: left as it is with none (NULL, or no survey). */
+void sonar_status_survey(struct sonar_status *s, const struct sonar_survey *sv);
 
 /* The pose ring's counters (accepted, out of order, jumps, bad, thinned) into s->pose; the rest of s->pose is left. */
 struct sonar_pose_ring; /* pose.h */

@@ -20,6 +20,23 @@ void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *
     s->pose.body_sweeps = p->body_sweeps;
 }
 
+void sonar_status_survey(struct sonar_status *s, const struct sonar_survey *sv)
+{
+    if (sv == NULL || sv->state == SONAR_SURVEY_NONE)
+        return;
+    s->survey.state = sv->state;
+    s->survey.why = sv->why;
+    s->survey.fixed = sv->fixed;
+    s->survey.utime = sv->meta.utime;
+    s->survey.sweeps = sv->meta.sweeps;
+    s->survey.turn_grad = sv->turn_grad;
+    s->survey.unfits = sv->unfits;
+    s->survey.agree16 = sv->agree16;
+    s->survey.standout1000 = sv->standout1000;
+    s->survey.nplaces = sv->places != NULL ? sv->nplaces : 0u;
+    s->survey.places = sv->places;
+}
+
 void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, const struct sonar_pipeline *p)
 {
     if (dev != NULL) {
@@ -37,6 +54,7 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
     s->structure.promoted = p->st.promoted;
     s->structure.detections = p->st.detections;
     s->structure.restarts = p->st.restarts;
+    sonar_status_survey(s, p->sv);
     /* The gain the beams carry (the device's setting until one came), and the backgrounds a change of it restarted. */
     s->acq.gain = p->last_gain >= 0 ? p->last_gain : dev != NULL ? (int)dev->drv.cfg.gain : 0;
     s->acq.background_restarts = p->gain_restarts;

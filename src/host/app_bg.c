@@ -67,29 +67,29 @@ static void say_unfit(const struct app *a, const struct sonar_survey *sv)
     switch (sv->why) {
     case SONAR_SURVEY_GEOMETRY:
     case SONAR_SURVEY_GAIN:
-        app_warn(a, "survey: recorded at %u samples over %.3f m, gain %s; the sonar gives %u over %.3f m, gain %d: %s (it is "
+        app_warn(a, "survey: at sweep %u: recorded at %u samples over %.3f m, gain %s; the sonar gives %u over %.3f m, gain %d: %s (it is "
                     "taken back when the beams are of its setting again)",
-                 sv->meta.n, (double)sv->meta.range_mm * 1e-3, gain_str(sv->meta.gain), n, (double)range_m,
+                 (unsigned)a->sweeps, sv->meta.n, (double)sv->meta.range_mm * 1e-3, gain_str(sv->meta.gain), n, (double)range_m,
                  sonar_pipeline_gain(&a->pipe), then);
         break;
     case SONAR_SURVEY_TURNED:
-        app_warn(a, "survey: the site's structure is where the survey has it turned by about %+d gradians (%+.0f degrees): "
-                    "the mount turned? %s; turn it back, or record the survey again",
-                 sv->turn_grad, sv->turn_grad * 0.9, then);
+        app_warn(a, "survey: at sweep %u: the site's structure is where the survey has it turned by about %+d gradians "
+                    "(%+.0f degrees): the mount turned? %s; turn it back, or record the survey again",
+                 (unsigned)a->sweeps, sv->turn_grad, sv->turn_grad * 0.9, then);
         break;
     case SONAR_SURVEY_CHANGED:
-        app_warn(a, "survey: the site's structure is not where the survey has it (%u of 16 parts agree): the sonar moved "
-                    "or the site changed? %s; record the survey again",
-                 sv->agree16, then);
+        app_warn(a, "survey: at sweep %u: the site's structure is not where the survey has it (%u of 16 parts agree): the "
+                    "sonar moved or the site changed? %s; record the survey again",
+                 (unsigned)a->sweeps, sv->agree16, then);
         break;
     case SONAR_SURVEY_STANDOUT:
-        app_warn(a, "survey: %.1f %% of the sweep stands out against it (the water level, or the site changed?): %s",
-                 sv->standout1000 * 0.1, then);
+        app_warn(a, "survey: at sweep %u: %.1f %% of the sweep stands out against it (the water level, or the site "
+                    "changed?): %s", (unsigned)a->sweeps, sv->standout1000 * 0.1, then);
         break;
     case SONAR_SURVEY_NEW:
-        app_warn(a, "survey: lines wider than any object stand out against it in %d of the last 3 sweeps (walls, a dock, "
-                    "ropes it does not hold): the site changed or the sonar moved? %s; record the survey again",
-                 SONAR_SURVEY_NEW_SWEEPS, then);
+        app_warn(a, "survey: at sweep %u: lines wider than any object stand out against it in %d of the last 3 sweeps "
+                    "(walls, a dock, ropes it does not hold): the site changed or the sonar moved? %s; record the survey "
+                    "again", (unsigned)a->sweeps, SONAR_SURVEY_NEW_SWEEPS, then);
         break;
     case SONAR_SURVEY_WORLD:
         app_warn(a, "survey: the vehicle's pose is known (the world frame): a survey is of a fixed site: not used");

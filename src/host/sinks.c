@@ -10,6 +10,7 @@
 #include "sonar_beam_t.h"
 #include "sonar_detections_t.h"
 #include "sonar_status_t.h"
+#include "sonar_survey_t.h"
 #include "sonar_tracks_t.h"
 
 static int lcm_send(struct sink_lcm *s, const char *channel, int len)
@@ -50,8 +51,16 @@ static int lcm_status(void *self, const struct sonar_status *st)
 {
     struct sink_lcm *s = self;
     sonar_status_t m;
+    sonar_detection_t det[SONAR_MAX_CLUSTERS];
+    sonar_survey_t sv;
+    int r;
     msg_status(st, &m);
-    return lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+    r = lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+    if (r != HOST_OK || st->survey.state == SONAR_SURVEY_NONE)
+        return r;
+    /* The survey's structure with each status while there is one, for a view that joins late. */
+    msg_survey(st, det, &sv);
+    return lcm_send(s, s->survey, sonar_survey_t_encode(s->buf, 0, (int)sizeof(s->buf), &sv));
 }
 
 void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered)
@@ -64,6 +73,7 @@ void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *p
     snprintf(s->detections, sizeof(s->detections), "%.30sSONAR_DETECTIONS", prefix);
     snprintf(s->status, sizeof(s->status), "%.30sSONAR_STATUS", prefix);
     snprintf(s->tracks, sizeof(s->tracks), "%.30sSONAR_TRACKS", prefix);
+    snprintf(s->survey, sizeof(s->survey), "%.30sSONAR_SURVEY", prefix);
     s->sink.name = "lcm";
     s->sink.self = s;
     s->sink.stages = (uint8_t)(1u << SONAR_STAGE_RAW | (filtered ? 1u << SONAR_STAGE_FOREGROUND : 0u));

@@ -1,4 +1,4 @@
-/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 816 B), no heap per message. */
+/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 880 B), no heap per message. */
 #ifndef SONARD_SINKS_H
 #define SONARD_SINKS_H
 
@@ -14,13 +14,14 @@ struct sink_lcm {
     void *lcm;                 /* lcm_t when opened by sink_lcm_open */
     sink_lcm_tx tx;
     void *tx_user;
-    char beam[64], filtered[64], detections[64], status[64], tracks[64];
+    char beam[64], filtered[64], detections[64], status[64], tracks[64], survey[64];
     uint8_t buf[16384];
 };
 
 /*
  * Beams (SONAR_BEAM, and SONAR_BEAM_FILTERED when filtered), detections, tracks (SONAR_TRACKS,
- * after each SONAR_DETECTIONS when tracking) and status on prefix + channel, through tx(user, ...). prefix: at most 30 characters.
+ * after each SONAR_DETECTIONS when tracking), status, and with each status while a survey is loaded its structure
+ * (SONAR_SURVEY), on prefix + channel, through tx(user, ...). prefix: at most 30 characters.
  */
 void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered);
 

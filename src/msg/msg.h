@@ -15,6 +15,7 @@
 #include "sonar_detections_t.h"
 #include "sonar_pose_t.h"
 #include "sonar_status_t.h"
+#include "sonar_survey_t.h"
 #include "sonar_tracks_t.h"
 
 /*
@@ -50,6 +51,12 @@ void msg_beam_in(const sonar_beam_t *m, struct sonar_record *b);
  */
 void msg_status(const struct sonar_status *s, sonar_status_t *m);
 void msg_status_in(const sonar_status_t *m, struct sonar_status *s);
+
+/*
+ * The survey's part of a status record -> sonar.survey_t (SONAR_SURVEY): its state and its structure; det
+ * (SONAR_MAX_CLUSTERS entries) holds the places, whose hulls point into the survey's.
+ */
+void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_survey_t *m);
 
 /* A pose <-> sonar.pose_t (SONAR_POSE). */
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m);

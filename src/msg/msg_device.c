@@ -129,6 +129,16 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->passive_changes = s->passive.changes;
     m->passive_hellos = s->driver.hellos;
     m->passive_idles = s->driver.idles;
+    m->survey_state = (int8_t)s->survey.state;
+    m->survey_why = (int8_t)s->survey.why;
+    m->survey_fixed = (int8_t)(s->survey.fixed != 0);
+    m->survey_utime = s->survey.utime;
+    m->survey_sweeps = (int32_t)(s->survey.sweeps > INT32_MAX ? INT32_MAX : s->survey.sweeps);
+    m->survey_turn_grad = (int16_t)(s->survey.turn_grad < -400 ? -400 : s->survey.turn_grad > 400 ? 400 : s->survey.turn_grad);
+    m->survey_places = (int16_t)(s->survey.nplaces > 32767u ? 32767u : s->survey.nplaces);
+    m->survey_unfits = s->survey.unfits;
+    m->survey_agree = (float)s->survey.agree16 / 16.0f;
+    m->survey_standout = (float)s->survey.standout1000 / 1000.0f;
 }
 
 /* Long: one line a field, as msg_status. */
@@ -214,6 +224,40 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->passive.changes = to_u32(m->passive_changes);
     s->driver.hellos = to_u32(m->passive_hellos);
     s->driver.idles = to_u32(m->passive_idles);
+    s->survey.state = m->survey_state;
+    s->survey.why = m->survey_why;
+    s->survey.fixed = m->survey_fixed != 0;
+    s->survey.utime = m->survey_utime;
+    s->survey.sweeps = m->survey_sweeps < 0 ? 0u : (uint32_t)m->survey_sweeps;
+    s->survey.turn_grad = m->survey_turn_grad;
+    s->survey.nplaces = m->survey_places < 0 ? 0u : (uint32_t)m->survey_places;
+    s->survey.places = NULL; /* the structure is not on SONAR_STATUS */
+    s->survey.unfits = to_u32(m->survey_unfits);
+    s->survey.agree16 = m->survey_agree > 0.0f ? (uint32_t)(m->survey_agree * 16.0f + 0.5f) : 0u;
+    s->survey.standout1000 = m->survey_standout > 0.0f ? (uint32_t)(m->survey_standout * 1000.0f + 0.5f) : 0u;
+}
+
+void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_survey_t *m)
+{
+    unsigned i, n = s->survey.places != NULL && s->survey.nplaces <= SONAR_MAX_CLUSTERS ? s->survey.nplaces : 0u;
+    memset(det, 0, n * sizeof(*det));
+    for (i = 0; i < n; i++) {
+        const struct sonar_detection *o = &s->survey.places[i];
+        det[i].x_m = o->x_m;
+        det[i].y_m = o->y_m;
+        det[i].range_m = o->range_m;
+        det[i].kind = (int8_t)o->kind;
+        det[i].hull_count = o->hull_count;
+        det[i].hull_x = (float *)(uintptr_t)o->hull_x; /* encode only reads them */
+        det[i].hull_y = (float *)(uintptr_t)o->hull_y;
+    }
+    m->utime = s->utime;
+    m->state = (int8_t)s->survey.state;
+    m->fixed = (int8_t)(s->survey.fixed != 0);
+    m->recorded_utime = s->survey.utime;
+    m->sweeps = (int32_t)(s->survey.sweeps > INT32_MAX ? INT32_MAX : s->survey.sweeps);
+    m->count = (int16_t)n;
+    m->places = det;
 }
 
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)

@@ -263,6 +263,8 @@ def main():
     ap.add_argument("--frame", choices=("body", "world"), default="body", help="frame to score a moving sonar in")
     ap.add_argument("--late", action="store_true",
                     help="score each sweep's tracks as read one sweep late: relabelled by the next sweep's revisions")
+    ap.add_argument("--from-sweep", type=int, default=0,
+                    help="score the sweeps from this one on (1: from the second, after a first look at the site)")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args()
     bad = [x for x in a.states.split(",") if x not in ("tentative", "confirmed", "coasting")]
@@ -270,8 +272,8 @@ def main():
         ap.error(f"--states: {bad[0]!r} is not tentative, confirmed or coasting")
     # sweeps marked "labelled": false have unknown truth: neither their detections nor their objects count
     tj = json.load(open(a.truth))["sweeps"]
-    truth = {s["sweep"]: s["objects"] for s in tj if s.get("labelled", True)}
-    hidden = {s["sweep"]: s.get("hidden", []) for s in tj if s.get("labelled", True)}
+    truth = {s["sweep"]: s["objects"] for s in tj if s.get("labelled", True) and s["sweep"] >= a.from_sweep}
+    hidden = {s["sweep"]: s.get("hidden", []) for s in tj if s.get("labelled", True) and s["sweep"] >= a.from_sweep}
     if a.frame == "body":
         # A moving sonar's truth: its own frame, where velocities over ground do not apply.
         for objs in list(truth.values()) + list(hidden.values()):

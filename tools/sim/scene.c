@@ -267,6 +267,15 @@ int scene_make(struct scene *s, const char *name)
     return 0;
 }
 
+void scene_empty(struct scene *s)
+{
+    int k, m = 0;
+    for (k = 0; k < s->nobj; k++)
+        if (s->obj[k].structure)
+            s->obj[m++] = s->obj[k];
+    s->nobj = m;
+}
+
 void scene_vehicle_at(const struct scene *s, double t, double *n, double *e, double *yaw_deg)
 {
     const struct scene_vehicle *v = &s->veh;

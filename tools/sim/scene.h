@@ -80,6 +80,9 @@ struct scene {
     struct scene_vehicle veh;
 };
 
+/* The scene as it is with nobody in it (--empty): its walls, ropes and structure objects (a ladder) stay. */
+void scene_empty(struct scene *s);
+
 /* The vehicle's pose at t seconds since the first beam: north, east (m), yaw (degrees, [0, 360)). */
 void scene_vehicle_at(const struct scene *s, double t, double *n, double *e, double *yaw_deg);
 

@@ -101,14 +101,8 @@ int main(int argc, char **argv)
     }
     if (sweeps > 0)
         s.sweeps = sweeps;
-    if (o.empty) {
-        /* The place as it is with nobody in it: its structure (a ladder) stays. */
-        int k, m = 0;
-        for (k = 0; k < s.nobj; k++)
-            if (s.obj[k].structure)
-                s.obj[m++] = s.obj[k];
-        s.nobj = m;
-    }
+    if (o.empty)
+        scene_empty(&s);
     if ((csv = fopen(csv_path, "w")) == NULL || (truth = fopen(truth_path, "w")) == NULL) {
         perror("sonar_sim");
         return 2;

@@ -3,7 +3,7 @@
 
   sonar_view.py [--lcm URL] [--listen 127.0.0.1:8360] [--prefix P] [--types build/lcm/python]
 
-It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with
+It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS, SONAR_STATUS and SONAR_SURVEY (with
 sonard's --channel-prefix) and serves http://ADDR:PORT/ (index.html, view.js) and the WebSocket /ws.
 Libraries: `websockets` (HTTP and WebSocket in one small, dependency-free asyncio library) and, for udpm:// (LCM's
 default), lcm_udpm.py beside this file; other LCM URLs need LCM's own Python binding. The page is plain JavaScript
@@ -51,6 +51,7 @@ class Hub:
         self.counts = {"beams": 0, "bad": 0, "dropped": 0}
         self.last_rx = 0.0
         self.last_status = None
+        self.last_survey = None  # the survey's structure (SONAR_SURVEY), for a page that joins late
         self.udpm = None  # the plain-Python receiver, when it is the transport (its malformed datagrams count as bad)
 
     def bad(self):
@@ -92,8 +93,9 @@ def status_json(m, hub):
     keys = ["link_state", "link", "fw_major", "fw_minor", "fw_patch", "frames", "checksum_errors", "resyncs",
             "oversize", "bytes_dropped", "timeouts", "retries", "nacks", "reconnects", "off_angle", "foreign", "beams", "sweeps",
             "beams_rejected", "sink_errors", "last_sweep_s", "beam_us_p50", "beam_us_p99", "tracks", "pose_state",
-            "passive", "passive_idle"]
-    out = {k: getattr(m, k) for k in keys}
+            "passive", "passive_idle", "survey_state", "survey_why", "survey_fixed", "survey_utime", "survey_sweeps",
+            "survey_turn_grad", "survey_places"]
+    out = {k: getattr(m, k, 0) for k in keys}  # an older sonard's status has no survey: 0, no survey
     out["utime"] = m.utime
     return out
 
@@ -101,6 +103,10 @@ def status_json(m, hub):
 def lcm_setup(url, hub, types_dir):
     sys.path.insert(0, types_dir)
     from sonar import beam_t, detections_t, tracks_t, status_t
+    try:
+        from sonar import survey_t
+    except ImportError:  # types of a sonard before the survey
+        survey_t = None
     if not url or url.startswith("udpm://"):
         sys.path.insert(0, HERE)
         from lcm_udpm import Udpm
@@ -132,14 +138,15 @@ def lcm_setup(url, hub, types_dir):
     def on_det(data):
         m = detections_t.decode(data)
         hub.text({"kind": "detections", "sweep": m.sweep, "utime": m.utime, "detections": [
-            {"x": d.x_m, "y": d.y_m, "structure": d.kind == 1, "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]}
+            {"x": d.x_m, "y": d.y_m, "structure": d.kind == 1, "since_start": d.kind == 2,
+             "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]}
             for d in m.detections]})
 
     def on_trk(data):
         m = tracks_t.decode(data)
-        kinds, modes = ("new", "moving", "resting", "structure"), ("moving", "turning", "resting")
+        kinds, modes = ("new", "moving", "resting", "structure", "static since start"), ("moving", "turning", "resting")
         hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
-            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m, "what": kinds[k.kind] if 0 <= k.kind < 4 else "?",
+            {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m, "what": kinds[k.kind] if 0 <= k.kind < 5 else "?",
              "mode": modes[k.mode] if 0 <= k.mode < 3 else "?", "still_s": k.still_s} for k in m.tracks],
             # the last sweep's IDs this look revised: published as id, now as now (0: withdrawn)
             "revisions": [{"id": a, "now": b} for a, b in zip(m.revised_from, m.revised_to)]})
@@ -153,7 +160,16 @@ def lcm_setup(url, hub, types_dir):
     lc.subscribe(p + "SONAR_BEAM_FILTERED$", guard(on_beam(True)))
     lc.subscribe(p + "SONAR_DETECTIONS$", guard(on_det))
     lc.subscribe(p + "SONAR_TRACKS$", guard(on_trk))
+    def on_survey(data):
+        m = survey_t.decode(data)
+        hub.last_survey = {"kind": "survey", "state": m.state, "fixed": m.fixed, "recorded_utime": m.recorded_utime,
+                           "places": [{"x": d.x_m, "y": d.y_m, "line": d.kind == 1,
+                                       "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]} for d in m.places]}
+        hub.text(hub.last_survey)
+
     lc.subscribe(p + "SONAR_STATUS$", guard(on_status))
+    if survey_t is not None:
+        lc.subscribe(p + "SONAR_SURVEY$", guard(on_survey))
     return lc
 
 
@@ -187,6 +203,9 @@ async def handler(ws, hub):
     hub.clients.add(c)
     if hub.last_status is not None:
         c.texts.append(json.dumps({"kind": "status", "status": hub.last_status}))
+        c.wake.set()
+    if hub.last_survey is not None:
+        c.texts.append(json.dumps(hub.last_survey))
         c.wake.set()
     task = asyncio.create_task(sender(c))
     try:

@@ -39,7 +39,7 @@ for (const e of byAngle) { e.idx = Int32Array.from(e.idx); e.frac = Float32Array
 
 const view = window.sonarView = {
   beams: 0, frames: 0, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
-  detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0,
+  detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0, survey: null, surveyText: "",
   stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
   background: [0x10, 0x14, 0x1a],
   toPixel(x, y) { const k = view.range > 0 ? R / view.range : 0; return [Math.round(C + y * k), Math.round(C - x * k)]; },
@@ -87,12 +87,39 @@ function rings() {
   octx.beginPath(); octx.moveTo(C, C); octx.lineTo(C, C - R); octx.stroke();   // forward
 }
 
+// The survey's structure (walls, ropes, a ladder: what is never an object), in grey under everything else.
+function surveyShapes() {
+  const sv = view.survey;
+  if (!sv || sv.state !== 1) return;
+  octx.lineWidth = 1.5; octx.strokeStyle = "rgba(150,160,170,0.75)"; octx.fillStyle = "rgba(150,160,170,0.18)";
+  for (const p of sv.places) {
+    if (!p.hull.length) continue;
+    octx.beginPath();
+    p.hull.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
+    octx.closePath(); octx.fill(); octx.stroke();
+  }
+}
+
+// What the status says of the site's survey, for people.
+const SURVEY_WHY = { 2: "another range or samples", 3: "another gain", 5: "the mount turned", 6: "the structure moved",
+                     7: "too much stands out", 8: "a moving sonar", 9: "the background restarted", 10: "structure it does not hold" };
+function surveyText(st) {
+  if (!st || !st.survey_state) return "no survey: learning";
+  const when = new Date(st.survey_utime / 1000).toISOString().slice(0, 16).replace("T", " ") + " UTC";
+  const what = st.survey_fixed ? "survey of " + when : "learnt model of " + when;
+  if (st.survey_state === 1) return what;
+  const why = st.survey_why === 5 ? `the mount turned by about ${st.survey_turn_grad} gradians` : (SURVEY_WHY[st.survey_why] || "?");
+  return `${what} does not fit (${why}): learning`;
+}
+
 function shapes() {
+  surveyShapes();
   octx.lineWidth = 2;
   for (const d of view.detections) {
     if (!d.hull.length) continue;
-    // objects in red; structure (walls, ropes, what stood still since the first look) dashed grey
-    octx.strokeStyle = d.structure ? "rgba(190,190,190,0.7)" : "#ff5c5c";
+    // objects in red (orange: there and still since the first look, with no survey to say it is no object);
+    // structure (walls, ropes, what was learnt as structure) dashed grey
+    octx.strokeStyle = d.structure ? "rgba(190,190,190,0.7)" : d.since_start ? "#ffa657" : "#ff5c5c";
     octx.setLineDash(d.structure ? [5, 4] : []);
     octx.beginPath();
     d.hull.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
@@ -152,6 +179,9 @@ setInterval(() => {
   else state = `<span class="ok">live</span>`;
   document.getElementById("state").innerHTML = state;
   let h = "";
+  view.surveyText = surveyText(st);
+  document.getElementById("survey").innerHTML = view.surveyText;
+  document.getElementById("survey").className = st && st.survey_state === 2 ? "bad" : "";
   if (st) {
     h += row("link", `${LINK[st.link_state] || st.link_state} ${st.link}`, st.link_state < 3);
     if (st.passive) h += row("driving program", st.passive_idle ? "quiet (no beams)" : "beams coming", st.passive_idle > 0);
@@ -196,6 +226,7 @@ function connect() {
       }
       for (const id of [...view.trails.keys()]) if (!seen.has(id)) view.trails.delete(id);
     } else if (m.kind === "status") view.status = m.status;
+    else if (m.kind === "survey") view.survey = m;
     else if (m.kind === "view") view.viewInfo = m;
   };
   ws.onclose = () => { view.state = "offline"; setTimeout(connect, 1000); };

@@ -108,7 +108,8 @@ static int parse_pace(void *base, const char *v, char *err, size_t n)
 static const struct opt_spec feed_spec[] = {
     {"device", NULL, OPT_SECTION, 0, 0, 0, 0, 0, NULL, NULL, NULL, NULL, NULL},
     {"listen", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "tcp:HOST:PORT | udp:HOST:PORT | pty:PATH", NULL, "where to act as a Ping360 (loopback only)", NULL, parse_listen},
-    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still or faces", NULL, "a simulated scene", NULL, NULL},
+    {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "a sonar-sim scene (sonar-sim --help lists them)", NULL, "a simulated scene", NULL, NULL},
+    {"empty", NULL, OPT_FLAG, 0, 0, FO(empty), 0, 0, NULL, "off", "the scene with nobody in it (walls, ropes, structure): a site to survey", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
     {"pace", "device|fast|xN", OPT_CUSTOM, 0, 0, 0, 0, 0, "device, fast or xN", "device",
@@ -202,9 +203,11 @@ int main(int argc, char **argv)
     }
     if (scene != NULL) {
         if (scene_make(&f.scene, scene) != 0) {
-            fprintf(stderr, "sonar_feed: --scene: '%s' is not pool, open, moving, sector or vehicle\n", scene);
+            fprintf(stderr, "sonar_feed: --scene: '%s' is not a scene of sonar-sim's (sonar-sim --help lists them)\n", scene);
             return 2;
         }
+        if (f.empty)
+            scene_empty(&f.scene);
         f.use_scene = 1;
     } else if (feed_load_csv(&f.rec, csv, range) != 0) {
         return 2;
