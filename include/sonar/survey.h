@@ -174,7 +174,9 @@ enum sonar_survey_state {
     SONAR_SURVEY_UNFIT = 2   /* it no longer fits (why): the background learns; it is checked on */
 };
 
-/* Where a spread is held: one byte a cell, the caller's (a co-processor may hold none). */
+/* Where a spread is held: one byte a cell, the caller's (a co-processor may hold none). In use it holds each
+   cell's gate over its level instead (the larger of SONAR_SURVEY_SPREADS16 spreads and the margin's share, at most
+   255), made once at load, so that a beam's pass is a subtraction and a compare a cell. */
 struct sonar_survey_spread {
     uint8_t s[SONAR_MAX_ANGLES][SONAR_MAX_SAMPLES];
 };

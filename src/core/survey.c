@@ -33,6 +33,16 @@ void sonar_survey_init(struct sonar_survey *sv, struct sonar_survey_spread *spre
 }
 
 /*
+ * A cell's gate over its level L (survey.h): the larger of SONAR_SURVEY_SPREADS16 spreads and the
+ * margin's share of L, at most 255 (where L + gate passes 255 nothing can stand out either way).
+ */
+static uint8_t gate_above(unsigned l, unsigned spread, int has_spread, uint8_t margin)
+{
+    unsigned g = (l * margin) >> 4, gs = (spread * SONAR_SURVEY_SPREADS16) >> 4, v = has_spread && gs > g ? gs : g;
+    return (uint8_t)(v < 255u ? v : 255u);
+}
+
+/*
  * Each row's structure: the sample of its strongest level beyond the ring-down, when that level is
  * SONAR_SURVEY_SIG_LEVEL or more and SONAR_SURVEY_SIG_TIMES its median there (a wall, a ladder,
  * not the water's speckle); with the level there, for a look that only sees it behind something.
@@ -113,6 +123,13 @@ int sonar_survey_use(struct sonar_survey *sv, struct sonar_background *bg, const
                 if (sv->spread->s[near_known][i] > sv->spread->s[row][i])
                     sv->spread->s[row][i] = sv->spread->s[near_known][i];
     }
+    /* The spreads become the gates, once (the margin is the background's until it restarts, which gives the survey up):
+       the per-beam pass is then a subtraction and a compare a cell. */
+    for (row = 0; sv->has_spread && row < SONAR_MAX_ANGLES; row++) {
+        unsigned i;
+        for (i = 0; i < m.n; i++)
+            sv->spread->s[row][i] = gate_above(bg->cell[row][i], sv->spread->s[row][i], 1, bg->margin);
+    }
     {
         uint8_t sig_level[SONAR_MAX_ANGLES];
         for (row = 0; row < SONAR_MAX_ANGLES; row++) {
@@ -165,16 +182,29 @@ int sonar_survey_fits_beam(struct sonar_survey *sv, uint16_t n, float range_m, i
 }
 
 /* The beam's strongest echo beyond the ring-down, its sample. */
+/* The largest of len bytes; with a constant len it vectorises at -O2. */
+#define SV_MAX_SPAN(x, len, top)                                                                                    \
+    for (i = 0; i < (len); i++)                                                                                    \
+        top = (x)[i] > top ? (x)[i] : top;
+
 static uint16_t strongest(const uint8_t *in, uint16_t from, uint16_t n)
 {
-    uint16_t i, at = from;
+    /* The top first, as a max over bytes, then where it first is: a quarter of the branchy search's time. */
+    uint16_t i, i0 = from;
     uint8_t top = 0;
-    for (i = from; i < n; i++)
-        if (in[i] > top) {
-            top = in[i];
-            at = i;
-        }
-    return at;
+    const uint8_t *at;
+    if (from >= n)
+        return from;
+    for (; i0 + 64u <= n; i0 = (uint16_t)(i0 + 64u)) {
+        const uint8_t *x = in + i0;
+        SV_MAX_SPAN(x, 64, top)
+    }
+    {
+        const uint8_t *x = in + i0;
+        SV_MAX_SPAN(x, n - i0, top)
+    }
+    at = memchr(in + from, top, (size_t)(n - from));
+    return at != NULL ? (uint16_t)(at - in) : from;
 }
 
 /* Samples that make SONAR_SURVEY_SIG_M at the survey's range (at least 2). */
@@ -184,16 +214,11 @@ static uint16_t sig_tolerance(const struct sonar_survey *sv)
     return (uint16_t)(t < 2.0 ? 2.0 : t);
 }
 
-/* The level and the gate over it of cell i of surveyed row src: its level plus the larger of the margin and 3 spreads. */
-static unsigned gate_over(unsigned l, unsigned spread, int has_spread, uint8_t margin)
-{
-    unsigned g = (l * margin) >> 4, gs = (spread * SONAR_SURVEY_SPREADS16) >> 4;
-    return l + (has_spread && gs > g ? gs : g);
-}
-
+/* The gate of cell i of surveyed row src, as a level: its level plus the gate over it. */
 static unsigned gate_at(const struct sonar_survey *sv, const struct sonar_background *bg, unsigned src, uint16_t i)
 {
-    return gate_over(bg->cell[src][i], sv->has_spread ? sv->spread->s[src][i] : 0u, sv->has_spread, bg->margin);
+    unsigned l = bg->cell[src][i];
+    return l + (sv->has_spread ? sv->spread->s[src][i] : gate_above(l, 0u, 0, bg->margin));
 }
 
 /* Samples that make SONAR_SURVEY_OCCLUDE_M at the survey's range. */
@@ -236,26 +261,67 @@ void sonar_survey_look(struct sonar_survey *sv, const struct sonar_background *b
     sv->agreed = (uint16_t)(sv->agreed + ((at >= lo && at <= hi) || 2u * top >= sv->sig_level[src]));
 }
 
+/*
+ * SV_BLOCK cells judged, in byte arithmetic with no branches, so that with the constant length -O2
+ * vectorises it (as the background's steady state, background.c): up = max(x, L) - L. With the gates
+ * (gt: the spread block, made gates at load) the echo above the level where it passes its gate (a
+ * faint body keeps its whole contrast); by the level alone, what exceeds the margin, as a learnt
+ * background's foreground is. Returns the cells that stood out.
+ */
+#define SV_BLOCK 64
+static unsigned judge_block(const uint8_t *restrict x, const uint8_t *restrict lv, const uint8_t *restrict gt,
+                            uint8_t *restrict fg, uint8_t margin)
+{
+    unsigned i;
+    uint8_t cnt = 0;
+    if (gt != NULL)
+        for (i = 0; i < SV_BLOCK; i++) {
+            uint8_t xi = x[i], l = lv[i], hi = xi > l ? xi : l, up = (uint8_t)(hi - l);
+            fg[i] = up > gt[i] ? up : 0u;
+        }
+    else
+        for (i = 0; i < SV_BLOCK; i++) {
+            uint8_t xi = x[i], l = lv[i], hi = xi > l ? xi : l, up = (uint8_t)(hi - l);
+            uint16_t g16 = (uint16_t)((l * margin) >> 4);
+            uint8_t gate = (uint8_t)(g16 < 255u ? g16 : 255u), over = up > gate ? up : gate;
+            fg[i] = (uint8_t)(over - gate);
+        }
+    /* A foreground cell is never 0 (it passed a gate of 0 or more); a byte holds a block's count. */
+    for (i = 0; i < SV_BLOCK; i++)
+        cnt = (uint8_t)(cnt + (fg[i] != 0u));
+    return cnt;
+}
+
 int sonar_survey_apply(struct sonar_survey *sv, const struct sonar_background *bg, uint16_t angle, const uint8_t *in,
                        uint8_t *fg, uint16_t n)
 {
-    unsigned src;
-    const uint8_t *lv, *sp;
+    unsigned src, i0;
+    const uint8_t *lv, *gt;
     uint32_t out = 0;
-    uint16_t i;
-    uint8_t margin;
+    uint8_t blk[SV_BLOCK];
     if (sv == NULL || sv->state != SONAR_SURVEY_IN_USE || !sv->fixed || n != sv->meta.n ||
         (src = sv->src[row_of(angle)]) == NONE)
         return 0;
     lv = bg->cell[src];
-    sp = sv->has_spread ? sv->spread->s[src] : NULL;
-    margin = bg->margin;
-    for (i = 0; i < n; i++) {
-        unsigned x = in[i], l = lv[i], t = gate_over(l, sp != NULL ? sp[i] : 0u, sp != NULL, margin);
-        /* With a spread the echo keeps its contrast above the level (a faint body far out its whole contrast); by the
-           level alone it is what exceeds the margin, as a learnt background's foreground is. */
-        fg[i] = (uint8_t)(x > t ? x - (sp != NULL ? l : t) : 0u);
-        out += x > t;
+    gt = sv->has_spread ? sv->spread->s[src] : NULL;
+    /* Each block of in copied first: in and fg may be one buffer. */
+    for (i0 = 0; i0 + SV_BLOCK <= n; i0 += SV_BLOCK) {
+        memcpy(blk, in + i0, SV_BLOCK);
+        out += judge_block(blk, lv + i0, gt != NULL ? gt + i0 : NULL, fg + i0, bg->margin);
+    }
+    if (i0 < n) {
+        /* The ragged end as one more block through copies, padded with silence (which never stands out). */
+        uint8_t tl[SV_BLOCK], tg[SV_BLOCK], tf[SV_BLOCK];
+        size_t len = n - i0;
+        memset(blk, 0, sizeof(blk));
+        memset(tl, 0, sizeof(tl));
+        memset(tg, 0, sizeof(tg));
+        memcpy(blk, in + i0, len);
+        memcpy(tl, lv + i0, len);
+        if (gt != NULL)
+            memcpy(tg, gt + i0, len);
+        out += judge_block(blk, tl, gt != NULL ? tg : NULL, tf, bg->margin);
+        memcpy(fg + i0, tf, len);
     }
     sv->cells += n;
     sv->standout += out;

@@ -13,6 +13,7 @@
 #include "sonar/obstacle.h"
 #include "sonar/pipeline.h"
 #include "sonar/scan.h"
+#include "sonar/survey.h"
 #include "sonar/tracker.h"
 #include "tracker_scene.h"
 
@@ -31,6 +32,14 @@ static struct sonar_detector det;
 static struct sonar_detections out, worst_out;
 static struct sonar_pipeline pipe; /* sonard's defaults, beam by beam */
 static struct sonar_background pipe_bg;
+static struct sonar_pipeline pipe_sv; /* the same, judged against a survey of the site */
+static struct sonar_background pipe_sv_bg;
+static struct sonar_survey_rec rec;   /* the survey's recording (3.4 MB, the host's) ... */
+static struct sonar_survey sv;        /* ... and its use: the level in the background, the spread here */
+static struct sonar_survey_spread spread;
+static struct sonar_detector sv_det;  /* the recording's scratch for the structure */
+static struct sonar_detection sv_places[SONAR_MAX_CLUSTERS], sv_found[SONAR_MAX_CLUSTERS];
+static uint8_t sv_img[SONAR_BGFILE_MAX];
 
 static double now(void)
 {
@@ -49,6 +58,27 @@ static double median_of(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof(double), cmpd);
     return v[n / 2];
+}
+
+/*
+ * A pipeline's per-beam step, us: 8 sweeps to warm, then REPS sweeps timed (t, REPS of them), the
+ * median. Beam 0 of each sweep is pushed untimed: it ends the previous sweep (detection, tracking).
+ */
+static double pipeline_step_us(struct sonar_pipeline *p, double *t, int *sink)
+{
+    int r, i;
+    for (r = 0; r < 8 + REPS; r++) {
+        double t0 = 0.0;
+        for (i = 0; i < BEAMS; i++) {
+            struct sonar_beam b = {(int64_t)(r * BEAMS + i) * 20000, (uint16_t)i, N, 20.0f, sweeps[r % SWEEPS][i], 0};
+            if (i == 1)
+                t0 = now();
+            *sink += sonar_pipeline_push(p, &b);
+        }
+        if (r >= 8)
+            t[r - 8] = (now() - t0) / (BEAMS - 1) * 1e6;
+    }
+    return median_of(t, REPS);
 }
 
 /*
@@ -155,18 +185,54 @@ int main(int argc, char **argv)
         double t_pipe[REPS];
         if (sonar_pipeline_init(&pipe, &pipe_bg, &defaults) != SONAR_OK)
             return 1;
-        for (r = 0; r < 8 + REPS; r++) {
-            double t0 = 0.0;
-            for (i = 0; i < BEAMS; i++) {
-                struct sonar_beam b = {(int64_t)(r * BEAMS + i) * 20000, (uint16_t)i, N, 20.0f, sweeps[r % SWEEPS][i], 0};
-                if (i == 1)
-                    t0 = now();
-                sink += sonar_pipeline_push(&pipe, &b);
-            }
-            if (r >= 8)
-                t_pipe[r - 8] = (now() - t0) / (BEAMS - 1) * 1e6;
+        printf("beam_step_us %.4f\n", pipeline_step_us(&pipe, t_pipe, &sink));
+    }
+    /*
+     * The same step with a site survey in use (survey.h): each cell judged against its level and
+     * spread instead of learnt, and each beam looked at for the survey's fit. The survey is of these
+     * sweeps, recorded beam by beam after the median as the pipeline records it (no tracks: nothing refuses it).
+     */
+    {
+        double t_sv[REPS], t_load;
+        struct sonar_bgfile_meta m;
+        const char *why = NULL;
+        uint8_t np = 0;
+        int32_t len;
+        sonar_survey_rec_init(&rec);
+        for (r = 0; r < 2 * SWEEPS; r++) {
+            for (i = 0; i < BEAMS; i++)
+                if (sonar_median_1d(sweeps[r % SWEEPS][i], filt, N, defaults.median) != SONAR_OK ||
+                    sonar_survey_rec_beam(&rec, (uint16_t)i, filt, N, 20.0f, 0, (int64_t)(r * BEAMS + i) * 20000) != SONAR_OK)
+                    return 1;
+            if (sonar_survey_rec_sweep(&rec, NULL, 0) != SONAR_OK)
+                return 1;
         }
-        printf("beam_step_us %.4f\n", median_of(t_pipe, REPS));
+        memset(&m, 0, sizeof(m));
+        m.mode = defaults.background.mode;
+        m.median = defaults.median;
+        m.sound_mm_s = 1500000u;
+        len = sonar_survey_rec_image(&rec, &m, &defaults.detector, &sv_det, sv_found, &np, sv_img, sizeof(sv_img));
+        if (len < 0 || sonar_pipeline_init(&pipe_sv, &pipe_sv_bg, &defaults) != SONAR_OK)
+            return 1;
+        sonar_survey_init(&sv, &spread, sv_places);
+        sonar_pipeline_set_survey(&pipe_sv, &sv);
+        t_load = now();
+        if (sonar_pipeline_load_background(&pipe_sv, sv_img, (size_t)len, &why) != SONAR_OK) {
+            fprintf(stderr, "bench: the survey: %s\n", why != NULL ? why : "?");
+            return 1;
+        }
+        printf("survey_load_ms %.3f\n", (now() - t_load) * 1e3);
+        printf("beam_step_survey_us %.4f\n", pipeline_step_us(&pipe_sv, t_sv, &sink));
+        /* Timed in use, not given up along the way (then the plain background would have been timed). */
+        printf("beam_step_survey_in_use %d\n", sonar_pipeline_survey(&pipe_sv)->state == SONAR_SURVEY_IN_USE);
+        {
+            /* The file with the spread against the same file without (a learnt model's): what the spread costs. */
+            struct sonar_bgfile_layout lo;
+            if (sonar_bgfile_layout(N, (uint8_t)(sv.meta.flags & ~SONAR_BGFILE_SPREAD), np, &lo) != SONAR_OK)
+                return 1;
+            printf("survey_file_bytes %ld %u\n", (long)len, (unsigned)lo.size);
+            printf("survey_ram_bytes %u %u\n", (unsigned)sizeof(pipe_sv_bg.cell), (unsigned)sizeof(spread));
+        }
     }
     /* The study's 2-D filter: 5 x 5 over the sweep, row by row through the delay line. */
     for (r = 0; r < REPS; r++) {
