@@ -87,7 +87,7 @@ if [ -f "$A" ]; then
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
 for d in dev proc sys; do mount --rbind /\$d "$R/\$d" || exit 4; done
 mount --bind "$T/config" "$R/config" || exit 4
-python3 tests/fake_ping_service.py --port 9110 --mode good --seconds 240 > /dev/null & S=\$!
+python3 tests/fake_ping_service.py --port 9110 --mode good --seconds 480 > /dev/null & S=\$!
 chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --pace fast --ping1d 0.1 --max-seconds 240 2> "$T/img.feed" & F=\$!
 timeout 240 chroot "$R" sh /usr/share/sonard/blueos/start.sh --range 12 --sweeps 7 --json > "$T/img.jsonl" 2> "$T/img.err" & E=\$!
 for i in \$(seq 120); do python3 -c "import socket; socket.create_connection(('127.0.0.1', 8360), 1)" 2> /dev/null && break; sleep 0.5; done
@@ -102,6 +102,17 @@ for i in range(40):
 print(n)" > "$T/img.health" 2>&1
 wait \$E; echo \$? > "$T/img.rc"
 chroot "$R" sh -c 'stat -c %U /config/sonard.conf' > "$T/img.owner" 2>&1
+kill \$F 2> /dev/null; wait \$F 2> /dev/null
+# The survey as docs/blueos.md has it recorded: a file record-survey beside the configuration (range 12 m added
+# there), the extension restarted with the site empty; the site then occupied, the survey loaded and in use.
+echo 'range = 12' >> "$T/config/sonard.conf"
+echo 8 > "$T/config/record-survey"
+chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --empty --pace fast --max-seconds 240 2> /dev/null & G=\$!
+timeout 240 chroot "$R" sh /usr/share/sonard/blueos/start.sh --sweeps 7 --json > "$T/sv.jsonl" 2> "$T/sv.err" & E=\$!
+for i in \$(seq 480); do grep -q 'survey: written\\|no survey recorded' "$T/sv.err" 2> /dev/null && break; sleep 0.5; done
+kill \$G 2> /dev/null; wait \$G 2> /dev/null
+chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --pace fast --max-seconds 240 2> /dev/null & F=\$!
+wait \$E; echo \$? > "$T/sv.rc"
 kill \$S \$F 2> /dev/null
 EOF
     mkdir -p "$R/config"
@@ -115,6 +126,12 @@ EOF
     check "the arm/v7 entrypoint: the pool's objects found (F1 >= 0.95)" python3 tools/eval/score.py "$T/pool.json" "$T/img.jsonl" --min-f1 0.95
     check "the arm/v7 entrypoint: the view heard sonard over LCM ($(cat "$T/img.health") beams); /config/sonard.conf made, owned by $(cat "$T/img.owner")" \
         sh -c "test \"\$(cat '$T/img.health')\" -gt 0 && test -f '$T/config/sonard.conf' && test \"\$(cat '$T/img.owner')\" = sonard"
+    check "the arm/v7 entrypoint with a file record-survey: the survey written to /config/site.survey, the file taken away" \
+        sh -c "grep -q 'survey: written to /config/site.survey' '$T/sv.err' && test -f '$T/config/site.survey' &&
+               test ! -e '$T/config/record-survey' || { tail -5 '$T/sv.err'; exit 1; }"
+    check "... then loaded at start with no flag and in use: the occupied pool's objects found (F1 >= 0.95), exit 0" \
+        sh -c "test \"\$(cat '$T/sv.rc')\" = 0 && grep -q 'survey: of .* in use' '$T/sv.err' &&
+               python3 tools/eval/score.py '$T/pool.json' '$T/sv.jsonl' --min-f1 0.95 || { tail -5 '$T/sv.err'; exit 1; }"
 fi
 for a in armv7 arm64 amd64; do
     [ -f "$O/sonard-blueos-$a.tar" ] && echo "blueos: $O/sonard-blueos-$a.tar: $(du -m "$O/sonard-blueos-$a.tar" | cut -f1) MB"

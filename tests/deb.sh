@@ -48,6 +48,25 @@ test -f /usr/share/sonard/lcm_types/sonar_beam_t.lcm && test -f /lib/systemd/sys
 test -f /lib/systemd/system/sonard@.service && test -f /lib/systemd/system/sonar-view.service &&
 zcat /usr/share/man/man1/sonard.1.gz | grep -q -- --discover && zcat /usr/share/man/man1/sonar-view.1.gz | grep -q -- --listen"
 
+# The site survey as sonard.service's header says to record it: as the sonard user, with the shipped config (its
+# survey = /var/lib/sonard/site.survey), from a Ping360 serving the empty site; then loaded by that config at start.
+/usr/bin/sonar-feed --listen tcp:127.0.0.1:$((PORT + 2)) --scene pool --empty --pace fast --max-seconds 60 2> /dev/null & F=$!
+sleep 0.3
+timeout 60 runuser -u sonard -- /usr/bin/sonard --config /etc/sonard/sonard.conf --sonar tcp:127.0.0.1:$((PORT + 2)) \
+    --no-lcm --quiet --survey 10 2> "$T/survey.err"
+src=$?
+kill $F 2> /dev/null; wait $F 2> /dev/null
+check "the survey recorded as the unit's header says: /var/lib/sonard/site.survey written, the sonard user's" sh -c "
+test $src -eq 0 && grep -q 'survey: written to /var/lib/sonard/site.survey' '$T/survey.err' &&
+test \"\$(stat -c %U /var/lib/sonard/site.survey)\" = sonard || { cat '$T/survey.err'; exit 1; }"
+/usr/bin/sonar-feed --listen tcp:127.0.0.1:$((PORT + 2)) --scene pool --pace fast --max-seconds 60 2> /dev/null & F=$!
+sleep 0.3
+timeout 60 runuser -u sonard -- /usr/bin/sonard --config /etc/sonard/sonard.conf --sonar tcp:127.0.0.1:$((PORT + 2)) \
+    --no-lcm --quiet --sweeps 3 2> "$T/survey_use.err"
+kill $F 2> /dev/null; wait $F 2> /dev/null
+check "... and the shipped config loads it at start, with no flag" sh -c "
+grep -q 'survey: of .* in use' '$T/survey_use.err' || { cat '$T/survey_use.err'; exit 1; }"
+
 # The units: their exposure as systemd scores it, the serial device by the ACL and dialout only.
 for u in sonard.service sonard@front.service sonar-view.service; do
     systemd-analyze security --offline=true --root=/ "$u" > "$T/sec.$u" 2>&1

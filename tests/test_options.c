@@ -345,7 +345,7 @@ static void test_markdown_has_every_row(void **state)
 
 /*
  * The example configuration the package installs as /etc/sonard/sonard.conf runs what the tests score:
- * read as shipped, every setting but the sonar's address is sonard's default (issue 34: it used to
+ * read as shipped, every setting but the sonar's address and the survey's file is sonard's default (issue 34: it used to
  * set another background, min-points and a channel prefix while saying "defaults shown").
  */
 static void test_example_config_is_the_defaults(void **state)
@@ -367,6 +367,8 @@ static void test_example_config_is_the_defaults(void **state)
     assert_int_equal(o.publish_filtered, want.publish_filtered);
     assert_null(o.bg_load);
     assert_null(o.csv_out);
+    assert_string_equal(o.survey, "/var/lib/sonard/site.survey"); /* under the unit's StateDirectory */
+    assert_int_equal(o.survey_sweeps, 0);
 }
 
 /* --log-level is the diagnostics' and --quiet the per-sweep report's: one does not set the other. */

@@ -268,6 +268,11 @@ int options_given(const struct sonard_options *o, const char *name)
     return k >= 0 && opt_was_given(&o->given, (size_t)k);
 }
 
+const char *options_moving(const struct sonard_options *o)
+{
+    return o->pose_file ? "--pose" : o->mavlink ? "--mavlink" : o->pose_lcm ? "--pose-lcm" : NULL;
+}
+
 /* The settings that follow --background unless given: the warm-up, and the study's detector rules with its median background. */
 static void mode_defaults(struct sonard_options *o)
 {
@@ -322,7 +327,7 @@ static int check_passive(struct sonard_options *o, char *err, size_t errlen)
 /* --survey N records a fixed, empty site into the survey's file with sonard's own per-angle background, then stops. */
 static int check_survey(struct sonard_options *o, char *err, size_t errlen)
 {
-    const char *moving = o->pose_file ? "--pose" : o->mavlink ? "--mavlink" : o->pose_lcm ? "--pose-lcm" : NULL;
+    const char *moving = options_moving(o);
     if (o->survey != NULL && o->bg_load != NULL) {
         snprintf(err, errlen, "survey %s and --background-load %s name two files for one thing: give one", o->survey, o->bg_load);
         return HOST_ERR_CONFIG;

@@ -84,6 +84,10 @@ HOST_CHECK int options_parse(int argc, char **argv, struct sonard_options *o, ch
 /* Whether the option named (its long name) was given, on the command line or in a --config file. */
 int options_given(const struct sonard_options *o, const char *name);
 
+/* The option that gives the vehicle's pose, so that the sonar moves (the world frame): "--pose", "--mavlink",
+   "--pose-lcm", or NULL when none does (a fixed site). */
+const char *options_moving(const struct sonard_options *o);
+
 /* The Markdown option reference (docs/configuration.md is generated from it). */
 void options_markdown(FILE *f);
 

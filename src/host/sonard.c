@@ -213,18 +213,18 @@ static void site_background(struct sonard *s)
         if (shows(s, APP_INFO))
             fprintf(stderr, "sonard: survey: recording %ld sweeps of the site into %s (the site must be empty and still; the "
                             "file there now is replaced only if this one is kept)\n", s->opt.survey_sweeps, s->opt.survey);
+    } else if (s->opt.survey != NULL && access(s->opt.survey, F_OK) != 0 && errno == ENOENT) {
+        /* The package's configuration names a survey's file for every installation: a vehicle's or a co-processor's
+           has none to be told about. */
+        if (options_moving(&s->opt) == NULL && s->opt.coprocessor == NULL && shows(s, APP_INFO))
+            fprintf(stderr, "sonard: survey: none at %s yet (record one with --survey N when the site is empty): no "
+                            "survey: learning, and nothing present at the start is learnt\n", s->opt.survey);
     } else if (s->opt.survey != NULL && s->opt.coprocessor != NULL) {
         if (shows(s, APP_WARN))
             fprintf(stderr, "sonard: warning: survey %s: not used with --coprocessor (the firmware's background is its "
                             "own)\n", s->opt.survey);
-    } else if (s->opt.survey != NULL) {
-        if (access(s->opt.survey, F_OK) != 0 && errno == ENOENT) {
-            if (shows(s, APP_INFO))
-                fprintf(stderr, "sonard: survey: none at %s yet (record one with --survey N when the site is empty): no "
-                                "survey: learning, and nothing present at the start is learnt\n", s->opt.survey);
-        } else if (bgstore_load(s->app, "survey", s->opt.survey, err, sizeof(err)) != HOST_OK) {
-            fprintf(stderr, "sonard: %s; no survey: the background learns afresh\n", err);
-        }
+    } else if (s->opt.survey != NULL && bgstore_load(s->app, "survey", s->opt.survey, err, sizeof(err)) != HOST_OK) {
+        fprintf(stderr, "sonard: %s; no survey: the background learns afresh\n", err);
     } else if (s->opt.bg_load != NULL && bgstore_load(s->app, "--background-load", s->opt.bg_load, err, sizeof(err)) !=
                                              HOST_OK) {
         fprintf(stderr, "sonard: %s; the background learns afresh\n", err);
