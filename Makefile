@@ -44,7 +44,8 @@ OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 .PHONY: passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
-# target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing).
+# target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing or
+# its recipe changed).
 ifneq ($(ARCH),)
 TRIPLE_armhf = arm-linux-gnueabihf
 TRIPLE_arm64 = aarch64-linux-gnu
@@ -54,8 +55,8 @@ $(error ARCH=$(ARCH): armhf or arm64)
 endif
 BUILD := build-$(ARCH)
 SYSROOT := $(BUILD)/sysroot
-ifeq ($(wildcard $(SYSROOT)/.done),)
-$(info arm_sysroot: making $(SYSROOT))
+ifneq ($(shell cat $(SYSROOT)/.done 2>/dev/null),$(shell cksum < tools/build/arm_sysroot.sh | cut -d' ' -f1))
+$(info arm_sysroot: making $(SYSROOT) (missing, or made by another recipe))
 $(if $(shell sh tools/build/arm_sysroot.sh $(ARCH) $(SYSROOT) >&2 && echo ok),,$(error tools/build/arm_sysroot.sh $(ARCH) failed))
 endif
 CC := $(TRIPLE)-gcc

@@ -1,6 +1,6 @@
 #!/bin/sh
 # arm_sysroot.sh -- what a cross build for a Raspberry Pi needs (make ARCH=armhf|arm64): Debian's cross compiler and
-# qemu-user, and the target's LCM, cmocka, glib and libc unpacked into DEST with dpkg -x (downloaded with apt-get
+# its C library headers, qemu-user, and the target's LCM, cmocka, glib and libc unpacked into DEST with dpkg -x (downloaded with apt-get
 # download for ARCH; never installed over the host's, whose liblcm the armhf one would replace).
 # Usage: sh tools/build/arm_sysroot.sh ARCH DEST
 set -eu
@@ -11,7 +11,8 @@ case $A in
     *) echo "arm_sysroot.sh: ARCH=$A: armhf or arm64" >&2; exit 2 ;;
 esac
 sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
-sh "$(dirname "$0")/deps.sh" "gcc-$triple" qemu-user-static binfmt-support
+# The cross compiler's own C library headers (bits/wordsize.h ...) are only its Recommends, which deps.sh does not take.
+sh "$(dirname "$0")/deps.sh" "gcc-$triple" "libc6-dev-$A-cross" qemu-user-static binfmt-support
 if ! dpkg --print-foreign-architectures | grep -qx "$A"; then
     $sudo dpkg --add-architecture "$A"
     $sudo apt-get update -qq
@@ -23,5 +24,6 @@ trap 'rm -rf "$T"' EXIT
 rm -rf "$D"
 mkdir -p "$D"
 for f in "$T"/*.deb; do dpkg -x "$f" "$D"; done
-touch "$D/.done"
+# The stamp is this recipe's checksum: the Makefile makes the sysroot again when the recipe changes.
+cksum < "$0" | cut -d' ' -f1 > "$D/.done"
 echo "arm_sysroot: $D: $(ls "$T" | wc -l) packages for $A"
