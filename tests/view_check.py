@@ -84,10 +84,12 @@ def main():
         ok("each known object shows as bright pixels where it is, the water between is dark",
            objs and min(at_obj) >= 300 and max(between) < 200, f"objects {at_obj}, water {between}")
         trk = js("return sonarView.tracks")
-        ok("the tracks on SONAR_TRACKS reach the page saying what each is and does (new, moving, resting or structure; "
-           "moving, turning or resting)",
-           trk and all(t.get("what") in ("new", "moving", "resting", "structure") and
+        ok("the tracks on SONAR_TRACKS reach the page saying what each is and does (new, moving, resting, structure or "
+           "static since start; moving, turning or resting)",
+           trk and all(t.get("what") in ("new", "moving", "resting", "structure", "static since start") and
                        t.get("mode") in ("moving", "turning", "resting") for t in trk), json.dumps(trk)[:300])
+        sv = js("return document.getElementById('survey').textContent")
+        ok("with no survey loaded, the page says so: 'no survey: learning'", sv == "no survey: learning", repr(sv))
         c1 = js("return document.getElementById('image').toDataURL()")
         f1 = js("return sonarView.frames")
         time.sleep(2.0)

@@ -31,6 +31,7 @@ from scipy.ndimage import median_filter
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import eval_structure  # noqa: E402
+import eval_survey  # noqa: E402
 import figures  # noqa: E402
 import study_pipeline  # noqa: E402
 
@@ -39,6 +40,12 @@ cv2.setNumThreads(1)
 
 def sh(cmd, **kw):
     return subprocess.run(cmd, check=True, capture_output=True, text=True, **kw).stdout
+
+
+def run(cmd):
+    """A command that may fail: its stdout, stderr and exit status."""
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    return r.stdout, r.stderr, r.returncode
 
 
 def best_of(n, fn):
@@ -802,6 +809,8 @@ def main():
                  f"{float(cost['scan_call_us']):.2f} µs on this host" +
                  (f", {m7['insn_scan_call']} instructions on the Cortex-M7" if m7.get("insn_scan_call") else "") + ".\n")
     L += eval_structure.section(sh, score, fmt, B, W, have_real)
+    L += eval_survey.section(sh, run, score, fmt, B, W, have_real, cost,
+                             (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:
