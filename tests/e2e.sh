@@ -292,6 +292,13 @@ check "sample_period=1e30: named and skipped, the good rows used (exit 0)" sh -c
 "$B/sonard" --replay "$T/pool.csv" --config "$T" > /dev/null 2> "$T/err"; rc=$?
 check "--config given a directory: exit 2, named" sh -c "test $rc -eq 2 && grep -q -- '--config $T: not a regular file' '$T/err'"
 
+# A key valid alone but not with a replay, in a file: refused at its FILE:LINE, after the file's unknown keys are said.
+printf 'rnage = 12\npose-lcm = memq://\n' > "$T/vehicle.conf"
+"$B/sonard" --replay "$T/pool.csv" --config "$T/vehicle.conf" > /dev/null 2> "$T/err"; rc=$?
+check "pose-lcm in a file used with --replay: exit 2 at vehicle.conf:2, the unknown key 'rnage' said before it" sh -c "
+test $rc -eq 2 && sed -n 1p '$T/err' | grep -q \"vehicle.conf:1: unknown key 'rnage'\" &&
+sed -n 2p '$T/err' | grep -q 'vehicle.conf:2: --pose-lcm URL is for a live sonar' || { cat '$T/err'; exit 1; }"
+
 # Configuration errors name the option, the value and the unit.
 "$B/sonard" --replay "$T/pool.csv" --range 0 2> "$T/err" > /dev/null; rc=$?
 check "--range 0 rejected with exit 2" test "$rc" -eq 2

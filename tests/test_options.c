@@ -255,6 +255,33 @@ static void test_config_files(void **state)
         assert_int_equal(parse(5, argv), HOST_ERR_IO);
         assert_non_null(strstr(err, "--config /nonexistent/s.conf: No such file"));
     }
+    /* A key valid alone but not with the other settings is refused at the file and line that set it (issue 44), and
+       the unknown keys before it are still there to be said; given on the command line instead, no place is named. */
+    bad = write_file("live.conf", "rnage = 20\n# the vehicle\npose-lcm = memq://\nmavlink = udpin:127.0.0.1:14550\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "live.conf:3: --pose-lcm URL is for a live sonar"));
+        assert_int_equal(o.given.unknown, 1);
+    }
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad, "--pose-lcm", "memq://"};
+        assert_int_equal(parse(7, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "--pose-lcm URL is for a live sonar"));
+        assert_null(strstr(err, "live.conf"));
+    }
+    bad = write_file("mav.conf", "\nmavlink = udpin:127.0.0.1:14550\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "mav.conf:2: --mavlink URL goes with --sonar"));
+    }
+    bad = write_file("two.conf", "sonar = tcp:127.0.0.1:1\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "two.conf:1: give one of --sonar URL"));
+    }
     (void)system("rm -rf /tmp/sonard-opt.*");
 }
 

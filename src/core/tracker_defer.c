@@ -35,89 +35,119 @@ static void keep(struct sonar_tracker *tk, struct cand *kept, uint8_t *n, const 
     (*n)++;
 }
 
-void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl,
-                           float r2, int *clipped)
-{
-    struct cand kept[SONAR_TRK_HYPOTHESES - 1], c;
+/* The pair costs an offer weighs: the sweep's tracks, detections and gate, each track's cost of a miss. */
+struct offer {
+    struct sonar_tracker *tk;
+    float r2;
+    int *clipped;
     float miss[SONAR_MAX_TRACKS];
-    uint8_t n = 0, i, j, k;
-    const float fresh = sonar_trk_fresh(tk, r2);
-    for (i = 0; i < tk->n; i++)
-        miss[i] = sonar_trk_miss_cost(&tk->t[i]);
+};
+
+/* Two tracks that swap their detections (a crossing), or a detection a track that found none could have taken. */
+static void offer_moves(struct offer *f, struct cand *kept, uint8_t *n)
+{
+    struct sonar_tracker *tk = f->tk;
+    struct cand c;
+    uint8_t i, j;
     for (i = 0; i < tk->n; i++) {
         const struct sonar_track *ti = &tk->t[i];
         float cia;
         if (ti->det < 0)
             continue;
-        cia = sonar_trk_cost(tk, i, (uint8_t)ti->det, r2, ti->chance, clipped);
+        cia = sonar_trk_cost(tk, i, (uint8_t)ti->det, f->r2, ti->chance, f->clipped);
         for (j = 0; j < tk->n; j++) {
             const struct sonar_track *tj = &tk->t[j];
             float cja;
             if (j == i || (tj->det >= 0 && j < i))
                 continue; /* a swap once, from its lower slot */
-            cja = sonar_trk_cost(tk, j, (uint8_t)ti->det, r2, 0, clipped);
+            cja = sonar_trk_cost(tk, j, (uint8_t)ti->det, f->r2, 0, f->clipped);
             if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.i = i;
             c.j = j;
             c.det = (uint8_t)ti->det;
             if (tj->det >= 0) {
-                float cib = sonar_trk_cost(tk, i, (uint8_t)tj->det, r2, 0, clipped);
+                float cib = sonar_trk_cost(tk, i, (uint8_t)tj->det, f->r2, 0, f->clipped);
                 if (cib >= SONAR_TRK_OUTSIDE)
                     continue;
                 c.how = SWAP;
-                c.delta = cib + cja - cia - sonar_trk_cost(tk, j, (uint8_t)tj->det, r2, tj->chance, clipped);
+                c.delta = cib + cja - cia - sonar_trk_cost(tk, j, (uint8_t)tj->det, f->r2, tj->chance, f->clipped);
             } else {
                 c.how = STEAL; /* i misses instead of j */
-                c.delta = (cja - miss[j]) - (cia - miss[i]);
+                c.delta = (cja - f->miss[j]) - (cia - f->miss[i]);
             }
-            keep(tk, kept, &n, &c);
+            keep(tk, kept, n, &c);
         }
     }
-    /* A birth that a track which found nothing could have continued instead. */
-    for (k = 0; k < nl; k++) {
+}
+
+/* A birth that a track which found nothing could have continued instead. */
+static void offer_births(struct offer *f, const uint8_t *left, uint8_t nl, struct cand *kept, uint8_t *n)
+{
+    struct sonar_tracker *tk = f->tk;
+    const float fresh = sonar_trk_fresh(tk, f->r2);
+    struct cand c;
+    uint8_t k, j;
+    for (k = 0; k < nl; k++)
         for (j = 0; j < tk->n; j++) {
             float cja;
             if (tk->t[j].det >= 0)
                 continue;
-            cja = sonar_trk_cost(tk, j, left[k], r2, 0, clipped);
+            cja = sonar_trk_cost(tk, j, left[k], f->r2, 0, f->clipped);
             if (cja >= SONAR_TRK_OUTSIDE)
                 continue;
             c.how = NEWBORN;
             c.i = 0;
             c.j = j;
             c.det = left[k];
-            c.delta = cja - miss[j] - fresh;
-            keep(tk, kept, &n, &c);
+            c.delta = cja - f->miss[j] - fresh;
+            keep(tk, kept, n, &c);
         }
+}
+
+/* A kept alternative's two tracks as they would be: hit, missed where they were seen, or never born. */
+static void alternative(struct sonar_tracker *tk, struct sonar_trk_alt *a, const struct cand *h,
+                        const struct sonar_tracker_obs *obs, float r2, int *clipped)
+{
+    memset(a, 0, sizeof(*a));
+    a->delta = h->delta;
+    a->born_det = -1;
+    a->t[1] = tk->t[h->j];
+    a->id[1] = a->t[1].id;
+    sonar_trk_hit(tk, &a->t[1], &obs[h->det], h->det, r2, clipped);
+    (void)sonar_trk_account(tk, &a->t[1], 1, 1);
+    if (h->how == NEWBORN) {
+        a->absent = 1;
+        a->born_det = (int8_t)h->det;
+        return;
     }
-    /* The kept ones' tracks as they would be: hit, missed where they were seen, or never born. */
-    for (k = 0; k < n; k++) {
-        struct sonar_trk_alt *a = &tk->alt[k];
-        const struct cand *h = &kept[k];
-        memset(a, 0, sizeof(*a));
-        a->delta = h->delta;
-        a->born_det = -1;
-        a->t[1] = tk->t[h->j];
-        a->id[1] = a->t[1].id;
-        sonar_trk_hit(tk, &a->t[1], &obs[h->det], h->det, r2, clipped);
-        (void)sonar_trk_account(tk, &a->t[1], 1, 1);
-        if (h->how == NEWBORN) {
-            a->absent = 1;
-            a->born_det = (int8_t)h->det;
-            continue;
-        }
-        a->t[0] = tk->t[h->i];
-        a->id[0] = a->t[0].id;
-        if (h->how == SWAP) {
-            const struct sonar_tracker_obs *o = &obs[tk->t[h->j].det];
-            sonar_trk_hit(tk, &a->t[0], o, (uint8_t)tk->t[h->j].det, r2, clipped);
-            (void)sonar_trk_account(tk, &a->t[0], 1, 1);
-        } else {
-            a->t[0].det = -1;
-            a->absent = (uint8_t)!sonar_trk_account(tk, &a->t[0], 0, 1);
-        }
+    a->t[0] = tk->t[h->i];
+    a->id[0] = a->t[0].id;
+    if (h->how == SWAP) {
+        const struct sonar_tracker_obs *o = &obs[tk->t[h->j].det];
+        sonar_trk_hit(tk, &a->t[0], o, (uint8_t)tk->t[h->j].det, r2, clipped);
+        (void)sonar_trk_account(tk, &a->t[0], 1, 1);
+    } else {
+        a->t[0].det = -1;
+        a->absent = (uint8_t)!sonar_trk_account(tk, &a->t[0], 0, 1);
     }
+}
+
+void sonar_trk_defer_offer(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, const uint8_t *left, uint8_t nl,
+                           float r2, int *clipped)
+{
+    struct cand kept[SONAR_TRK_HYPOTHESES - 1];
+    struct offer f;
+    uint8_t n = 0, i, k;
+    f.tk = tk;
+    f.r2 = r2;
+    f.clipped = clipped;
+    for (i = 0; i < tk->n; i++)
+        f.miss[i] = sonar_trk_miss_cost(&tk->t[i]);
+    offer_moves(&f, kept, &n);
+    offer_births(&f, left, nl, kept, &n);
+    for (k = 0; k < n; k++)
+        alternative(tk, &tk->alt[k], &kept[k], obs, r2, clipped);
     tk->nalt = n;
 }
 

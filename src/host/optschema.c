@@ -119,8 +119,20 @@ int opt_apply(const struct opt_schema *s, size_t i, void *base, const char *v, s
     if (r == HOST_OK && given != NULL && i < OPT_GIVEN_ROWS) {
         given->w[i / 64] |= (uint64_t)1 << (i % 64);
         given->value[i] = v != NULL ? v : "1";
+        given->from[i] = NULL; /* the command line's, unless the file reader says which line */
+        given->line[i] = 0;
     }
     return r;
+}
+
+const char *opt_where(const struct opt_given *g, size_t i, char *buf, size_t n)
+{
+    if (n == 0)
+        return "";
+    buf[0] = '\0';
+    if (g != NULL && i < OPT_GIVEN_ROWS && opt_was_given(g, i) && g->from[i] != NULL)
+        snprintf(buf, n, "%s:%lu: ", g->from[i], g->line[i]);
+    return buf;
 }
 
 static char *strip(char *s)
@@ -265,6 +277,9 @@ int opt_read_stream(const struct opt_schema *s, FILE *f, const char *path, void 
         if (opt_apply(s, (size_t)i, base, v, given, msg, sizeof(msg)) != HOST_OK) {
             snprintf(err, errlen, "%s:%lu: %s", path, ln, msg);
             r = HOST_ERR_CONFIG;
+        } else if (given != NULL && i < OPT_GIVEN_ROWS) {
+            given->from[i] = path;
+            given->line[i] = ln;
         }
     }
     if (r == HOST_OK && ferror(f)) {

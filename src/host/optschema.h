@@ -44,6 +44,8 @@ struct opt_spec {
 struct opt_given {
     uint64_t w[OPT_GIVEN_ROWS / 64];
     const char *value[OPT_GIVEN_ROWS];         /* each row's last value as given (argv or the file pool; "1" a flag) */
+    const char *from[OPT_GIVEN_ROWS];          /* ... the file that gave it (the caller's path), NULL: the command line */
+    unsigned long line[OPT_GIVEN_ROWS];        /* ... and its line there */
     uint32_t renamed_used;                     /* bit k: the schema's renamed[k] old name was used */
     unsigned unknown;                          /* file keys no row knows, skipped (a newer or older version's) */
     char unknown_said[OPT_UNKNOWN_KEPT][160];  /* "PATH:LINE: unknown key 'k' (did you mean 'range'?)" */
@@ -51,6 +53,9 @@ struct opt_given {
 
 /* Whether row i was applied. */
 int opt_was_given(const struct opt_given *g, size_t i);
+
+/* Where row i's value came from, for a message: "PATH:LINE: " when a file gave it, else "" (the command line, or not given). */
+const char *opt_where(const struct opt_given *g, size_t i, char *buf, size_t n);
 
 /*
  * The rows without SIGHUP (reload 0) whose values differ between two parses, by name, comma

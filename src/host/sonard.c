@@ -112,12 +112,13 @@ static int reload(void *user)
     struct sonard *s = user;
     char err[256];
     int r = options_parse(s->argc, s->argv, &s->reload, err, sizeof(err));
+    /* The files' unknown keys first, so that an error they lead to comes after them. */
+    if (shows(s, APP_WARN))
+        options_say_unknown(&s->reload, stderr);
     if (r != 0) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", r < 0 ? err : "no reload from --help");
         return HOST_ERR_CONFIG;
     }
-    if (shows(s, APP_WARN))
-        options_say_unknown(&s->reload, stderr);
     /* The obstacle map takes angle-offset and min-range from the pipeline beam by beam (app_frame), so both turn
        together with the sweep the new settings take over at; a min range the map cannot take refuses the reload. */
     if (s->have_mav && mav_check_min_range(s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK) {
@@ -309,13 +310,15 @@ int main(int argc, char **argv)
     signal(SIGXFSZ, SIG_IGN);
     s.argc = argc;
     s.argv = argv;
-    if ((rc = options_parse(argc, argv, &s.opt, err, sizeof(err))) != 0) {
+    rc = options_parse(argc, argv, &s.opt, err, sizeof(err));
+    /* The files' unknown keys first: a key misspelt in a file is often why the error after them happened. */
+    if (rc < 0 || shows(&s, APP_WARN))
+        options_say_unknown(&s.opt, stderr);
+    if (rc != 0) {
         if (rc < 0)
             fprintf(stderr, "sonard: %s\n", err);
         return rc < 0 ? 2 : 0;
     }
-    if (shows(&s, APP_WARN))
-        options_say_unknown(&s.opt, stderr);
     if (s.opt.discover) {
         struct discover_config dc;
         dc.to = s.opt.discover_to;
