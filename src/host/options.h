@@ -1,4 +1,4 @@
-/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 10 504 B, most of it the string pool. */
+/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 12 552 B, most of it the string pool. */
 #ifndef SONARD_OPTIONS_H
 #define SONARD_OPTIONS_H
 
