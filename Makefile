@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing or
@@ -282,6 +282,10 @@ mavlink: all .venv-mavlink/.done
 deb: all $(BUILD)/lcm/sonar_types.jar
 	@sh tools/build/deps.sh dpkg-dev python3-pip
 	@$(if $(ARCH),QEMU_LD_PREFIX=$(CURDIR)/$(SYSROOT) STRIP=$(TRIPLE)-strip) sh tools/pkg/deb.sh $(BUILD) $(ARCH)
+
+## fresh-check: the README's commands as a new user runs them, in a minimal Debian bookworm (debootstrap, cached in build/fresh) with a clean clone of HEAD: make demo, make test's first targets, make ARCH=armhf|arm64 with a replay under qemu, make deb installed and run (root)
+fresh-check:
+	@sh tools/build/fresh_check.sh $(BUILD)
 
 ## blueos: the BlueOS extension (tools/pkg/blueos/) for linux/arm/v7, arm64/v8 and amd64 as OCI archives in build/blueos/ (root; buildah, debootstrap, qemu-user)
 blueos: all
