@@ -31,17 +31,17 @@ MSG_SRC   = $(filter-out src/msg/view.c,$(wildcard src/msg/*.c))
 MSG_OBJ   = $(MSG_SRC:src/msg/%.c=$(BUILD)/msg/%.o)
 LIVE_OBJ  = $(BUILD)/host/live.o $(BUILD)/host/link.o $(BUILD)/host/source_link.o $(BUILD)/host/sinks.o $(MSG_OBJ) \
             $(BUILD)/host/source_coproc.o $(BUILD)/host/mav.o $(BUILD)/host/mav_rx.o \
-            $(BUILD)/host/mav_tx.o $(BUILD)/host/source_pose_lcm.o
+            $(BUILD)/host/mav_tx.o $(BUILD)/host/source_pose_lcm.o $(BUILD)/host/control.o
 LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
 UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
-UNIT_LIVE = app sinks mav source_pose_lcm msg link
+UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: view-cost cockpit-test fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing or
@@ -118,7 +118,7 @@ $(BUILD)/host/source_coproc.o: src/host/source_coproc.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 
-$(BUILD)/host/source_pose_lcm.o: src/host/source_pose_lcm.c $(BUILD)/lcm/.stamp
+$(BUILD)/host/source_pose_lcm.o $(BUILD)/host/control.o: $(BUILD)/host/%.o: src/host/%.c $(BUILD)/lcm/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(HOST_CFLAGS) -I$(BUILD)/lcm/c -Isrc/msg -c $< -o $@
 

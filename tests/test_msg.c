@@ -153,6 +153,14 @@ static void status_round_trip(void **state)
     s.survey.agree16 = 5;
     s.survey.standout1000 = 23;
     s.survey.nplaces = 6; /* the places themselves go on SONAR_SURVEY */
+    s.control.on = 1;
+    s.control.seq = 155;
+    s.control.result = SONAR_CONTROL_REFUSED;
+    s.control.said = "a survey is being recorded";
+    s.control.rec = SONAR_CONTROL_REC_RECORDING;
+    s.control.rec_sweeps = 156;
+    s.control.rec_of = 157;
+    s.control.rec_said = "";
     msg_status(&s, &m);
     n = sonar_status_t_encode(wire, 0, (int)sizeof(wire), &m);
     assert_true(n > 0);
@@ -160,6 +168,10 @@ static void status_round_trip(void **state)
     msg_status_in(&in, &back);
     assert_string_equal(back.link, "coprocessor:uart0");
     back.link = s.link;
+    assert_string_equal(back.control.said, "a survey is being recorded");
+    assert_string_equal(back.control.rec_said, "");
+    back.control.said = s.control.said;
+    back.control.rec_said = s.control.rec_said;
     s.pose.thinned = 0; /* the one counter SONAR_STATUS does not carry */
     assert_memory_equal(&back, &s, sizeof(s));
     sonar_status_t_decode_cleanup(&in);

@@ -276,6 +276,28 @@ static void test_config_files(void **state)
         assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
         assert_non_null(strstr(err, "mav.conf:2: --mavlink URL goes with --sonar"));
     }
+    /* --control: commands for a live sonar over LCM; a run that records --survey N and exits takes none. */
+    bad = write_file("ctl.conf", "survey = /tmp/x.sv\ncontrol = yes\n");
+    {
+        const char *argv[] = {"sonard", "--replay", "x", "--config", bad};
+        assert_int_equal(parse(5, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "ctl.conf:2: --control takes commands for a live sonar"));
+    }
+    {
+        const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--config", bad, "--no-lcm"};
+        assert_int_equal(parse(6, argv), HOST_ERR_CONFIG);
+        assert_non_null(strstr(err, "without --no-lcm"));
+    }
+    {
+        const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--config", bad};
+        assert_int_equal(parse(5, argv), 0);
+        assert_int_equal(o.control, 1);
+    }
+    {
+        const char *argv[] = {"sonard", "--sonar", "tcp:127.0.0.1:1", "--config", bad, "--survey", "20"};
+        assert_int_equal(parse(7, argv), 0);
+        assert_int_equal(o.control, 0);
+    }
     bad = write_file("two.conf", "sonar = tcp:127.0.0.1:1\n");
     {
         const char *argv[] = {"sonard", "--replay", "x", "--config", bad};

@@ -86,6 +86,25 @@ struct sonar_status {
         float range_m;                     /* ... (the gain is acq.gain) */
         uint32_t changes;                  /* its changes of range, samples or gain, said and counted */
     } passive;                             /* all 0 when sonard drives the head */
+    struct {
+        int on;                            /* 1: commands are taken (sonard --control) */
+        uint32_t seq;                      /* the last command handled (its seq), 0 none yet */
+        int result;                        /* enum sonar_control_result of that command */
+        const char *said;                  /* why it was refused, or what it did; borrowed, "" none */
+        int rec;                           /* enum sonar_control_rec: a survey recorded while running */
+        uint32_t rec_sweeps, rec_of;       /* its sweeps so far, of those asked for */
+        const char *rec_said;              /* its end: where written, or why refused; borrowed, "" none */
+    } control;                             /* all 0 without --control (the host's: a co-processor has none) */
+};
+
+enum sonar_control_result { SONAR_CONTROL_NONE = 0, SONAR_CONTROL_TAKEN = 1, SONAR_CONTROL_REFUSED = 2 };
+enum sonar_control_rec {
+    SONAR_CONTROL_REC_NONE = 0,      /* none asked for since the start */
+    SONAR_CONTROL_REC_RECORDING = 1, /* recording: rec_sweeps of rec_of */
+    SONAR_CONTROL_REC_WRITTEN = 2,   /* written and in use (rec_said: where) */
+    SONAR_CONTROL_REC_REFUSED = 3,   /* refused, nothing written (rec_said: why) */
+    SONAR_CONTROL_REC_CANCELLED = 4, /* cancelled by a command, nothing written */
+    SONAR_CONTROL_REC_FAILED = 5     /* kept, but the write or the load failed (rec_said: why; the old file whole) */
 };
 
 /*

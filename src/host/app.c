@@ -127,8 +127,8 @@ static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
     app_gain_sweep(a, d->sweep);
-    /* A refused recording ends the run: nothing more can make it a survey; its end says why. */
-    if (a->rec != NULL && a->rec->why != SONAR_SURVEY_OK)
+    /* A refused --survey N ends the run: nothing more can make it a survey; its end says why. */
+    if (a->rec != NULL && a->rec_ends_run && a->rec->why != SONAR_SURVEY_OK)
         a->sweeps_done = 1;
     if (sonar_pipeline_structure_promoted(&a->pipe) != a->structure_said) {
         unsigned n = sonar_pipeline_structure_count(&a->pipe);

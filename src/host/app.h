@@ -203,10 +203,14 @@ HOST_CHECK int32_t app_background_image(const struct app *a, uint8_t *out, size_
 const struct sonar_survey *app_survey(const struct app *a);
 
 /*
- * --survey N: every beam after the median goes into rec (the caller's, sonar_survey_rec_init'd), every
- * sweep's tracks too (a move refuses it); NULL stops. The recording's refusals are rec's (rec->why).
+ * A survey recorded (--survey N, or --control's while running): every beam after the median goes into
+ * rec (the caller's, sonar_survey_rec_init'd), every sweep's tracks too (a move refuses it); NULL stops.
+ * The recording's refusals are rec's (rec->why); with ends_run one also ends the run (app_done).
  */
-void app_record_survey(struct app *a, struct sonar_survey_rec *rec);
+void app_record_survey(struct app *a, struct sonar_survey_rec *rec, int ends_run);
+
+/* The survey's or recorded background's image the app holds (app_background_load's), NULL with none. */
+const uint8_t *app_survey_image(const struct app *a);
 
 /* The pipeline, read-only (tools that inspect the background: sonar-wallfit). */
 const struct sonar_pipeline *app_pipeline(const struct app *a);

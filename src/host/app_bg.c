@@ -125,9 +125,15 @@ const struct sonar_survey *app_survey(const struct app *a)
     return &a->survey;
 }
 
-void app_record_survey(struct app *a, struct sonar_survey_rec *rec)
+const uint8_t *app_survey_image(const struct app *a)
+{
+    return a->survey_img;
+}
+
+void app_record_survey(struct app *a, struct sonar_survey_rec *rec, int ends_run)
 {
     a->rec = rec;
+    a->rec_ends_run = rec != NULL && ends_run;
     sonar_pipeline_set_recording(&a->pipe, rec);
 }
 

@@ -35,7 +35,8 @@ struct app {
     int survey_state;           /* the survey's state and why, and its misfits, when last said */
     int survey_why;
     uint32_t survey_unfits;
-    struct sonar_survey_rec *rec; /* --survey N: the recording each beam after the median goes into, or NULL */
+    struct sonar_survey_rec *rec; /* a survey being recorded: each beam after the median goes into it, or NULL */
+    int rec_ends_run;             /* --survey N: its refusal ends the run (--control's: it does not) */
     uint32_t structure_said;    /* places promoted to structure when it was last said */
     uint32_t hyp_overflow_said; /* the tracker's alternatives that did not fit, when it was last said */
     int passive_idle;           /* --passive: the beams stopped (said); the next one is said too */

@@ -1,4 +1,4 @@
-/* bgstore.c -- a site's survey or recorded background file read whole and written atomically (bgstore.h); one static image buffer, no heap. */
+/* bgstore.c -- a site's survey or recorded background file read whole and written atomically (bgstore.h); two static image buffers, no heap. */
 #include "bgstore.h"
 
 #include <errno.h>
@@ -10,12 +10,20 @@
 
 #include "sonar/bgfile.h"
 
-/* The largest image (SONAR_BGFILE_MAX), + 1: a longer file is seen to be longer. It stays the app's after a load
-   (app_background_load keeps it to take the survey back); only the writes at the end of a run use it again. */
-static uint8_t image[SONAR_BGFILE_MAX + 1];
+/* Two of the largest image (SONAR_BGFILE_MAX), + 1: a longer file is seen to be longer. The one the app holds
+   (app_background_load keeps it to take the survey back) is never read into: a survey recorded while running is
+   loaded into the other, so a file that fails leaves the one in use whole. The second's pages are touched only then. */
+static uint8_t images[2][SONAR_BGFILE_MAX + 1];
+
+/* The buffer the app does not hold. */
+static uint8_t *free_image(const struct app *a)
+{
+    return app_survey_image(a) == images[0] ? images[1] : images[0];
+}
 
 int bgstore_load(struct app *a, const char *what, const char *path, char *err, size_t errlen)
 {
+    uint8_t *image = free_image(a);
     size_t len = 0;
     ssize_t got;
     int fd = open(path, O_RDONLY);
@@ -23,7 +31,7 @@ int bgstore_load(struct app *a, const char *what, const char *path, char *err, s
         snprintf(err, errlen, "%s %s: %s", what, path, strerror(errno));
         return HOST_ERR_IO;
     }
-    while (len < sizeof(image) && (got = read(fd, image + len, sizeof(image) - len)) != 0) {
+    while (len < sizeof(images[0]) && (got = read(fd, image + len, sizeof(images[0]) - len)) != 0) {
         if (got < 0 && errno == EINTR)
             continue;
         if (got < 0) {
@@ -107,7 +115,8 @@ int bgstore_write(const char *what, const char *path, const uint8_t *img, size_t
 
 int bgstore_save(const struct app *a, const char *path, char *err, size_t errlen)
 {
-    int32_t len = app_background_image(a, image, sizeof(image), err, errlen);
+    uint8_t *image = free_image(a);
+    int32_t len = app_background_image(a, image, sizeof(images[0]), err, errlen);
     if (len < 0)
         return len == HOST_ERR_STATE ? HOST_ERR_STATE : HOST_ERR_IO;
     return bgstore_write("--background-save", path, image, (size_t)len, err, errlen);

@@ -1,4 +1,4 @@
-/* bgstore.h -- a site's survey and --background-load / --background-save: the file read whole and checked, written atomically (temporary file, fsync, rename); RAM: one image buffer, static (SONAR_BGFILE_MAX + 1: 963 894 B at the default limits). */
+/* bgstore.h -- a site's survey and --background-load / --background-save: the file read whole and checked, written atomically (temporary file, fsync, rename); RAM: two image buffers, static (SONAR_BGFILE_MAX + 1: 963 894 B each at the default limits; the second touched only by a survey loaded while running). */
 #ifndef SONARD_BGSTORE_H
 #define SONARD_BGSTORE_H
 
@@ -8,12 +8,12 @@
 #include "app.h"
 
 /*
- * Reads path and hands it to the app (app_background_load), which keeps the buffer to take the
- * survey back after a misfit: the file's header, size, version, geometry and checksum are checked
+ * Reads path into the buffer the app does not hold and hands it to the app (app_background_load),
+ * which keeps it to take the survey back after a misfit (so it may be called while running): the file's header, size, version, geometry and checksum are checked
  * first, its filters against the configuration; its range, samples and gain against every beam.
  * what names the setting in messages ("survey", "--background-load"). Returns HOST_OK; HOST_ERR_IO
  * (unreadable: err says why, with errno's text); or HOST_ERR_CONFIG (refused: err names the file and
- * what is wrong). On an error nothing changed and the background learns from scratch.
+ * what is wrong). On an error the app keeps what it had (at start: the background learns from scratch).
  */
 HOST_CHECK int bgstore_load(struct app *a, const char *what, const char *path, char *err, size_t errlen);
 

@@ -53,6 +53,8 @@ static const struct opt_spec spec[] = {
      "prepended to SONAR_BEAM, SONAR_DETECTIONS, SONAR_STATUS (several sonars)", NULL, NULL},
     {"publish-filtered", NULL, OPT_FLAG, 1, 0, F(publish_filtered), 0, 0, NULL, "off",
      "also publish foreground beams on SONAR_BEAM_FILTERED", NULL, NULL},
+    {"control", NULL, OPT_FLAG, 1, 0, F(control), 0, 0, NULL, "off",
+     "take commands on SONAR_CONTROL (record the site's survey, cancel it),\nanswered on SONAR_STATUS: anyone on the LCM bus may send them", NULL, NULL},
     {"no-lcm", NULL, OPT_FLAG, 1, 0, F(no_lcm), 0, 0, NULL, "off", "publish nothing (JSON / CSV only)", NULL, NULL},
     {"csv-out", "FILE", OPT_STR, 1, 0, F(csv_out), 0, 0, "file", NULL,
      "record beams in the study's CSV plus metadata columns (live: raw;\nreplay: the --stage)", NULL, NULL},
@@ -375,6 +377,8 @@ static int check_survey(struct sonard_options *o, char *err, size_t errlen)
        there from the first ping included, as it must be), and what moves stands out, is tracked and refuses it. */
     o->pipeline.background.mode = SONAR_BACKGROUND_PER_ANGLE;
     o->sweeps = o->survey_sweeps;
+    /* A run that records and exits takes no commands (a configuration with control = yes records as well). */
+    o->control = 0;
     return HOST_OK;
 }
 
@@ -417,6 +421,9 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
     if ((o->replay != NULL) + (o->sonar != NULL) + (o->coprocessor != NULL) != 1)
         return refuse(o, from_file(o, "replay") ? "replay" : from_file(o, "sonar") ? "sonar" : "coprocessor", err, errlen,
                       "give one of --sonar URL (live), --coprocessor URL or --replay FILE.csv (see --help)");
+    if (o->control && (o->sonar == NULL || o->no_lcm))
+        return refuse(o, "control", err, errlen, "--control takes commands for a live sonar over LCM: it goes with --sonar "
+                                                 "and without --no-lcm");
     if (o->gain_auto && o->sonar == NULL)
         return refuse(o, "gain", err, errlen, "--gain auto sets a live sonar's gain: it goes with --sonar URL");
     if (o->scan.mode == SONAR_SCAN_FOLLOW && o->sonar == NULL)

@@ -1,4 +1,4 @@
-/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 12 552 B, most of it the string pool. */
+/* options.h -- sonard's options: one schema table (options.c) gives the command line, the config-file keys, --help and docs/configuration.md; sizeof(struct sonard_options) = 12 560 B, most of it the string pool. */
 #ifndef SONARD_OPTIONS_H
 #define SONARD_OPTIONS_H
 
@@ -56,6 +56,7 @@ struct sonard_options {
     uint8_t log_level;          /* enum app_level: diagnostics at or below it go to stderr */
     int publish_filtered;
     int no_lcm;
+    int control;                /* --control: SONAR_CONTROL commands taken (control.h) */
     struct sonar_ping360_config device;
     struct sonar_pipeline_config pipeline;
     struct sonar_scan_config scan; /* mode, revisit_s, surveil_s; the sector and timing come from device */

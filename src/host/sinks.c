@@ -155,3 +155,11 @@ void sink_report_init(struct sink_report *s, FILE *f, int json)
     s->sink.self = s;
     s->sink.detections = report_detections;
 }
+
+int sink_lcm_handle_waiting(void *lcm, int max)
+{
+    int k;
+    for (k = 0; k < max && lcm_handle_timeout((lcm_t *)lcm, 0) > 0; k++)
+        ;
+    return k;
+}

@@ -29,6 +29,13 @@ void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *p
 HOST_CHECK int sink_lcm_open(struct sink_lcm *s, const char *url, const char *prefix, int filtered, char *err, size_t errlen);
 void sink_lcm_close(struct sink_lcm *s);
 
+/*
+ * What waits on lcm (an lcm_t: the sink's, or a source's own), handled without blocking, at most max
+ * messages, so a flood on a subscription (SONAR_POSE, SONAR_CONTROL) cannot starve the sonar. Returns
+ * the messages handled.
+ */
+int sink_lcm_handle_waiting(void *lcm, int max);
+
 /* CSV recording of the beams of one stage, in the study's form plus metadata columns (csv.h). */
 struct sink_csv {
     struct app_sink sink;

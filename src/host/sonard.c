@@ -11,6 +11,7 @@
 #include "app.h"
 #include "bgstore.h"
 #include "blueos.h"
+#include "control.h"
 #include "discover.h"
 #include "live.h"
 #include "options.h"
@@ -47,7 +48,9 @@ struct sonard {
     FILE *csv_out;
     int have_lcm;
     char sonar_url[160]; /* --sonar blueos...: the URL the ping service named (or its fallback) */
-    struct survey_run survey; /* --survey N: the recording (3.9 MB, untouched otherwise) */
+    struct survey_run survey; /* --survey N's or --control's recording (4.3 MB, untouched otherwise) */
+    struct control control;   /* --control: commands on SONAR_CONTROL */
+    int have_control;
 };
 
 static int64_t mono_ns(void *user)
@@ -197,7 +200,8 @@ static void sink_summary(const struct app *a)
     unsigned i;
     const struct app_sink *k;
     for (i = 0; (k = app_sink_at(a, i)) != NULL; i++)
-        fprintf(stderr, "sonard: sink %s: beams %lu detections %lu status %lu errors %lu\n", k->name, k->n_beams,
+        if (k->beam != NULL || k->detections != NULL || k->status != NULL) /* not --control's, which only adds to status */
+            fprintf(stderr, "sonard: sink %s: beams %lu detections %lu status %lu errors %lu\n", k->name, k->n_beams,
                 k->n_detections, k->n_statuses, k->errors);
 }
 
@@ -210,7 +214,7 @@ static void site_background(struct sonard *s)
 {
     char err[320];
     if (s->opt.survey_sweeps > 0) {
-        survey_run_start(&s->survey, s->app);
+        survey_run_start(&s->survey, s->app, 1);
         if (shows(s, APP_INFO))
             fprintf(stderr, "sonard: survey: recording %ld sweeps of the site into %s (the site must be empty and still; the "
                             "file there now is replaced only if this one is kept)\n", s->opt.survey_sweeps, s->opt.survey);
@@ -402,10 +406,23 @@ int main(int argc, char **argv)
         source_pose_lcm_live(&s.plcm, &s.aux[s.naux++]);
         s.have_plcm = 1;
     }
+    if (s.opt.control) {
+        if (control_open(&s.control, s.lcm.lcm, s.opt.channel_prefix, s.app, &s.opt, &s.survey, err, sizeof(err)) !=
+            HOST_OK) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
+        }
+        control_live(&s.control, &s.aux[s.naux++]);
+        s.have_control = 1;
+        if (shows(&s, APP_WARN))
+            fprintf(stderr, "sonard: control: on: commands on %s (record the site's survey into %s, cancel it) are taken "
+                            "from anyone on the LCM bus, one a second, and answered on SONAR_STATUS\n",
+                    s.control.channel, s.opt.survey != NULL ? s.opt.survey : "(no survey file: refused)");
+    }
     if (s.opt.replay != NULL)
         app_set_link(s.app, s.opt.replay);
     rc = s.opt.sonar != NULL ? run_live(&s) : s.opt.coprocessor != NULL ? run_coproc(&s) : run_replay(&s);
-    if (s.opt.survey_sweeps > 0 && survey_run_finish(&s.survey, s.app, &s.opt, stderr, err, sizeof(err)) != HOST_OK) {
+    if (s.opt.survey_sweeps > 0 && survey_run_finish(&s.survey, s.app, &s.opt, s.opt.survey_sweeps, stderr, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: %s\n", err);
         rc = rc != 0 ? rc : 1;
     }

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "msg.h"
+#include "sinks.h"
 
 static void on_pose(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
@@ -49,10 +50,7 @@ int source_pose_lcm_open(struct source_pose_lcm *s, void *lcm, const char *url, 
 
 void source_pose_lcm_poll(struct source_pose_lcm *s)
 {
-    int k;
-    /* A bounded number a wake: a flood of poses cannot starve the sonar. */
-    for (k = 0; k < 64 && lcm_handle_timeout((lcm_t *)s->lcm, 0) > 0; k++)
-        ;
+    (void)sink_lcm_handle_waiting(s->lcm, 64);
 }
 
 static void pl_start(void *self, struct app *a, int64_t now)

@@ -5,10 +5,10 @@
 
 #include "bgstore.h"
 
-void survey_run_start(struct survey_run *r, struct app *a)
+void survey_run_start(struct survey_run *r, struct app *a, int ends_run)
 {
     sonar_survey_rec_init(&r->rec);
-    app_record_survey(a, &r->rec);
+    app_record_survey(a, &r->rec, ends_run);
 }
 
 /* Why the recording was refused, and what to do, into err. */
@@ -54,8 +54,8 @@ static unsigned known_rows(const struct sonar_survey_rec *rec, unsigned *lo, uns
     return n;
 }
 
-int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_options *o, FILE *out, char *err,
-                      size_t errlen)
+int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_options *o, long sweeps, FILE *out,
+                      char *err, size_t errlen)
 {
     const struct sonar_pipeline_config *c = sonar_pipeline_running(app_pipeline(a));
     const struct sonar_ping360_config *d = &o->device;
@@ -68,15 +68,15 @@ int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_o
     uint8_t looks = 0, np = 0, k;
     char why[320];
     int32_t len;
-    app_record_survey(a, NULL);
+    app_record_survey(a, NULL, 0);
     if (r->rec.why != SONAR_SURVEY_OK) {
         refused(&r->rec, why, sizeof(why));
         snprintf(err, errlen, "survey: refused, nothing written: %s", why);
         return HOST_ERR_REFUSED;
     }
-    if (r->rec.sweeps < (uint32_t)o->survey_sweeps) {
+    if (r->rec.sweeps < (uint32_t)sweeps) {
         snprintf(err, errlen, "survey: refused, nothing written: the run ended after %u of the %ld sweeps asked for",
-                 (unsigned)r->rec.sweeps, o->survey_sweeps);
+                 (unsigned)r->rec.sweeps, sweeps);
         return HOST_ERR_REFUSED;
     }
     if (sonar_survey_rec_check(&r->rec, from, to, step, &angle, &looks) != SONAR_OK) {
@@ -85,7 +85,7 @@ int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_o
                                   "the angles covered are fewer than the sector's", angle, from, to);
         else
             snprintf(err, errlen, "survey: refused, nothing written: gradian %u was looked at %u times, fewer than the %d "
-                                  "that know a cell's level and spread: record more sweeps (--survey N)",
+                                  "that know a cell's level and spread: record more sweeps",
                      angle, looks, SONAR_SURVEY_MIN_LOOKS);
         return HOST_ERR_REFUSED;
     }

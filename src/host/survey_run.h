@@ -16,17 +16,18 @@ struct survey_run {
     uint8_t image[SONAR_BGFILE_MAX];
 };
 
-/* Starts recording: every beam after the median and every sweep's tracks of a go into r (app_record_survey). */
-void survey_run_start(struct survey_run *r, struct app *a);
+/* Starts recording: every beam after the median and every sweep's tracks of a go into r (app_record_survey; ends_run:
+   a refusal ends the run, as --survey N's does). */
+void survey_run_start(struct survey_run *r, struct app *a, int ends_run);
 
 /*
- * After the run (o->survey_sweeps sweeps, or the source ended or was stopped): checks the recording
+ * After the recording (sweeps asked for: --survey N's or a command's; or the source ended or was stopped): stops it, checks it
  * (nothing moved; the sweeps asked for; every angle of the sector, the live sonar's or --sector's,
  * else the replay's, looked at SONAR_SURVEY_MIN_LOOKS times), writes o->survey atomically and says
  * what it holds on out: sweeps, angles, structure places, the file. Returns HOST_OK; HOST_ERR_REFUSED
  * (nothing written, err says why and what to do); HOST_ERR_IO (the write failed, the old file whole).
  */
-HOST_CHECK int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_options *o, FILE *out, char *err,
-                                 size_t errlen);
+HOST_CHECK int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_options *o, long sweeps,
+                                 FILE *out, char *err, size_t errlen);
 
 #endif

@@ -139,6 +139,14 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->survey_unfits = s->survey.unfits;
     m->survey_agree = (float)s->survey.agree16 / 16.0f;
     m->survey_standout = (float)s->survey.standout1000 / 1000.0f;
+    m->control = (int8_t)(s->control.on != 0);
+    m->control_seq = (int32_t)(s->control.seq > INT32_MAX ? INT32_MAX : s->control.seq);
+    m->control_result = (int8_t)s->control.result;
+    m->control_said = (char *)(uintptr_t)(s->control.said != NULL ? s->control.said : "");
+    m->survey_rec = (int8_t)s->control.rec;
+    m->survey_rec_sweeps = (int16_t)(s->control.rec_sweeps > 32767u ? 32767u : s->control.rec_sweeps);
+    m->survey_rec_of = (int16_t)(s->control.rec_of > 32767u ? 32767u : s->control.rec_of);
+    m->survey_rec_said = (char *)(uintptr_t)(s->control.rec_said != NULL ? s->control.rec_said : "");
 }
 
 /* Long: one line a field, as msg_status. */
@@ -235,6 +243,14 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->survey.unfits = to_u32(m->survey_unfits);
     s->survey.agree16 = m->survey_agree > 0.0f ? (uint32_t)(m->survey_agree * 16.0f + 0.5f) : 0u;
     s->survey.standout1000 = m->survey_standout > 0.0f ? (uint32_t)(m->survey_standout * 1000.0f + 0.5f) : 0u;
+    s->control.on = m->control != 0;
+    s->control.seq = m->control_seq < 0 ? 0u : (uint32_t)m->control_seq;
+    s->control.result = m->control_result;
+    s->control.said = m->control_said;
+    s->control.rec = m->survey_rec;
+    s->control.rec_sweeps = m->survey_rec_sweeps < 0 ? 0u : (uint32_t)m->survey_rec_sweeps;
+    s->control.rec_of = m->survey_rec_of < 0 ? 0u : (uint32_t)m->survey_rec_of;
+    s->control.rec_said = m->survey_rec_said;
 }
 
 void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_survey_t *m)

@@ -1,6 +1,7 @@
 /* host_sizes.c -- not run: compiled for the host, its arrays' sizes (read back with nm -S by tools/build/sizes.sh) are the host's structs' sizeof, for docs/sizes.md; no code. */
 #define _DEFAULT_SOURCE
 #include "app.h"
+#include "control.h"
 #include "link.h"
 #include "mav.h"
 #include "options.h"
@@ -21,3 +22,4 @@ SIZE(sinks, sink_lcm)
 SIZE(sinks, sink_csv)
 SIZE(sinks, sink_report)
 SIZE(survey_run, survey_run)
+SIZE(control, control)
