@@ -174,7 +174,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test survey-test structure-test live passive-test scan-test mavlink mcap view-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test survey-test structure-test live passive-test scan-test mavlink mcap view-test cockpit-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -261,6 +261,11 @@ pi-cost: all
 	@command -v valgrind > /dev/null || sh tools/build/deps.sh valgrind
 	@sh tools/bench/pi_cost.sh $(BUILD)
 
+## view-cost: the view server's share of a Pi 4 core with the full view and Cockpit's two tiles open (callgrind; ~3 min)
+view-cost: all .venv-view/.done
+	@command -v valgrind > /dev/null && command -v curl > /dev/null || sh tools/build/deps.sh valgrind curl iproute2
+	@sh tools/bench/view_cost.sh $(BUILD)
+
 ## test-arm: sonard and its tests cross-built for armhf and arm64 (Raspberry Pi; ARCH=armhf|arm64 builds into build-ARCH/), run under qemu-user: unit tests pass, golden replays byte-identical
 test-arm: all
 	@sh tests/arm.sh
@@ -316,6 +321,11 @@ view: all .venv-view/.done
 view-test: all .venv-view/.done
 	@sh tools/build/deps.sh chromium chromium-driver python3-selenium iproute2
 	@sh tests/view.sh $(BUILD)
+
+## cockpit-test: sonard in Cockpit: discovery as Cockpit codes it, both widgets in headless chromium, the survey's actions (--control) against a simulated Ping360
+cockpit-test: all .venv-view/.done
+	@sh tools/build/deps.sh chromium chromium-driver python3-selenium iproute2
+	@sh tests/cockpit.sh $(BUILD)
 
 ## mcap: tools/data/lcm2mcap round trips (LCM log -> MCAP -> the mcap reader), bad logs, live recording
 .venv-mcap/.done: tools/requirements-mcap.txt

@@ -37,12 +37,21 @@ OPTIONAL = {"route": str, "new_page": bool, "extra_query": str, "avoid_iframes":
             "extras": dict, "sanitized_name": str}
 
 
-async def prefix_proxy(view_host, view_port, prefix):
-    """A TCP relay that strips prefix from the request line, as BlueOS's nginx does for /extensionv2/<name>/."""
+async def prefix_proxy(view_host, view_port, prefix, local=None):
+    """A TCP relay that strips prefix from the request line, as BlueOS's nginx does for /extensionv2/<name>/.
+    local: {path: (status, content type, body)} answered by the proxy itself (BlueOS's own pages: the helper's
+    web_services, a control station's page), looked up at each request, so a caller may add to it later."""
     async def serve(r, w):
         try:
             line = await r.readline()
             m = re.match(rb"(\S+) (\S+) (HTTP/\S+)\r\n", line)
+            if m and local is not None and m.group(2).decode("latin-1").split("?")[0] in local:
+                status, ctype, body = local[m.group(2).decode("latin-1").split("?")[0]]
+                w.write(f"HTTP/1.1 {status} OK\r\nContent-Type: {ctype}\r\nContent-Length: {len(body)}\r\n"
+                        f"Connection: close\r\n\r\n".encode() + body)
+                await w.drain()
+                w.close()
+                return
             if not m or not m.group(2).startswith(prefix.encode()):
                 w.write(b"HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\nConnection: close\r\n\r\n")
                 await w.drain()
@@ -70,7 +79,7 @@ async def prefix_proxy(view_host, view_port, prefix):
     return await asyncio.start_server(serve, "127.0.0.1", 0)
 
 
-async def through_proxy(host, port, name):
+async def through_proxy(host, port, name, cockpit=None):
     from websockets.asyncio.client import connect
     prefix = f"/extensionv2/{name}/"
     srv = await prefix_proxy(host, port, prefix)
@@ -86,6 +95,18 @@ async def through_proxy(host, port, name):
         check(s == 200 and len(body) > 0, f"{url} through the proxy: {s}, {len(body)} bytes, {ctype}")
         if r.endswith(b".js"):
             check(b"new URL(\"ws\", location.href)" in body, "the script opens its WebSocket relative to the page")
+    if cockpit:
+        # Cockpit's widgets as it finds them (tests/cockpit_check.py follows the whole discovery): the extras JSON at
+        # the service's base, each widget's page and icon under it
+        s, _, body = await loop.run_in_executor(None, get, "127.0.0.1", pport, prefix.rstrip("/") + cockpit)
+        try:
+            widgets = json.loads(body).get("widgets", [])
+        except ValueError:
+            widgets = []
+        urls = [prefix.rstrip("/") + w[k] for w in widgets for k in ("iframe_url", "iframe_icon")]
+        got = [(await loop.run_in_executor(None, get, "127.0.0.1", pport, u))[0] for u in urls]
+        check(s == 200 and widgets and all(g == 200 for g in got),
+              f"Cockpit's extras {cockpit} through the proxy: {s}; its widgets' pages and icons: {dict(zip(urls, got))}")
     try:
         async with connect(f"ws://127.0.0.1:{pport}{prefix}ws", open_timeout=15) as ws:
             kinds = set()
@@ -129,7 +150,7 @@ def main():
           re.fullmatch(r"\d+\.\d+\.\d+(?:[-+].*)?", str(meta.get("version", ""))) and meta.get("works_in_relative_paths") is True,
           f"name '{meta.get('name')}' (page at /extensionv2/{sanitized}/), icon {meta.get('icon')}, version "
           f"{meta.get('version')}, works_in_relative_paths {meta.get('works_in_relative_paths')}")
-    asyncio.run(through_proxy(host, port, sanitized or "sonard"))
+    asyncio.run(through_proxy(host, port, sanitized or "sonard", (meta.get("extras") or {}).get("cockpit")))
     sys.exit(0 if ok else 1)
 
 

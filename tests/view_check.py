@@ -17,6 +17,16 @@ from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 
 
+def chromium(size):
+    """Debian's chromium, headless, driven by its chromedriver, its window W,H pixels (also tests/cockpit_check.py's)."""
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = "/usr/bin/chromium"
+    for o in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", f"--window-size={size}",
+              "--no-first-run", "--disable-extensions", "--disable-background-networking"):
+        opts.add_argument(o)
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=opts)
+
+
 def wait_for(what, fn, timeout):
     end = time.time() + timeout
     while time.time() < end:
@@ -45,12 +55,7 @@ def main():
         rep["checks"][name] = bool(cond)
         print(("[  PASS  ] " if cond else "[  FAIL  ] ") + name + (f": {detail}" if detail else ""), flush=True)
 
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = "/usr/bin/chromium"
-    for o in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1120,800",
-              "--no-first-run", "--disable-extensions", "--disable-background-networking"):
-        opts.add_argument(o)
-    drv = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=opts)
+    drv = chromium("1120,800")
     js = drv.execute_script
     sonard = subprocess.Popen(shlex.split(a.sonard), stdout=subprocess.DEVNULL, stderr=open(a.report + ".sonard.err", "w"))
     try:

@@ -1,6 +1,7 @@
-"""lcm_udpm.py -- receives LCM's UDP multicast (udpm://) in plain Python, so the view runs where no LCM binding is packaged.
+"""lcm_udpm.py -- LCM's UDP multicast (udpm://) in plain Python, so the view runs where no LCM binding is packaged.
 
-Debian (and so a BlueOS extension's base) ships liblcm but no Python binding for it; the view only listens, and
+Debian (and so a BlueOS extension's base) ships liblcm but no Python binding for it; the view listens, and sends
+only sonard's small commands (SONAR_CONTROL, one short datagram each), and
 LCM's multicast wire format is small (lcm/lcm_udpm.c and LCM's UDP multicast protocol notes):
 
   short message:   u32 magic "LC02", u32 sequence, channel NUL, payload           (one datagram)
@@ -9,7 +10,8 @@ LCM's multicast wire format is small (lcm/lcm_udpm.c and LCM's UDP multicast pro
 
 all big-endian. One message is reassembled per sender at a time (a new sequence number drops an unfinished one,
 as LCM does), bounded at MAX_MESSAGE bytes; anything malformed is counted in `bad` and skipped.
-The object offers the part of lcm.LCM the view uses: subscribe(regex, handler(channel, data)), fileno(), handle().
+The object offers the part of lcm.LCM the view uses: subscribe(regex, handler(channel, data)), fileno(), handle(),
+publish(channel, data) (short messages only: a command is a few dozen bytes).
 """
 import re
 import socket
@@ -44,6 +46,22 @@ class Udpm:
                      struct.pack("4s4s", socket.inet_aton(group), socket.inet_aton("0.0.0.0")))
         s.setblocking(False)
         self.sock = s
+        self.group, self.port, self.seq = group, port, 0
+        self.ttl = int(opts.get("ttl", ["0"])[0] or 0)
+
+    def publish(self, channel, data):
+        """One short message (LC02) to the group, with the URL's ttl (0: this host only), as LCM sends it."""
+        body = struct.pack(">II", SHORT, self.seq) + channel.encode() + b"\0" + bytes(data)
+        if len(body) > 65000:
+            raise ValueError(f"{channel}: {len(data)} bytes is more than one short message")
+        self.seq = (self.seq + 1) & 0xFFFFFFFF
+        out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+        try:
+            out.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, self.ttl)
+            out.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
+            out.sendto(body, (self.group, self.port))
+        finally:
+            out.close()
 
     def subscribe(self, regex, handler):
         self.subs.append((re.compile(regex), handler))

@@ -10,6 +10,13 @@ default), lcm_udpm.py beside this file; other LCM URLs need LCM's own Python bin
 on a canvas and uses relative paths only, so it works behind a proxy's prefix (BlueOS shows it at
 /extensionv2/sonard/). GET /register_service answers BlueOS's helper (name, icon, version, ...).
 
+Cockpit (BlueOS's control station) finds two widgets (widget_fan.html, widget_status.html: tiles reading this
+server's one stream) and two actions through /register_service's extras.cockpit -> /cockpit_extras.json.
+The actions are HTTP requests to POST control/survey?sweeps=N and POST control/survey/cancel, turned into one
+SONAR_CONTROL command each and answered from SONAR_STATUS (sonard takes them only with --control: else 403).
+The websockets library parses GET alone, so its connection class is given one that takes control/ requests out of
+the stream before its parser sees them; the pages and the WebSocket are served by the library as before.
+
 Backpressure: a page that cannot keep up gets the newest beam of each angle (older ones are dropped and
 counted), never a growing queue: at most PAGE_BEAMS (64) beams wait per page, the oldest dropped first, and at
 most IN_FLIGHT (32) are on their way (the page acknowledges what it received at each animation frame). A page that stops reading for 10 s is
@@ -27,6 +34,9 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 if os.path.isdir(os.path.join(HERE, "vendor")):  # the package's and the BlueOS image's pinned websockets
     sys.path.insert(0, os.path.join(HERE, "vendor"))
+CONTROL_BODY_MAX = 1024   # a control request's body at most (Cockpit sends none); more is refused, 413
+CONTROL_ANSWER_S = 5.0    # how long a control request waits for sonard's answer on SONAR_STATUS
+HEAD_MAX = 16384          # a control request's head at most
 PAGE_BEAMS = 64  # beams waiting per page at most (the oldest dropped first): ~2.7 s of a device-paced sonar
 IN_FLIGHT = 32   # beams sent and not yet acknowledged by the page
 
@@ -35,6 +45,7 @@ class Client:
     def __init__(self, ws):
         self.ws = ws
         self.filtered = False
+        self.want_beams = True  # the status tile asks for none
         self.beams = {}       # angle -> packed beam, newest only
         self.texts = []       # detections / tracks / status JSON, at most 16 kept
         self.wake = asyncio.Event()
@@ -53,13 +64,18 @@ class Hub:
         self.last_status = None
         self.last_survey = None  # the survey's structure (SONAR_SURVEY), for a page that joins late
         self.udpm = None  # the plain-Python receiver, when it is the transport (its malformed datagrams count as bad)
+        self.lc = None    # the LCM object, for SONAR_CONTROL
+        self.control_t = None
+        self.seq = int(time.time()) & 0x3FFFFFFF  # commands' seq: not reused by a restarted view for a long while
+        self.answers = {}  # seq -> future, resolved by the status that answers it
+        self.still_alarm_s = 60.0
 
     def bad(self):
         return self.counts["bad"] + (self.udpm.bad if self.udpm is not None else 0)
 
     def beam(self, filtered, data):
         for c in self.clients:
-            if c.filtered != filtered:
+            if c.filtered != filtered or not c.want_beams:
                 continue
             angle = struct.unpack_from("<H", data, 1)[0]
             if angle in c.beams:
@@ -94,8 +110,9 @@ def status_json(m, hub):
             "oversize", "bytes_dropped", "timeouts", "retries", "nacks", "reconnects", "off_angle", "foreign", "beams", "sweeps",
             "beams_rejected", "sink_errors", "last_sweep_s", "beam_us_p50", "beam_us_p99", "tracks", "pose_state",
             "passive", "passive_idle", "survey_state", "survey_why", "survey_fixed", "survey_utime", "survey_sweeps",
-            "survey_turn_grad", "survey_places"]
-    out = {k: getattr(m, k, 0) for k in keys}  # an older sonard's status has no survey: 0, no survey
+            "survey_turn_grad", "survey_places", "control", "control_seq", "control_result", "control_said",
+            "survey_rec", "survey_rec_sweeps", "survey_rec_of", "survey_rec_said"]
+    out = {k: getattr(m, k, 0) for k in keys}  # an older sonard's status has no survey or control: 0, none
     out["utime"] = m.utime
     return out
 
@@ -103,6 +120,11 @@ def status_json(m, hub):
 def lcm_setup(url, hub, types_dir):
     sys.path.insert(0, types_dir)
     from sonar import beam_t, detections_t, tracks_t, status_t
+    try:
+        from sonar import control_t
+    except ImportError:  # types of a sonard before --control
+        control_t = None
+    hub.control_t = control_t
     try:
         from sonar import survey_t
     except ImportError:  # types of a sonard before the survey
@@ -154,6 +176,9 @@ def lcm_setup(url, hub, types_dir):
     def on_status(data):
         m = status_t.decode(data)
         hub.last_status = status_json(m, hub)
+        f = hub.answers.pop(hub.last_status["control_seq"], None)
+        if f is not None and not f.done():
+            f.set_result(hub.last_status)
         hub.text({"kind": "status", "status": hub.last_status})
 
     lc.subscribe(p + "SONAR_BEAM$", guard(on_beam(False)))
@@ -170,6 +195,7 @@ def lcm_setup(url, hub, types_dir):
     lc.subscribe(p + "SONAR_STATUS$", guard(on_status))
     if survey_t is not None:
         lc.subscribe(p + "SONAR_SURVEY$", guard(on_survey))
+    hub.lc = lc
     return lc
 
 
@@ -214,6 +240,9 @@ async def handler(ws, hub):
                 req = json.loads(msg)
             except ValueError:
                 continue
+            if "beams" in req:  # the status tile: text only
+                c.want_beams = bool(req["beams"])
+                c.beams.clear()
             if "filtered" in req:
                 c.filtered = bool(req["filtered"])
                 c.beams.clear()
@@ -233,7 +262,7 @@ async def ticker(hub):
         await asyncio.sleep(1.0)
         silent = time.time() - hub.last_rx if hub.last_rx else None
         hub.text({"kind": "view", "silent_s": silent, "beams": hub.counts["beams"], "bad": hub.bad(),
-                  "dropped": hub.counts["dropped"], "pages": len(hub.clients)})
+                  "dropped": hub.counts["dropped"], "pages": len(hub.clients), "still_alarm_s": hub.still_alarm_s})
 
 
 def version():
@@ -254,7 +283,146 @@ def register_service():
     return {"name": "sonard", "description": "Ping360 sonar to live object detections and tracks, obstacles for the "
             "autopilot: the live view", "icon": "mdi-radar", "company": "sonard", "version": version(),
             "webpage": os.environ.get("SONARD_WEBPAGE", ""), "api": "", "new_page": False,
-            "works_in_relative_paths": True}
+            "works_in_relative_paths": True, "extras": {"cockpit": "/cockpit_extras.json"}}
+
+
+def sanitized(name):
+    """BlueOS's helper's sanitized_name: the name, lower case, letters and digits only (its /extensionv2/ path)."""
+    return "".join(ch for ch in name.lower() if ch.isascii() and ch.isalnum())
+
+
+def cockpit_extras():
+    """What Cockpit reads (src/libs/blueos.ts): widgets' URLs are relative to the service's base (Cockpit prefixes
+    /extensionv2/<sanitized_name>); actions' are not prefixed, so they name the vehicle through Cockpit's data-lake
+    variable vehicle-address, and the extension's path."""
+    base = "http://{{ vehicle-address }}/extensionv2/" + sanitized(register_service()["name"])
+    v = version()
+
+    def action(ident, name, path, params):
+        return {"id": ident, "name": name, "type": "http-request",
+                "config": {"name": name, "url": base + path, "method": "POST", "headers": {}, "urlParams": params,
+                           "body": ""}}
+    return {"target_system": "cockpit", "target_cockpit_api_version": "1.0.0",
+            "widgets": [{"name": "sonard: sonar", "iframe_url": "/widget_fan.html", "iframe_icon": "/icon.svg",
+                         "config_iframe_url": None, "version": v},
+                        {"name": "sonard: status and alarms", "iframe_url": "/widget_status.html",
+                         "iframe_icon": "/icon.svg", "config_iframe_url": None, "version": v}],
+            "actions": [action("sonard-record-survey", "sonard: record the site survey (20 sweeps)", "/control/survey",
+                               {"sweeps": "20"}),
+                        action("sonard-cancel-survey", "sonard: cancel the site survey", "/control/survey/cancel", {})]}
+
+
+CONTROL_OFF = ("control is off: sonard takes commands only when it runs with --control (control = on in its "
+               "configuration; the BlueOS extension's blueos.conf has it on)")
+
+
+async def control(hub, method, target, body_len):
+    """One control request: (status, JSON object). The commands: POST control/survey?sweeps=N (8..255), POST
+    control/survey/cancel. Nothing is sent to sonard unless the request is well formed and sonard takes commands."""
+    from urllib.parse import urlsplit, parse_qs
+    u = urlsplit(target)
+    path = u.path.rstrip("/")
+    known = {"/control/survey": 1, "/control/survey/cancel": 2}
+    if path not in known:
+        return 404, {"error": f"unknown command {path}: the commands are POST control/survey?sweeps=N and POST "
+                              "control/survey/cancel"}
+    if method != "POST":
+        return 405, {"error": f"{method} {path}: a command is a POST"}
+    if body_len > CONTROL_BODY_MAX:
+        return 413, {"error": f"a body of {body_len} bytes: a command takes none (at most {CONTROL_BODY_MAX})"}
+    command, sweeps = known[path], 0
+    if command == 1:
+        q = parse_qs(u.query)
+        try:
+            sweeps = int(q.get("sweeps", ["20"])[-1])
+        except ValueError:
+            return 400, {"error": f"sweeps={q.get('sweeps')[-1]!r}: a whole number 8..255"}
+        if not 8 <= sweeps <= 255:
+            return 400, {"error": f"sweeps={sweeps}: a survey is 8..255 sweeps"}
+    st = hub.last_status
+    if st is None or hub.control_t is None or hub.lc is None:
+        return 503, {"error": "no status from sonard yet: is it running on this LCM bus?"}
+    if not st.get("control"):
+        return 403, {"error": CONTROL_OFF}
+    hub.seq = hub.seq % 0x7FFFFFFF + 1
+    seq = hub.seq
+    m = hub.control_t()
+    m.utime, m.seq, m.command, m.sweeps = int(time.time() * 1e6), seq, command, sweeps
+    fut = asyncio.get_running_loop().create_future()
+    hub.answers[seq] = fut
+    try:
+        hub.lc.publish(hub.prefix + "SONAR_CONTROL", m.encode())
+        st = await asyncio.wait_for(fut, CONTROL_ANSWER_S)
+    except asyncio.TimeoutError:
+        return 504, {"error": f"sonard did not answer command {seq} within {CONTROL_ANSWER_S:.0f} s"}
+    finally:
+        hub.answers.pop(seq, None)
+    out = {k: st[k] for k in ("control_seq", "control_result", "control_said", "survey_rec", "survey_rec_sweeps",
+                              "survey_rec_of", "survey_rec_said")}
+    out["taken"] = st["control_result"] == 1
+    return (200 if out["taken"] else 409), out
+
+
+REASONS = {200: "OK", 400: "Bad Request", 403: "Forbidden", 404: "Not Found", 405: "Method Not Allowed",
+           409: "Conflict", 413: "Payload Too Large", 431: "Request Header Fields Too Large", 503: "Service Unavailable",
+           504: "Gateway Timeout"}
+
+
+def response(code, obj):
+    """An HTTP/1.1 response with a JSON body, closing the connection."""
+    body = (json.dumps(obj) + "\n").encode()
+    extra = "Allow: POST\r\n" if code == 405 else ""
+    return (f"HTTP/1.1 {code} {REASONS.get(code, 'Error')}\r\nContent-Type: application/json\r\n"
+            f"Content-Length: {len(body)}\r\n{extra}Cache-Control: no-store\r\nConnection: close\r\n\r\n").encode() + body
+
+
+def connection_class(hub):
+    """websockets' server connection, which takes control/ requests (any method: the library parses GET alone) out of
+    the stream before its HTTP parser sees them; everything else (the pages, the WebSocket) goes to it untouched."""
+    from websockets.asyncio.server import ServerConnection
+
+    class Conn(ServerConnection):
+        def connection_made(self, transport):
+            self.head, self.stage = b"", "?"  # the request so far: "?" undecided, "ws" websockets', "control" one of ours, "answered"
+            super().connection_made(transport)
+
+        def data_received(self, data):
+            if self.stage == "ws":
+                return super().data_received(data)
+            if self.stage == "answered":
+                return  # a control request's body: its length was checked, it is not read
+            self.head += data
+            if self.stage == "?" and b"\r\n" in self.head:
+                target = (self.head.split(b"\r\n", 1)[0].split(b" ") + [b"", b""])[1].decode("latin-1")
+                control_path = target.split("?")[0] == "/control" or target.startswith("/control/")
+                self.stage = "control" if control_path else "ws"
+            elif self.stage == "?" and len(self.head) > HEAD_MAX:
+                self.stage = "ws"  # a line that long is websockets' to refuse
+            if self.stage == "ws":
+                data, self.head = self.head, b""
+                return super().data_received(data)
+            if self.stage == "control" and (b"\r\n\r\n" in self.head or len(self.head) > HEAD_MAX):
+                self.stage = "answered"
+                asyncio.get_running_loop().create_task(self.answer(self.head))
+
+        async def answer(self, head):
+            if b"\r\n\r\n" not in head:
+                code, obj = 431, {"error": f"a request head over {HEAD_MAX} bytes"}
+            else:
+                lines = head.split(b"\r\n\r\n", 1)[0].split(b"\r\n")
+                method, target = (lines[0].decode("latin-1").split(" ") + ["", ""])[:2]
+                n = 0
+                for h in lines[1:]:
+                    k, _, v = h.partition(b":")
+                    if k.strip().lower() == b"content-length":
+                        n = int(v.strip()) if v.strip().isdigit() else CONTROL_BODY_MAX + 1
+                    elif k.strip().lower() == b"transfer-encoding":
+                        n = CONTROL_BODY_MAX + 1  # a chunked body: refused as too large rather than read
+                code, obj = await control(hub, method, target, n)
+            if not self.transport.is_closing():
+                self.transport.write(response(code, obj))
+                self.transport.close()
+    return Conn
 
 
 async def main_async(a):
@@ -263,11 +431,14 @@ async def main_async(a):
     from websockets.http11 import Response
 
     hub = Hub(a.prefix)
+    hub.still_alarm_s = a.still_alarm
     lc = lcm_setup(a.lcm, hub, a.types)
     loop = asyncio.get_running_loop()
     loop.add_reader(lc.fileno(), lc.handle)
-    files = {"/": ("index.html", "text/html; charset=utf-8"), "/index.html": ("index.html", "text/html; charset=utf-8"),
-             "/view.js": ("view.js", "application/javascript; charset=utf-8")}
+    html, js = "text/html; charset=utf-8", "application/javascript; charset=utf-8"
+    files = {"/": ("index.html", html), "/index.html": ("index.html", html), "/view.js": ("view.js", js),
+             "/widget_fan.html": ("widget_fan.html", html), "/widget_status.html": ("widget_status.html", html),
+             "/widget_status.js": ("widget_status.js", js), "/icon.svg": ("icon.svg", "image/svg+xml")}
 
     def http(connection, request):
         path = request.path.split("?")[0]
@@ -278,6 +449,8 @@ async def main_async(a):
             body = open(os.path.join(HERE, name), "rb").read()
         elif path == "/register_service":
             body, ctype = json.dumps(register_service()).encode(), "application/json"
+        elif path == "/cockpit_extras.json":
+            body, ctype = json.dumps(cockpit_extras()).encode(), "application/json"
         elif path == "/health":
             body, ctype = json.dumps({"counts": dict(hub.counts, bad=hub.bad()), "pages": len(hub.clients),
                                       "silent_s": time.time() - hub.last_rx if hub.last_rx else None}).encode(), "application/json"
@@ -287,11 +460,18 @@ async def main_async(a):
                                             ("Cache-Control", "no-store")]), body)
 
     host, port = a.listen.rsplit(":", 1)
+    # No per-message compression: beams are noisy bytes that deflate poorly, and it cost the server a tenth of its time.
     async with serve(lambda ws: handler(ws, hub), host, int(port), process_request=http, max_size=1 << 16,
-                     ping_interval=5, ping_timeout=10):
-        print(f"sonar_view: http://{host}:{port}/ (LCM {a.lcm or 'default'}, prefix '{a.prefix}')", file=sys.stderr, flush=True)
+                     ping_interval=5, ping_timeout=10, compression=None, create_connection=connection_class(hub)):
+        print(f"sonar_view: http://{host}:{port}/ (LCM {a.lcm or 'default'}, prefix '{a.prefix}'; Cockpit: "
+              f"/cockpit_extras.json)", file=sys.stderr, flush=True)
         asyncio.create_task(ticker(hub))
-        await asyncio.Future()
+        # SIGTERM (systemd, BlueOS) and SIGINT end it cleanly, also where a shell started it with SIGINT ignored
+        import signal
+        stop = loop.create_future()
+        for sig in (signal.SIGTERM, signal.SIGINT):
+            loop.add_signal_handler(sig, lambda: stop.done() or stop.set_result(None))
+        await stop
 
 
 def main():
@@ -301,6 +481,8 @@ def main():
     ap.add_argument("--prefix", default="", help="sonard's --channel-prefix")
     ap.add_argument("--types", default=os.environ.get("SONARD_LCM_PY", "build/lcm/python"),
                     help="directory holding the generated 'sonar' package")
+    ap.add_argument("--still-alarm", type=float, default=float(os.environ.get("SONARD_STILL_ALARM", "60")),
+                    help="seconds a track may stay still before the status widget raises its alarm (default 60)")
     a = ap.parse_args()
     try:
         asyncio.run(main_async(a))

@@ -1,5 +1,6 @@
 // view.js -- draws sonard's beams into a polar fan as they come (one WebSocket), with range rings, hulls, track IDs
 // and trails, and a health panel; plain JavaScript, no libraries. window.sonarView exposes the state for tests.
+// Cockpit's fan widget (widget_fan.html) runs it too: a page without the panel's table or the filtered switch.
 "use strict";
 
 const S = 720, C = S / 2, R = S / 2 - 12;           // canvas, centre, fan radius in pixels
@@ -38,7 +39,7 @@ for (let py = 0; py < S; py++) {
 for (const e of byAngle) { e.idx = Int32Array.from(e.idx); e.frac = Float32Array.from(e.frac); }
 
 const view = window.sonarView = {
-  beams: 0, frames: 0, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
+  beams: 0, frames: 0, firstDrawMs: null, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
   detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0, survey: null, surveyText: "",
   stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
   background: [0x10, 0x14, 0x1a],
@@ -47,7 +48,7 @@ const view = window.sonarView = {
   pixelAt(x, y) { const [u, v] = view.toPixel(x, y); const d = ictx.getImageData(u, v, 1, 1).data; return [d[0], d[1], d[2]]; },
 };
 
-let received = 0, acked = 0;
+let received = 0, acked = 0, ackedAt = 0;
 let dirty = false, newestUtime = 0, latSum = 0, latMax = 0, latN = 0, prevAngle = -1, width = 1;
 const beamTimes = [];
 
@@ -148,14 +149,19 @@ function frame() {
     ictx.putImageData(img, 0, 0);
     dirty = false;
     view.frames++;
+    if (view.firstDrawMs == null) view.firstDrawMs = performance.now();   // since the page's navigation began
     // latency behind the sonar: the newest beam on screen against the wall clock (sonard stamps beams on arrival)
     const lat = Date.now() - newestUtime / 1000;
     if (lat > -1000 && lat < 60000) { latSum += lat; latN++; latMax = Math.max(latMax, lat); }
   }
   rings();
   shapes();
-  // flow control: tell the server what arrived, so it sends no more than it can draw soon
-  if (received !== acked && ws && ws.readyState === 1) { ws.send(JSON.stringify({ received })); acked = received; }
+  // flow control: tell the server what arrived, so it sends no more than it can draw soon; at most ten times a second
+  // unless a quarter of the server's window (8 of 32 beams) is waiting, so the acknowledgements cost it little
+  const now = performance.now();
+  if (received !== acked && ws && ws.readyState === 1 && (received - acked >= 8 || now - ackedAt >= 100)) {
+    ws.send(JSON.stringify({ received })); acked = received; ackedAt = now;
+  }
   requestAnimationFrame(frame);
 }
 requestAnimationFrame(frame);
@@ -198,7 +204,7 @@ setInterval(() => {
   h += row("latency behind sonar", view.stats.latency_ms_mean == null ? "—" : view.stats.latency_ms_mean.toFixed(0) + " ms");
   h += row("view: dropped (behind)", vi.dropped || 0, false);
   h += row("view: malformed messages", vi.bad || 0, (vi.bad || 0) > 0);
-  document.getElementById("stats").innerHTML = h;
+  if (document.getElementById("stats")) document.getElementById("stats").innerHTML = h;
 }, 1000);
 
 let ws = null;
@@ -206,7 +212,8 @@ function connect() {
   // relative to the page, so the view works under a proxy's prefix (BlueOS: /extensionv2/sonard/)
   ws = new WebSocket(new URL("ws", location.href).href.replace(/^http/, "ws"));
   ws.binaryType = "arraybuffer";
-  ws.onopen = () => { view.state = "open"; received = acked = 0; ws.send(JSON.stringify({ filtered: document.getElementById("filtered").checked })); };
+  const filtered = document.getElementById("filtered");
+  ws.onopen = () => { view.state = "open"; received = acked = 0; ws.send(JSON.stringify({ filtered: filtered ? filtered.checked : false })); };
   ws.onmessage = ev => {
     if (typeof ev.data !== "string") { drawBeam(ev.data); received++; return; }
     const m = JSON.parse(ev.data);
@@ -231,7 +238,7 @@ function connect() {
   };
   ws.onclose = () => { view.state = "offline"; setTimeout(connect, 1000); };
 }
-document.getElementById("filtered").onchange = e => {
+if (document.getElementById("filtered")) document.getElementById("filtered").onchange = e => {
   px32.fill(EMPTY); dirty = true;
   if (ws && ws.readyState === 1) ws.send(JSON.stringify({ filtered: e.target.checked }));
 };

@@ -13,9 +13,12 @@ mkdir -p "$C"
 chown -R sonard:sonard "$C"
 cd "$C"
 runuser -u sonard -- sonar-view --listen "0.0.0.0:${SONARD_VIEW_PORT:-8360}" &
-# The survey's file: the configuration's, else /config/site.survey (a configuration copied before surveys were).
+# The survey's file: the configuration's, else /config/site.survey (a configuration copied before surveys were);
+# control (Cockpit's actions) on unless the configuration says (one copied before control was has no key).
 sv=
 grep -q '^[[:space:]]*survey[[:space:]]*=' "$C/sonard.conf" || sv="--survey $C/site.survey"
+ctl=
+grep -q '^[[:space:]]*control[[:space:]]*=' "$C/sonard.conf" || ctl="--control"
 if [ -f "$C/record-survey" ]; then
     n=$(tr -cd 0-9 < "$C/record-survey")
     rm -f "$C/record-survey"
@@ -24,4 +27,4 @@ if [ -f "$C/record-survey" ]; then
         echo "start.sh: no survey recorded (the reason is above); sonard runs on without a new one" >&2
 fi
 # shellcheck disable=SC2086
-exec runuser -u sonard -- sonard --config "$C/sonard.conf" $sv --quiet "$@"
+exec runuser -u sonard -- sonard --config "$C/sonard.conf" $sv $ctl --quiet "$@"
