@@ -49,7 +49,7 @@ function draw() {
   rows.survey = survey(s);
   const alarms = [];
   const limit = v.still_alarm_s || 60;
-  for (const t of live) if (t.still_s > limit) alarms.push(`STILL: track #${t.id} still ${Math.round(t.still_s)} s (> ${limit} s)`);
+  for (const t of live) if (t.still_s > limit) alarms.push(`STILL: track #${t.id} still ${t.still_s.toFixed(1)} s (> ${limit} s)`);
   if (lost && st.updates > 0) alarms.push("SONAR LOST: " + rows.link);
   st.alarms = alarms;
   st.rows = rows;
