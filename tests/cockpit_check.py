@@ -246,8 +246,17 @@ def main():
                  in_frame("status", "return window.sonarStatus && sonarStatus.beamsPerS != null"), 30)
         cpu0, t0 = proc_cpu_s(procs["view"].pid), time.time()
         f0 = in_frame("fan", "sonarView.resetStats(); return sonarView.frames")
+        fb0, vb0 = in_frame("fan", "return sonarView.beams"), in_frame("full", "return sonarView.beams")
+        sb0 = (status() or {}).get("counts", {}).get("beams", 0)
         time.sleep(10)
         cpu1, t1 = proc_cpu_s(procs["view"].pid), time.time()
+        fb1, vb1 = in_frame("fan", "return sonarView.beams"), in_frame("full", "return sonarView.beams")
+        sb1 = (status() or {}).get("counts", {}).get("beams", 0)
+        rates = [(x1 - x0) / (t1 - t0) for x0, x1 in ((sb0, sb1), (fb0, fb1), (vb0, vb1))]
+        rep["beam_rates"] = {"server_in": rates[0], "fan_tile": rates[1], "full_view": rates[2]}
+        ok("the fan tile and the full view draw new beams at the sonar's rate (within 5 %) with the status tile open",
+           rates[0] > 20 and min(rates[1:]) >= 0.95 * rates[0],
+           "%.1f beams/s reach the view server, %.1f drawn by the fan tile, %.1f by the full view" % tuple(rates))
         fanv = in_frame("fan", """const d = document.getElementById('image').getContext('2d').getImageData(0, 0, 720, 720).data;
             let lit = 0, drawn = 0;
             for (let i = 0; i < d.length; i += 4) {
@@ -257,7 +266,6 @@ def main():
             return {first: sonarView.firstDrawMs, beams: sonarView.beams, frames: sonarView.frames, drawn, lit,
                     w: r.width, h: r.height, iw: innerWidth, ih: innerHeight};""")
         st = in_frame("status", "return {first: sonarStatus.firstStatusMs, rows: sonarStatus.rows, alarms: sonarStatus.alarms, bps: sonarStatus.beamsPerS}")
-        sonar_bps = (status() or {}).get("counts", {}).get("beams", 0)
         fps = (fanv["frames"] - f0) / (t1 - t0)
         rep["fan"], rep["status_tile"] = dict(fanv, fps=fps), st
         ok("the fan widget at 400x300: drawn within 2 s of loading; the fan fits the tile; beams and the pool's walls drawn",
