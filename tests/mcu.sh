@@ -84,9 +84,10 @@ import json, sys
 co = [json.loads(l) for l in open(sys.argv[1])]
 re = {d["sweep"]: d for d in map(json.loads, open(sys.argv[2]))}
 assert co, "no sweeps from the co-processor"
-n = 0
+n, per = 0, []
 for c in co:
     r = re[c["sweep"]]
+    per.append(f"{c['sweep']}: {len(c['detections'])}/{len(r['detections'])}")
     for k in ("beams", "threshold", "runs", "groups"):
         assert c[k] == r[k], (c["sweep"], k, c[k], r[k])
     assert len(c["detections"]) == len(r["detections"]), (c["sweep"], len(c["detections"]), len(r["detections"]))
@@ -94,7 +95,8 @@ for c in co:
         assert a["points"] == b["points"], (c["sweep"], a["points"], b["points"])
         assert abs(a["x_m"] - b["x_m"]) <= 0.001 and abs(a["y_m"] - b["y_m"]) <= 0.001, (c["sweep"], a, b)
         n += 1
-print(f"{len(co)} sweeps, {n} detections: counts, cells and positions (within 1 mm) equal")
+print(f"{len(co)} sweeps, {n} detections: counts, cells and positions (within 1 mm) equal; sweep: co-processor/replay "
+      f"detections {', '.join(per)}")
 PY
 }
 
