@@ -313,5 +313,13 @@ check "missing value rejected" grep -q -- "--clusters: needs a value" "$T/err"
 check "missing file: exit 2, named" sh -c "test $rc -eq 2 && grep -q '/nonexistent.csv: No such file' '$T/err'"
 check "--help lists every option with its default" sh -c "'$B/sonard' --help | grep -q -- '--iterations N .*default 10'"
 
+# The activity scene (issue 46): a standing body's echo is steady look to look, a struggling one's is not, as the
+# AquaScan recordings' window correlation says (tests/sim_activity.py); the truth names each one's activity.
+"$B/sonar-sim" --scene activity --out "$T/activity.csv" --truth "$T/activity.json" > /dev/null 2>&1
+check "sonar-sim --scene activity: the stander's echo window correlates look to look above 0.37, the struggler's below 0.32" \
+    python3 tests/sim_activity.py "$T/activity.csv" "$T/activity.json"
+check "sonar-sim --scene activity: the truth says each person's activity (moving, standing, struggling)" \
+    sh -c "grep -q '\"activity\":\"moving\"' '$T/activity.json' && grep -q '\"activity\":\"standing\"' '$T/activity.json' && grep -q '\"activity\":\"struggling\"' '$T/activity.json'"
+
 echo "e2e: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -104,7 +104,7 @@ static int pool_scene(struct scene *s, const char *name)
         s->sweeps = 40;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
-    } else if (strcmp(name, "laps") == 0) {
+    } else if (strcmp(name, "laps") == 0 || strcmp(name, "activity") == 0) {
         static const struct scene_wall w[4] = {{-8, -12.5, 8, -12.5}, {8, -12.5, 8, 12.5}, {8, 12.5, -8, 12.5},
                                                {-8, 12.5, -8, -12.5}};
         static const struct scene_rope r[2] = {{-4.0, -12.5, 12.5, 80, 0.15, 6.0}, {4.0, -12.5, 12.5, 80, 0.15, 7.0}};
@@ -129,6 +129,22 @@ static int pool_scene(struct scene *s, const char *name)
         s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+        if (strcmp(name, "activity") == 0) {
+            /* The same pool with the AquaScan recordings' three states: a swimmer doing lengths, one standing, one
+               struggling (within a metre, a fresh echo each look), each from the first ping. */
+            static const struct scene_object a[] = {
+                {"ladder", 7.6, 9.0, 0.15, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0, 1},
+                {"swimmer", 0, 0, 0.35, 0, 0, 150, 0, 7, {0, 37, 74, 111, 148, 185, 200}, {-6.0, -6.0, -6.0, -6.0, -6.0, -6.0, -6.0},
+                 {-11, 11, -11, 11, -11, 11, 2}, 0, 0},
+                {"stander", -2.0, 6.0, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
+                {"struggler", 2.5, -5.0, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
+            };
+            static const int acts[] = {SCENE_ACT_NONE, SCENE_ACT_MOVING, SCENE_ACT_STANDING, SCENE_ACT_STRUGGLING};
+            memcpy(s->obj, a, sizeof(a));
+            memcpy(s->act, acts, sizeof(acts));
+            s->nobj = (int)(sizeof(a) / sizeof(a[0]));
+            s->sweeps = 20;
+        }
     } else {
         static const struct scene_object o[] = {
             {"stand", -4.5, 1.5, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
@@ -259,7 +275,8 @@ int scene_make(struct scene *s, const char *name)
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
         s->veh = v;
     } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0 ||
-               strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0 || strcmp(name, "laps") == 0) {
+               strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0 || strcmp(name, "laps") == 0 ||
+               strcmp(name, "activity") == 0) {
         return pool_scene(s, name);
     } else {
         return -1;
@@ -271,8 +288,10 @@ void scene_empty(struct scene *s)
 {
     int k, m = 0;
     for (k = 0; k < s->nobj; k++)
-        if (s->obj[k].structure)
+        if (s->obj[k].structure) {
+            s->act[m] = s->act[k];
             s->obj[m++] = s->obj[k];
+        }
     s->nobj = m;
 }
 
@@ -313,6 +332,17 @@ void scene_to_body(const struct scene *s, double t, double n, double e, double *
     *y = -sn * (n - vn) + c * (e - ve);
 }
 
+/* A uniform number in (0, 1) that is a function of (a, b, c) alone: the same on every call (splitmix64). */
+static double hashed_uniform(unsigned long long a, long long b, long long c)
+{
+    unsigned long long z = a * 0x9E3779B97F4A7C15ull ^ (unsigned long long)b * 0xBF58476D1CE4E5B9ull ^
+                           (unsigned long long)c * 0x94D049BB133111EBull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return ((double)(z >> 11) + 0.5) / 9007199254740992.0;
+}
+
 int scene_object_at(const struct scene *s, int k, int sweep, double t, double *x, double *y, double *vx, double *vy)
 {
     const struct scene_object *o = &s->obj[k];
@@ -321,6 +351,13 @@ int scene_object_at(const struct scene *s, int k, int sweep, double t, double *x
         *x = o->x + o->vx * d;
         *y = o->y + o->vy * d;
         *vx = *vy = 0.0;
+        if (s->act[k] == SCENE_ACT_STANDING) { /* sways 5 cm over 4 s */
+            *x += 0.05 * sin(2.0 * PI * t / 4.0);
+            *y += 0.03 * cos(2.0 * PI * t / 4.0);
+        } else if (s->act[k] == SCENE_ACT_STRUGGLING) { /* the body's centre jumps within 0.25 m each look */
+            *x += 0.25 * (2.0 * hashed_uniform((unsigned long long)k + 1u, sweep, 1) - 1.0);
+            *y += 0.25 * (2.0 * hashed_uniform((unsigned long long)k + 1u, sweep, 2) - 1.0);
+        }
         return sweep >= o->first_sweep;
     }
     if (t < o->wp_t[0] || t > o->wp_t[o->nwp - 1])
@@ -581,7 +618,13 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
         for (i = 0; i < n; i++) {
             double r = (i + 0.5) * range_m / n;
             if (r >= near && r <= far) {
-                double a = o->strength * gain * rayleigh_unit(g);
+                /* A standing body returns the same echo to a fixed sonar look after look: its pattern is a function
+                   of the cell (the sample and the beam's bearing, to a milliradian), not drawn afresh each look; its
+                   sway only moves the beam pattern's gain a little. */
+                double u = s->act[k] == SCENE_ACT_STANDING
+                               ? sqrt(-log(hashed_uniform((unsigned long long)k + 1u, i, (long long)floor(th * 1000.0 + 0.5))))
+                               : rayleigh_unit(g);
+                double a = o->strength * gain * u;
                 pw[i] += a * a;
             }
         }
@@ -692,6 +735,10 @@ int scene_write_truth(FILE *f, const struct scene *s, int sweeps, const struct s
                     v->vx, v->vy);
             if (s->veh.nwp > 0)
                 fprintf(f, ",\"bx\":%.3f,\"by\":%.3f", v->bx, v->by);
+            if (s->act[k] != SCENE_ACT_NONE)
+                fprintf(f, ",\"activity\":\"%s\"", s->act[k] == SCENE_ACT_MOVING     ? "moving"
+                                                    : s->act[k] == SCENE_ACT_STANDING ? "standing"
+                                                                                      : "struggling");
             fputc('}', f);
             first = 0;
         }

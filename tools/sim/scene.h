@@ -26,6 +26,15 @@ struct scene_object {
 };
 
 /*
+ * What a person does, as the AquaScan labels say it, and how their echo behaves from look to look
+ * (SCENE_SPECKLE_POOL). A standing body is one steady reflector: the same echo pattern look after
+ * look, swaying a few centimetres. A struggling one is limbs and splash, several scatterers moving
+ * within the body: a fresh pattern every look, its centre jumping up to 0.25 m, never leaving a metre.
+ * A swimmer's pattern is fresh every look too (the older scenes' people, whatever they do).
+ */
+enum scene_act { SCENE_ACT_NONE = 0, SCENE_ACT_MOVING = 1, SCENE_ACT_STANDING = 2, SCENE_ACT_STRUGGLING = 3 };
+
+/*
  * A lane rope (SCENE_SPECKLE_POOL): a line of floats along x = x0 from y0 to y1 that the beam passes
  * through (no shadow), each crossing a short Rayleigh return; it sways across by sway_m with a
  * period, the phase travelling along it, so the background never learns it exactly.
@@ -73,6 +82,7 @@ struct scene {
     struct scene_wall wall[SCENE_MAX_WALL];
     int nwall;
     struct scene_object obj[SCENE_MAX_OBJ];
+    int act[SCENE_MAX_OBJ]; /* enum scene_act of each object (the truth's "activity"); 0 in the older scenes */
     int nobj;
     struct scene_rope rope[SCENE_MAX_ROPE];
     int nrope;

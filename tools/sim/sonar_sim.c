@@ -33,7 +33,7 @@ static int parse_seed(void *base, const char *v, char *err, size_t n)
 
 #define SO(field) offsetof(struct sim_opts, field)
 static const struct opt_spec sim_spec[] = {
-    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps or near", "pool",
+    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps, activity or near", "pool",
      "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
      "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps);\n"
      "moving: 6 targets at 0.05..1.5 m/s crossing, turning, fading, arriving, leaving (14 turns);\n"
@@ -51,6 +51,8 @@ static const struct opt_spec sim_spec[] = {
      "laps: the same statistics, full turns at 4 gradians (600 samples over 15 m) from the middle of a\n"
      "16 x 25 m pool: walls all round, two swaying lane ropes, a ladder; three swimmers doing lengths,\n"
      "one standing from the first ping (30 turns);\n"
+     "activity: the laps pool with the AquaScan labels' three states: a swimmer, one standing (a steady\n"
+     "echo, swaying), one struggling (a fresh echo each look, within a metre); truth says each one's (20 turns);\n"
      "near: open water at a 5 m range, three 0.2 m buoys at 0.66, 0.9 and 1.2 m (4 turns)", NULL, NULL},
     {"out", "FILE", OPT_STR, 0, 0, SO(out), 0, 0, "file", NULL, "the study's CSV (12 m, 1200 samples, 400 beams a sweep)", NULL, NULL},
     {"truth", "FILE", OPT_STR, 0, 0, SO(truth), 0, 0, "file", NULL, "ground-truth JSON", NULL, NULL},
@@ -81,7 +83,7 @@ int main(int argc, char **argv)
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|laps|near --out FILE.csv --truth FILE.json "
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|laps|activity|near --out FILE.csv --truth FILE.json "
                         "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--empty]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
@@ -92,7 +94,7 @@ int main(int argc, char **argv)
     sweeps = (int)o.sweeps;
     g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
-        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps or near\n", scene_name);
+        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps, activity or near\n", scene_name);
         return 2;
     }
     if (csv_path == NULL || truth_path == NULL) {
