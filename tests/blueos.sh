@@ -104,15 +104,14 @@ wait \$E; echo \$? > "$T/img.rc"
 chroot "$R" sh -c 'stat -c %U /config/sonard.conf' > "$T/img.owner" 2>&1
 kill \$F 2> /dev/null; wait \$F 2> /dev/null
 # The survey as docs/blueos.md has it recorded: a file record-survey beside the configuration (range 12 m added
-# there), the extension restarted with the site empty; the site then occupied, the survey loaded and in use.
+# there), the extension restarted with the site empty; the site then occupied, the survey loaded and in use. One
+# feeder for both runs, empty until the survey's run stops the motor, then its people from sweep 0: no race between a
+# feeder's end and the next's start for the run's first sweeps.
 echo 'range = 12' >> "$T/config/sonard.conf"
 echo 8 > "$T/config/record-survey"
-chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --empty --pace fast --max-seconds 240 2> /dev/null & G=\$!
-timeout 240 chroot "$R" sh /usr/share/sonard/blueos/start.sh --sweeps 7 --json > "$T/sv.jsonl" 2> "$T/sv.err" & E=\$!
-for i in \$(seq 480); do grep -q 'survey: written\\|no survey recorded' "$T/sv.err" 2> /dev/null && break; sleep 0.5; done
-kill \$G 2> /dev/null; wait \$G 2> /dev/null
-chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --pace fast --max-seconds 240 2> /dev/null & F=\$!
-wait \$E; echo \$? > "$T/sv.rc"
+chroot "$R" sonar-feed --listen udp:127.0.0.1:9092 --scene pool --arrive-at-motor-off --pace fast --max-seconds 240 2> /dev/null & F=\$!
+timeout 240 chroot "$R" sh /usr/share/sonard/blueos/start.sh --sweeps 7 --json > "$T/sv.jsonl" 2> "$T/sv.err"
+echo \$? > "$T/sv.rc"
 kill \$S \$F 2> /dev/null
 EOF
     mkdir -p "$R/config"

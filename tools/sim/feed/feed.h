@@ -96,6 +96,8 @@ struct feed {
     long gain_ref;      /* --gain-model G: the setting the scene is drawn at; each step up doubles the echoes (saturating at 255), each down halves them; -1: off */
     int gain_fixed;     /* --gain-fixed: keep the first gain asked, whatever later requests say (a refusal) */
     int empty;          /* --empty: the scene with nobody in it (walls, ropes, structure): a site to survey */
+    int arrive;         /* --arrive-at-motor-off: empty until the first motor_off, then `full` from sweep 0 */
+    struct scene full;  /* the scene as made, held while --arrive-at-motor-off keeps it empty */
     int gain_set;
     uint8_t wall_clock; /* --scene-clock wall: timed objects move on the wall clock, whatever the order of requests */
     const char *truth_path; /* --truth: the scene's objects every 0.1 s and each beam served, JSON lines */

@@ -277,6 +277,14 @@ void feed_handle_frame(struct feed *f, const struct sonar_ping_frame *fr)
         f->streaming = 0;
         f->motor_offs++;
         feed_log(f, "%s %ld\n", "motor_off", f->motor_offs);
+        if (f->arrive && f->motor_offs == 1) {
+            /* the survey's run has ended: the people arrive, and the scene's first sweep is the next run's */
+            f->scene = f->full;
+            f->scene_t0 = 0.0;
+            if (sonar_sweep_init(&f->sweep, 20, 400) != SONAR_OK)
+                f->arrive = 0;
+            feed_log(f, "%s %ld\n", "arrived", f->motor_offs);
+        }
         q[0] = (uint8_t)(SONAR_PING360_MOTOR_OFF & 0xff);
         q[1] = (uint8_t)(SONAR_PING360_MOTOR_OFF >> 8);
         feed_queue(f, SONAR_PING_ACK, q, 2, 0.001);

@@ -110,6 +110,8 @@ static const struct opt_spec feed_spec[] = {
     {"listen", "URL", OPT_CUSTOM, 0, 0, 0, 0, 0, "tcp:HOST:PORT | udp:HOST:PORT | pty:PATH", NULL, "where to act as a Ping360 (loopback only)", NULL, parse_listen},
     {"scene", "NAME", OPT_STR, 0, 0, FO(scene_name), 0, 0, "a sonar-sim scene (sonar-sim --help lists them)", NULL, "a simulated scene", NULL, NULL},
     {"empty", NULL, OPT_FLAG, 0, 0, FO(empty), 0, 0, NULL, "off", "the scene with nobody in it (walls, ropes, structure): a site to survey", NULL, NULL},
+    {"arrive-at-motor-off", NULL, OPT_FLAG, 0, 0, FO(arrive), 0, 0, NULL, "off",
+     "the site empty until the first motor_off (a survey's run ends), then the\nscene's people, its sweeps counted from 0: a survey recorded, then used", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
     {"pace", "device|fast|xN", OPT_CUSTOM, 0, 0, 0, 0, 0, "device, fast or xN", "device",
@@ -206,9 +208,13 @@ int main(int argc, char **argv)
             fprintf(stderr, "sonar_feed: --scene: '%s' is not a scene of sonar-sim's (sonar-sim --help lists them)\n", scene);
             return 2;
         }
-        if (f.empty)
+        f.full = f.scene;
+        if (f.empty || f.arrive)
             scene_empty(&f.scene);
         f.use_scene = 1;
+    } else if (f.arrive) {
+        fprintf(stderr, "sonar_feed: --arrive-at-motor-off goes with --scene NAME (a recording cannot be emptied)\n");
+        return 2;
     } else if (feed_load_csv(&f.rec, csv, range) != 0) {
         return 2;
     }
