@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
+UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
 UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
@@ -162,6 +162,11 @@ $(BUILD)/sonar-pvbin2csv: tools/data/pvbin2csv.c $(BUILD)/libsonarhost.a $(BUILD
 $(BUILD)/tests/test_%: tests/test_%.c $(HOST_OBJ) $(BUILD)/libsonarcore.a
 	@mkdir -p $(dir $@)
 	$(CC) $(TEST_CFLAGS) $(if $(filter $*,$(WHITEBOX)),-Isrc/core) $(INPUTS) -o $@ -lcmocka $(LDLIBS)
+
+# activity.c built again with 4 slots beside the test, so that more tracks than slots (the firmware's case) is reached.
+$(BUILD)/tests/test_activity: tests/test_activity.c src/core/activity.c $(BUILD)/libsonarcore.a
+	@mkdir -p $(dir $@)
+	$(CC) $(TEST_CFLAGS) -DSONAR_ACT_SLOTS=4 $^ -o $@ -lcmocka $(LDLIBS)
 
 # The app core and the sinks are tested with the live objects and the generated LCM types.
 $(UNIT_LIVE:%=$(BUILD)/tests/test_%): $(BUILD)/tests/test_%: tests/test_%.c $(LIVE_OBJ) $(HOST_OBJ) $(LCM_OBJ) $(BUILD)/libsonarcore.a

@@ -117,7 +117,7 @@ for line in open('$T/moving.jsonl'):
         assert {'id', 'state', 'x_m', 'y_m', 'vx_mps', 'vy_mps', 'age', 'hits', 'mode', 'kind'} <= set(t), t
         assert t['state'] in ('tentative', 'confirmed', 'coasting'), t
         assert t['mode'] in ('moving', 'turning', 'resting'), t
-        assert t['kind'] in ('new', 'moving', 'resting', 'structure'), t
+        assert t['kind'] in ('new', 'moving', 'resting', 'still'), t
         # an id once gone never comes back, unless a revision said the last sweep's was it
         assert t['id'] not in seen_ids or t['id'] in last or t['id'] in revised, t['id']
     seen_ids |= set(ids)
@@ -320,6 +320,21 @@ check "sonar-sim --scene activity: the stander's echo window correlates look to 
     python3 tests/sim_activity.py "$T/activity.csv" "$T/activity.json"
 check "sonar-sim --scene activity: the truth says each person's activity (moving, standing, struggling)" \
     sh -c "grep -q '\"activity\":\"moving\"' '$T/activity.json' && grep -q '\"activity\":\"standing\"' '$T/activity.json' && grep -q '\"activity\":\"struggling\"' '$T/activity.json'"
+# sonard's activity on it, as a pool would run it: the empty site surveyed first (the stander is there and
+# motionless from the first ping: without a survey nothing tells it from the site), then each seed's pool.
+for seed in 1 2 3 4 5; do
+    "$B/sonar-sim" --scene activity --seed "$seed" --out "$T/act$seed.csv" --truth "$T/act$seed.json" > /dev/null 2>&1
+    "$B/sonar-sim" --scene activity --empty --seed $((seed + 50)) --sweeps 20 --out "$T/act_e.csv" --truth "$T/x.json" > /dev/null 2>&1
+    rm -f "$T/act.sv"
+    "$B/sonard" --replay "$T/act_e.csv" --survey 20 --survey "$T/act.sv" --quiet --log-level warn > /dev/null
+    "$B/sonard" --replay "$T/act$seed.csv" --survey "$T/act.sv" --json --quiet --still-alarm 60 > "$T/act$seed.jsonl" 2> "$T/act$seed.err"
+    check "activity, simulated pool seed $seed: >= 75 % of person-sweeps covered, standing vs struggling right, the struggler alarmed by its 4th look, no one else alarmed" \
+        python3 tools/eval/activity.py "$T/act$seed.json" "$T/act$seed.jsonl" --check --sim --label "seed $seed: "
+done
+sed 's/^/    /' "$T/out"
+check "... the struggle alarm said once on stderr with the track and where, the stander's still alarm (--still-alarm 60) too" \
+    sh -c "test \$(grep -c 'alarm: track [0-9]*: struggle alarm raised at sweep [0-9]*, at x' '$T/act1.err') -eq 1 &&
+           grep -q 'alarm: track [0-9]*: still alarm raised' '$T/act1.err' || { cat '$T/act1.err'; exit 1; }"
 
 echo "e2e: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -431,9 +431,13 @@ static void tracks_carry_the_tracker(void **state)
     tk.t[0].mu[SONAR_TRK_CV] = 51;
     tk.t[0].mu[SONAR_TRK_MANOEUVRE] = 0;
     tk.t[0].mu[SONAR_TRK_REST] = 204;
+    tk.t[0].activity = SONAR_ACT_STANDING;
+    tk.t[0].echo_corr = 57;
+    tk.t[0].alarms = SONAR_ALARM_STILL;
+    tk.t[1].echo_corr = SONAR_ACT_NO_CORR;
     tk.t[1].id = 4000000000u; /* beyond int32: held at its largest */
     tk.t[1].det = -1;
-    tk.t[1].kind = SONAR_TRACK_KIND_STRUCTURE;
+    tk.t[1].kind = SONAR_TRACK_KIND_STILL;
     tk.nrev = 2; /* the track published last sweep as 3 is 7, and 7 was not there */
     tk.rev[0].from = 3;
     tk.rev[0].to = 7;
@@ -460,7 +464,13 @@ static void tracks_carry_the_tracker(void **state)
     assert_int_equal(in.tracks[0].kind, SONAR_TRACK_KIND_RESTING);
     assert_true(fabsf(in.tracks[0].p_moving - 0.2f) < 1e-6f && fabsf(in.tracks[0].p_rest - 0.8f) < 1e-6f);
     assert_true(in.tracks[0].p_manoeuvre == 0.0f);
-    assert_int_equal(in.tracks[1].kind, SONAR_TRACK_KIND_STRUCTURE);
+    assert_int_equal(in.tracks[1].kind, SONAR_TRACK_KIND_STILL);
+    assert_int_equal(in.tracks[0].activity, SONAR_ACT_STANDING);
+    assert_true(fabsf(in.tracks[0].echo_corr - 0.57f) < 1e-6f);
+    assert_int_equal(in.tracks[0].alarms, SONAR_ALARM_STILL);
+    assert_int_equal(in.tracks[1].activity, SONAR_ACT_UNKNOWN);
+    assert_true(isnan(in.tracks[1].echo_corr)); /* none yet */
+    assert_int_equal(in.tracks[1].alarms, 0);
     assert_int_equal(in.revisions, 2);
     assert_int_equal(in.revised_from[0], 3);
     assert_int_equal(in.revised_to[0], 7);

@@ -152,7 +152,7 @@ static void test_every_numeric_row_bounds(void **state)
 static void test_names_unique_and_help_lists_all(void **state)
 {
     const struct opt_schema *s = options_schema();
-    char buf[16384];
+    char buf[32768];
     FILE *f = fmemopen(buf, sizeof(buf), "w");
     size_t i, j;
     (void)state;

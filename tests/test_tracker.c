@@ -472,9 +472,9 @@ static void test_structure_kind(void **state)
         o.utime = (int64_t)s * 6000000 + 3000000;
         o.x_m = 4.0f + (s % 2 ? 0.05f : -0.05f);
         assert_int_equal(sonar_tracker_update(&tk, &o, 1, &sw), SONAR_OK);
-        assert_int_equal(tk.t[0].kind, s + 1 >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STRUCTURE : SONAR_TRACK_KIND_NEW);
+        assert_int_equal(tk.t[0].kind, s + 1 >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STILL : SONAR_TRACK_KIND_NEW);
     }
-    assert_string_equal(sonar_track_kind_str(SONAR_TRACK_KIND_STRUCTURE), "structure");
+    assert_string_equal(sonar_track_kind_str(SONAR_TRACK_KIND_STILL), "still");
     assert_string_equal(sonar_track_mode_str(SONAR_TRACK_RESTING), "resting");
     assert_string_equal(sonar_track_kind_str(9), "?");
 }

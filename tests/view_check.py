@@ -91,7 +91,7 @@ def main():
         trk = js("return sonarView.tracks")
         ok("the tracks on SONAR_TRACKS reach the page saying what each is and does (new, moving, resting, structure or "
            "static since start; moving, turning or resting)",
-           trk and all(t.get("what") in ("new", "moving", "resting", "structure", "static since start") and
+           trk and all(t.get("what") in ("new", "moving", "resting", "still", "static since start") and
                        t.get("mode") in ("moving", "turning", "resting") for t in trk), json.dumps(trk)[:300])
         sv = js("return document.getElementById('survey').textContent")
         ok("with no survey loaded, the page says so: 'no survey: learning'", sv == "no survey: learning", repr(sv))

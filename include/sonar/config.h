@@ -77,8 +77,8 @@
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: sizeof(struct sonar_track) = 168 B each (three models of 32 B),
- * SONAR_MAX_TRACKS * 168 = 5 376 B; an update's float cost matrix is on the stack, SONAR_MAX_CLUSTERS *
+ * Tracks the tracker keeps (tracker.h). RAM: sizeof(struct sonar_track) = 176 B each (three models of 32 B),
+ * SONAR_MAX_TRACKS * 176 = 5 632 B; an update's float cost matrix is on the stack, SONAR_MAX_CLUSTERS *
  * SONAR_MAX_TRACKS * 4 = 2 048 B.
  */
 #ifndef SONAR_MAX_TRACKS
@@ -86,9 +86,18 @@
 #endif
 
 /*
+ * Tracks whose activity (activity.h) is judged: each keeps two looks' raw windows. RAM:
+ * sizeof(struct sonar_act_slot) = 568 B each, SONAR_ACT_SLOTS * 568 = 18 176 B (struct sonar_activity, the
+ * caller's: the host's app, the firmware's large bank). Tracks beyond it are unknown, and counted.
+ */
+#ifndef SONAR_ACT_SLOTS
+#define SONAR_ACT_SLOTS SONAR_MAX_TRACKS
+#endif
+
+/*
  * Assignment hypotheses the tracker weighs for a sweep until the next look (tracker.h): the one
  * published and up to this - 1 others, each holding two tracks' states. RAM:
- * sizeof(struct sonar_trk_alt) = 352 B each, (SONAR_TRK_HYPOTHESES - 1) * 352 = 2 464 B.
+ * sizeof(struct sonar_trk_alt) = 368 B each, (SONAR_TRK_HYPOTHESES - 1) * 368 = 2 576 B.
  */
 #ifndef SONAR_TRK_HYPOTHESES
 #define SONAR_TRK_HYPOTHESES 8
@@ -129,6 +138,7 @@ SONAR_STATIC_ASSERT(SONAR_MAX_CLUSTERS >= 1 && SONAR_MAX_CLUSTERS <= 64, cluster
 SONAR_STATIC_ASSERT(SONAR_MAX_HULL >= 3, hull_at_least_triangle);
 SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_hull);
 SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
+SONAR_STATIC_ASSERT(SONAR_ACT_SLOTS >= 1 && SONAR_ACT_SLOTS <= 64, act_slots_1_64);
 SONAR_STATIC_ASSERT(SONAR_TRK_HYPOTHESES >= 2 && SONAR_TRK_HYPOTHESES <= 16, hypotheses_2_16);
 SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 32, places_1_32);
 SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);

@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 
+#include "sonar/activity.h"
 #include "sonar/background.h"
 #include "sonar/config.h"
 #include "sonar/detector.h"
@@ -43,6 +44,8 @@ struct sonar_pipeline_config {
     float structure_s; /* an echo there from the first look that stands this long is structure, learnt into
                           the background and reported as such (structure.h), seconds; 0: never */
     uint8_t track; /* 1: track detections across sweeps (tracker below), 0: off */
+    float still_alarm_s; /* a track not moving and still this long raises a still alarm (activity.h), seconds
+                            (1..86400); 0: never */
     struct sonar_tracker_config tracker;
     /* Optional callbacks (NULL to skip), called from inside push/finish. on_sweep comes after the
        tracker has taken the sweep, so p->trk holds this sweep's tracks then. */
@@ -84,6 +87,7 @@ struct sonar_pipeline {
     struct sonar_tracker trk; /* used when cfg->track */
     struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
     struct sonar_survey *sv;   /* the caller's (sonar_pipeline_set_survey), or NULL: no survey can be used */
+    struct sonar_activity *act; /* the caller's (sonar_pipeline_set_activity), or NULL: every track's activity unknown */
     struct sonar_survey_rec *rec; /* a survey being recorded (sonar_pipeline_set_recording), or NULL */
     uint32_t survey_unfit_sweep; /* the sweep at whose end the survey was last given up */
     uint32_t bg_sweeps;        /* sweeps since the background (re)started or was loaded */
@@ -160,6 +164,12 @@ void sonar_pipeline_study_rules(struct sonar_detector_config *d);
  * changed).
  */
 SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b);
+
+/*
+ * Where the pipeline keeps its tracks' activity windows (activity.h: the caller's, initialised; NULL:
+ * none, every track's activity unknown). Call between sweeps.
+ */
+void sonar_pipeline_set_activity(struct sonar_pipeline *p, struct sonar_activity *act);
 
 /*
  * Where the pipeline keeps a site's survey (survey.h: the caller's, with its spread block; NULL:

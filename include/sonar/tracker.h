@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 168 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 160 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 176 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 528 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -34,7 +34,8 @@ enum sonar_track_kind {
     SONAR_TRACK_KIND_NEW = 0,       /* not yet enough looks to say (fewer than SONAR_TRK_KIND_HITS hits) */
     SONAR_TRACK_KIND_MOVING = 1,    /* it has moved, and moves now */
     SONAR_TRACK_KIND_RESTING = 2,   /* it moved once and stands still now (the pool watcher's case) */
-    SONAR_TRACK_KIND_STRUCTURE = 3, /* never moved since first seen, over SONAR_TRK_KIND_HITS hits or more */
+    SONAR_TRACK_KIND_STILL = 3,     /* never moved since first seen, over SONAR_TRK_KIND_HITS hits or more: still, not
+                                       structure (only the site's survey says what is; its structure is not tracked) */
     SONAR_TRACK_KIND_STATIC_START = 4 /* never moved, on what has stood there since the first look (structure.h): with no
                                          survey it cannot be told from the site; it stays a track */
 };
@@ -113,6 +114,9 @@ struct sonar_track {
     uint8_t moved;       /* 1 once it has moved more than SONAR_TRK_STILL_M from where it was born */
     uint8_t mu[SONAR_TRK_MODELS]; /* the models' probabilities at its last hit, 0..255 (255 = 1) */
     uint8_t chance;      /* 1: this sweep's detection came in the second chance (tracker.c), under its models' own gates */
+    uint8_t activity;    /* enum sonar_activity_kind (activity.h), set after each look; 0 unknown */
+    uint8_t alarms;      /* SONAR_ALARM_* bits (activity.h) */
+    int8_t echo_corr;    /* its echo's look-to-look correlation x 100, averaged (activity.h); -128: none */
     struct sonar_track_model m[SONAR_TRK_MODELS]; /* the IMM, mixed for the next step; px .. pc above combine them */
 };
 
@@ -262,7 +266,7 @@ const char *sonar_track_mode_str(int mode);
  */
 void sonar_tracker_static_start(struct sonar_tracker *tk, const uint8_t *is_static, unsigned n);
 
-/* "new", "moving", "resting", "structure", "static since start" (enum sonar_track_kind), or "?". */
+/* "new", "moving", "resting", "still", "static since start" (enum sonar_track_kind), or "?". */
 const char *sonar_track_kind_str(int kind);
 
 /*

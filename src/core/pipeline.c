@@ -54,6 +54,11 @@ int sonar_pipeline_load_background(struct sonar_pipeline *p, const uint8_t *img,
     return SONAR_OK;
 }
 
+void sonar_pipeline_set_activity(struct sonar_pipeline *p, struct sonar_activity *act)
+{
+    p->act = act;
+}
+
 void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv)
 {
     p->sv = sv;
@@ -327,6 +332,8 @@ static int switch_config(struct sonar_pipeline *p)
     if (c->track && (r = old->track ? sonar_tracker_tune(&p->trk, &c->tracker)
                                     : sonar_tracker_init(&p->trk, &c->tracker)) != SONAR_OK)
         return r;
+    if (c->track && !old->track && p->act != NULL && (r = sonar_activity_init(p->act)) != SONAR_OK)
+        return r;
     if ((r = sonar_structure_tune(&p->st, c->structure_s)) != SONAR_OK)
         return r;
     if (!fresh)
@@ -453,6 +460,8 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
         return r;
     p->open = 1;
     p->beams++;
+    if (p->cfg->track)
+        sonar_activity_beam(p->act, b->angle, b->samples, b->n, b->range_m, b->gain);
     if (p->cfg->median2d != 0) {
         struct sonar_median_row in, out;
         in.utime = b->utime;

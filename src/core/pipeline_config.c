@@ -71,6 +71,8 @@ const char *sonar_pipeline_config_check(const struct sonar_pipeline_config *cfg)
         return "track: 0 (off) or 1 (on)";
     if (cfg->track && (why = sonar_tracker_config_check(&cfg->tracker)) != NULL)
         return why;
+    if (!(cfg->still_alarm_s == 0.0f || (cfg->still_alarm_s >= 1.0f && cfg->still_alarm_s <= SONAR_ACT_STILL_ALARM_MAX)))
+        return "still_alarm_s: 0 (never) or 1..86400 seconds";
     if (!(cfg->structure_s == 0.0f || (cfg->structure_s >= 1.0f && cfg->structure_s <= (float)SONAR_STRUCTURE_S_MAX)))
         return "structure_s: 0 (never) or 1.." SONAR_STR(SONAR_STRUCTURE_S_MAX) " seconds";
     return sonar_detector_config_check(&cfg->detector);

@@ -244,6 +244,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     for (i = 0; i < p->trk.n; i++)
         if (p->trk.t[i].det >= 0)
             p->trk.t[i].det = (int8_t)map[p->trk.t[i].det]; /* back to the sweep's own numbering */
+    sonar_activity_look(p->act, &p->trk, p->out.utime, p->cfg->detector.angle_offset, p->cfg->still_alarm_s, world);
     if (!(p->cfg->detector.track_m > 0.0f) || world || !have_cover)
         return SONAR_OK;
     ahead = p->out.utime + (p->out.utime - sonar_detector_t0(&p->det));

@@ -235,7 +235,7 @@ static uint8_t size_dm(float size_m)
 
 /*
  * Its size, whether it moved since (state time then: was): the filtered position left the disc
- * about where it last moved; and what it is: structure until it has moved, then moving or resting
+ * about where it last moved; and what it is: still until it has moved, then moving or resting
  * by its models (the rest model likeliest: resting).
  */
 static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, int64_t was)
@@ -254,7 +254,7 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
     if (t->moved) /* by its models, not by the disc: a drifting float leaves its disc now and then, and stays at rest */
         t->kind = t->mode == SONAR_TRACK_RESTING ? SONAR_TRACK_KIND_RESTING : SONAR_TRACK_KIND_MOVING;
     else
-        t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STRUCTURE : SONAR_TRACK_KIND_NEW;
+        t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STILL : SONAR_TRACK_KIND_NEW;
 }
 
 /* A hit: t's models predicted to o's time, corrected by it; det is o's index. */

@@ -42,7 +42,7 @@ const char *sonar_track_kind_str(int kind)
     case SONAR_TRACK_KIND_NEW: return "new";
     case SONAR_TRACK_KIND_MOVING: return "moving";
     case SONAR_TRACK_KIND_RESTING: return "resting";
-    case SONAR_TRACK_KIND_STRUCTURE: return "structure";
+    case SONAR_TRACK_KIND_STILL: return "still";
     case SONAR_TRACK_KIND_STATIC_START: return "static since start";
     default: return "?";
     }

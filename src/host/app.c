@@ -123,6 +123,25 @@ static void to_sinks(struct app *a, const struct sonar_detections *d, const stru
     late_hold(a, d, tk);
 }
 
+/* The last look's alarms raised and cleared, each said once (docs/activity.md). */
+static void say_alarms(const struct app *a, const struct sonar_detections *d)
+{
+    static const char *const what[] = {"", "struggle", "still", "struggle and still"};
+    unsigned k, n;
+    const struct sonar_alarm_event *e = sonar_activity_events(&a->act, &n);
+    for (k = 0; k < n; k++, e++) {
+        const char *frame = d->world ? "north %.1f m, east %.1f m" : "x %.1f m, y %.1f m";
+        char at[64];
+        snprintf(at, sizeof(at), frame, (double)e->x_m, (double)e->y_m);
+        if (e->alarms & ~e->was)
+            app_warn(a, "alarm: track %u: %s alarm raised at sweep %u, at %s", (unsigned)e->id,
+                     what[(e->alarms & ~e->was) & 3u], (unsigned)d->sweep, at);
+        if (e->was & ~e->alarms)
+            app_warn(a, "alarm: track %u: %s alarm cleared at sweep %u (%s), at %s", (unsigned)e->id,
+                     what[(e->was & ~e->alarms) & 3u], (unsigned)d->sweep, e->gone ? "the track ended" : "its cause went", at);
+    }
+}
+
 static void on_sweep(void *user, const struct sonar_detections *d)
 {
     struct app *a = user;
@@ -150,6 +169,7 @@ static void on_sweep(void *user, const struct sonar_detections *d)
                     (unsigned)d->sweep);
         }
     }
+    say_alarms(a, d);
     to_sinks(a, d, sonar_pipeline_tracker(&a->pipe));
 }
 
@@ -179,6 +199,9 @@ int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipel
         return HOST_ERR_CONFIG;
     }
     sonar_pipeline_set_poses(&a->pipe, &a->poses);
+    if (sonar_activity_init(&a->act) != SONAR_OK)
+        return HOST_ERR_CONFIG;
+    sonar_pipeline_set_activity(&a->pipe, &a->act);
     sonar_survey_init(&a->survey, &a->spread, a->survey_places);
     sonar_pipeline_set_survey(&a->pipe, &a->survey);
     if (dcfg != NULL) {

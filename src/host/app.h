@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 076 184 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 095 776 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -55,7 +55,7 @@ enum app_device_event { APP_DEVICE_NONE = 0, APP_DEVICE_LOST = 1, APP_DEVICE_STO
 
 /*
  * The app: opaque outside app*.c (app_internal.h). Caller-allocated, no heap: an app lives in a
- * struct app_storage (the pipeline, its background and APP_STORAGE_REST bytes; static or inside a static
+ * struct app_storage (the pipeline, its background, its tracks' echo windows and APP_STORAGE_REST bytes; static or inside a static
  * struct, never on a small stack), and app_init hands out the app in it.
  */
 struct app;
@@ -64,6 +64,7 @@ struct app_storage {
     struct sonar_pipeline pipe_;
     struct sonar_background bg_;
     struct sonar_survey_spread spread_;
+    struct sonar_activity act_;
     unsigned char rest_[APP_STORAGE_REST];
 };
 

@@ -208,6 +208,8 @@ static const struct opt_spec spec[] = {
      "visible sweeps in a row without a detection that end a confirmed track\n(twice as many without one, in view or not, also do)", NULL, NULL},
     {"structure-s", "S", OPT_F32, 1, 1, P(structure_s), 0, SONAR_STRUCTURE_S_MAX, "seconds (0 = never)", "0",
      "an echo there from the first look (before the background knew the place)\nthat stays within 1 m for S seconds is structure: learnt into the\nbackground, reported as structure, not tracked. A person motionless from\nthe first ping is the same to it: see docs/configuration.md", NULL, NULL},
+    {"still-alarm", "S", OPT_F32, 1, 1, P(still_alarm_s), 0, SONAR_ACT_STILL_ALARM_MAX, "seconds (0 = never)", "0",
+     "a track not moving and still for S seconds raises a still alarm (a pool\nwatcher's silent case: a body that does not move); with a struggle alarm\n(struggling in 2 of 3 looks, always on) it goes out on SONAR_TRACKS and\n--json and is said once on stderr (docs/activity.md)", NULL, NULL},
     SECTION("output"),
     {"track-late", "on|off", OPT_CHOICE, 1, 0, F(track_late), 0, 0, "on or off", "off",
      "on: each sweep's detections and tracks go out one sweep late, once the next\nlook has revised the IDs it would (--track-defer), with no revisions;\noff: at once, revisions of the sweep before said", "off=0|on=1", NULL},
@@ -398,6 +400,9 @@ static int check_whole(struct sonard_options *o, char *err, size_t errlen)
         return refuse(o, "structure-s", err, errlen,
                       "--structure-s: '%g' is not 0 (never) or 1.." SONAR_STR(SONAR_STRUCTURE_S_MAX) " seconds",
                       (double)o->pipeline.structure_s);
+    if (o->pipeline.still_alarm_s > 0.0f && o->pipeline.still_alarm_s < 1.0f)
+        return refuse(o, "still-alarm", err, errlen, "--still-alarm: '%g' is not 0 (never) or 1..86400 seconds",
+                      (double)o->pipeline.still_alarm_s);
     if (check_survey(o, err, errlen) != HOST_OK)
         return HOST_ERR_CONFIG;
     if ((o->bg_load != NULL || o->bg_save != NULL) && o->coprocessor != NULL)

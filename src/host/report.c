@@ -13,6 +13,19 @@ static float body(const struct msg_view *v, const struct sonar_track *t, unsigne
     return k == 0 ? v->trk_x[i] : k == 1 ? v->trk_y[i] : k == 2 ? v->trk_vx[i] : v->trk_vy[i];
 }
 
+/* A track's activity, its echo's correlation (null: none yet) and its alarms, as JSON members. */
+static void activity_json(FILE *f, const struct sonar_track *t)
+{
+    fprintf(f, ",\"activity\":\"%s\"", sonar_activity_str(t->activity));
+    if (t->echo_corr == SONAR_ACT_NO_CORR)
+        fputs(",\"echo_corr\":null", f);
+    else
+        fprintf(f, ",\"echo_corr\":%.2f", (double)t->echo_corr / 100.0);
+    fprintf(f, ",\"alarms\":[%s%s%s]", t->alarms & SONAR_ALARM_STRUGGLE ? "\"struggle\"" : "",
+            (t->alarms & SONAR_ALARM_STRUGGLE) && (t->alarms & SONAR_ALARM_STILL) ? "," : "",
+            t->alarms & SONAR_ALARM_STILL ? "\"still\"" : "");
+}
+
 int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tracker *tk, const struct msg_view *v)
 {
     unsigned i, h;
@@ -50,6 +63,7 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                     (double)body(v, t, i, 1), (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age,
                     (unsigned)t->hits, (int)t->det, (double)sonar_track_still_s(t, d->utime));
             fprintf(f, ",\"mode\":\"%s\",\"kind\":\"%s\"", sonar_track_mode_str(t->mode), sonar_track_kind_str(t->kind));
+            activity_json(f, t);
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,
                         (double)t->py, (double)t->vx, (double)t->vy);
@@ -95,6 +109,12 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         if (v != NULL && v->world)
             fprintf(f, "  N %8.2f E %8.2f m  vN %6.2f vE %6.2f m/s", (double)t->px, (double)t->py, (double)t->vx,
                     (double)t->vy);
+        if (t->activity != SONAR_ACT_UNKNOWN)
+            fprintf(f, "  %s", sonar_activity_str(t->activity));
+        if (t->alarms & SONAR_ALARM_STRUGGLE)
+            fputs("  STRUGGLE ALARM", f);
+        if (t->alarms & SONAR_ALARM_STILL)
+            fputs("  STILL ALARM", f);
         fputs(t->det >= 0 ? "\n" : "  (no detection)\n", f);
     }
     return ferror(f) ? -1 : 0;

@@ -98,6 +98,26 @@ static int64_t tracker_us(void)
     return board_micros() - t0;
 }
 
+/* The same sweep and each track's activity look after it (tracker_scene.h: every track's two windows full). */
+static int64_t tracker_activity_us(void)
+{
+    static struct sonar_tracker tk;
+    static struct sonar_activity act;
+    static uint8_t row[1200];
+    struct sonar_tracker_config tc;
+    struct sonar_tracker_obs ob[16];
+    struct sonar_tracker_sweep sw;
+    int64_t t0;
+    sonar_tracker_defaults(&tc);
+    if (bench_tracker_scene(&tk, &tc, ob, &sw) != 0 || bench_activity_scene(&act, &tk, row) != 0)
+        return -1;
+    t0 = board_micros();
+    if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
+        return -1;
+    sonar_activity_look(&act, &tk, sw.utime, 0.0f, 60.0f, 0);
+    return board_micros() - t0;
+}
+
 /* sonard's default detector settings with the study's global threshold (mean + k std): the step before the CFAR. */
 static struct sonar_detector_config det_cfg(void)
 {
@@ -116,12 +136,14 @@ static int64_t pipeline_us(struct bench *b)
 {
     static struct sonar_pipeline pipe;
     static struct sonar_background pipe_bg;
+    static struct sonar_activity pipe_act; /* the tracks' echo windows, as the firmware holds them */
     static struct sonar_pipeline_config pc;
     int64_t t0 = 0;
     int s, i;
     sonar_pipeline_defaults(&pc);
-    if (sonar_pipeline_init(&pipe, &pipe_bg, &pc) != SONAR_OK)
+    if (sonar_pipeline_init(&pipe, &pipe_bg, &pc) != SONAR_OK || sonar_activity_init(&pipe_act) != SONAR_OK)
         return -1;
+    sonar_pipeline_set_activity(&pipe, &pipe_act);
     for (s = 0; s < 5; s++) {
         make_sweep(b, s);
         for (i = 0; i < BENCH_BEAMS; i++) {
@@ -327,7 +349,7 @@ int main(void)
     struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
     struct sonar_detector_config dc = det_cfg();
     struct typical ty;
-    int64_t worst_us = 0, tu, su, tp, st[4];
+    int64_t worst_us = 0, tu, ta, su, tp, st[4];
     int r;
     board_init();
     b.rng = 42;
@@ -335,9 +357,10 @@ int main(void)
         return 1;
     if ((r = typical_sweeps(&b, &ty)) != 0 || (r = worst_sweep(&b, &worst_us)) != 0)
         return r;
-    if ((tu = tracker_us()) < 0 || (su = scan_us()) < 0)
+    if ((tu = tracker_us()) < 0 || (ta = tracker_activity_us()) < 0 || (su = scan_us()) < 0)
         return 5;
     put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
+    put_num("insn_tracker_activity_sweep", (uint64_t)ta * INSN_PER_US);
     put_num("insn_scan_call", (uint64_t)su * INSN_PER_US);
     put_num("beams", BENCH_BEAMS);
     put_num("samples", BENCH_N);

@@ -18,6 +18,7 @@ struct fw {
     struct sonar_pipeline_config pcfg, next; /* running; a configuration being checked */
     struct sonar_pipeline pipe;
     struct sonar_background *bg;     /* the pipeline's, in the board's large bank (BOARD_LARGE) */
+    struct sonar_activity *act;      /* the pipeline's tracks' echo windows, in the large bank too */
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
     int64_t next_status;
@@ -172,11 +173,12 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
     /* A configuration restarts processing: the open sweep is dropped, the background relearns and
      * sweeps count from 0, so everything after the reply comes from the new settings. */
     f->pcfg = *next;
-    if (sonar_pipeline_init(&f->pipe, f->bg, &f->pcfg) != SONAR_OK) {
+    if (sonar_pipeline_init(&f->pipe, f->bg, &f->pcfg) != SONAR_OK || sonar_activity_init(f->act) != SONAR_OK) {
         f->config_errors++;
         reply(f, "error", "pipeline: rejected");
         return;
     }
+    sonar_pipeline_set_activity(&f->pipe, f->act);
     f->sweeps = 0;
     f->beams = 0;
     f->beam_every = beam_every;
@@ -212,6 +214,7 @@ int main(void)
 {
     static struct fw f;                          /* main's own, not a shared global */
     static struct sonar_background bg BOARD_LARGE; /* sizeof(struct sonar_background): docs/sizes.md */
+    static struct sonar_activity act BOARD_LARGE;  /* the tracks' echo windows (activity.h) */
     int64_t now;
     board_init();
     memset(&f, 0, sizeof(f));
@@ -227,8 +230,11 @@ int main(void)
     f.dcfg.step = 1;
     f.dcfg.full_circle = 1;
     f.dcfg.baud = BOARD_SONAR_BAUD;
-    if (sonar_pipeline_init(&f.pipe, f.bg, &f.pcfg) != SONAR_OK || sonar_device_init(&f.dev, &f.dcfg, &io) != SONAR_OK)
+    if (sonar_pipeline_init(&f.pipe, f.bg, &f.pcfg) != SONAR_OK || sonar_device_init(&f.dev, &f.dcfg, &io) != SONAR_OK ||
+        sonar_activity_init(&act) != SONAR_OK)
         return 1;
+    f.act = &act;
+    sonar_pipeline_set_activity(&f.pipe, f.act);
     now = board_micros();
     probe(&f, now);
     f.next_status = now + STATUS_US;

@@ -1,6 +1,7 @@
 /* msg.c -- struct sonar_detections <-> sonar_detections_t and the tracker -> sonar_tracks_t, field by field; O(detections x hull + tracks) per call, no heap. */
 #include "msg.h"
 
+#include <math.h>
 #include <string.h>
 
 void msg_detections(const struct sonar_detections *d, const struct msg_view *v, sonar_detection_t *det,
@@ -115,6 +116,9 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].p_manoeuvre = (float)s->mu[SONAR_TRK_MANOEUVRE] / 255.0f;
         t[i].p_rest = (float)s->mu[SONAR_TRK_REST] / 255.0f;
         t[i].kind = (int8_t)s->kind;
+        t[i].activity = (int8_t)s->activity;
+        t[i].echo_corr = s->echo_corr == SONAR_ACT_NO_CORR ? NAN : (float)s->echo_corr / 100.0f;
+        t[i].alarms = (int8_t)s->alarms;
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;

@@ -32,6 +32,7 @@ static struct sonar_detector det;
 static struct sonar_detections out, worst_out;
 static struct sonar_pipeline pipe; /* sonard's defaults, beam by beam */
 static struct sonar_background pipe_bg;
+static struct sonar_activity pipe_act; /* its tracks' echo windows, as sonard holds them */
 static struct sonar_pipeline pipe_sv; /* the same, judged against a survey of the site */
 static struct sonar_background pipe_sv_bg;
 static struct sonar_survey_rec rec;   /* the survey's recording (3.4 MB, the host's) ... */
@@ -183,8 +184,9 @@ int main(int argc, char **argv)
      */
     {
         double t_pipe[REPS];
-        if (sonar_pipeline_init(&pipe, &pipe_bg, &defaults) != SONAR_OK)
+        if (sonar_pipeline_init(&pipe, &pipe_bg, &defaults) != SONAR_OK || sonar_activity_init(&pipe_act) != SONAR_OK)
             return 1;
+        sonar_pipeline_set_activity(&pipe, &pipe_act);
         printf("beam_step_us %.4f\n", pipeline_step_us(&pipe, t_pipe, &sink));
     }
     /*
@@ -329,6 +331,32 @@ int main(int argc, char **argv)
                 break;
             printf("tracker_tracks %d\n", (int)tk0.n);
             printf("tracker_alternatives %d %d\n", (int)tk0.nalt, (int)tk.nalt);
+            {
+                /* The same sweep and the activity's look after it (every track's two windows full), less the copy of
+                   the activity's saved state that each repetition needs. */
+                static struct sonar_activity act0, act;
+                static uint8_t row[1200];
+                double t_act[REPS], t_cp[REPS];
+                if (bench_activity_scene(&act0, &tk0, row) != 0)
+                    return 1;
+                for (r = 0; r < REPS; r++) {
+                    double t0 = now(), t1;
+                    for (rep = 0; rep < 200; rep++) {
+                        memcpy(&tk, &tk0, sizeof(tk));
+                        memcpy(&act, &act0, sizeof(act));
+                        sink += sonar_tracker_update(&tk, ob, 16, &tsw);
+                        sonar_activity_look(&act, &tk, tsw.utime, 0.0f, 60.0f, 0);
+                    }
+                    t1 = now();
+                    for (rep = 0; rep < 200; rep++) {
+                        memcpy(&act, &act0, sizeof(act));
+                        sink += act.s[rep % SONAR_ACT_SLOTS].looks;
+                    }
+                    t_act[r] = (t1 - t0) / 200 * 1e6;
+                    t_cp[r] = (now() - t1) / 200 * 1e6;
+                }
+                printf("tracker_activity_sweep_us %.3f\n", median_of(t_act, REPS) - median_of(t_cp, REPS));
+            }
         }
     }
     /* The scan planner's worst call: follow round a full circle at 1 gradian a step (a 400-beam

@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "sonar/activity.h"
 #include "sonar/tracker.h"
 
 /*
@@ -35,6 +36,32 @@ static int bench_tracker_scene(struct sonar_tracker *tk, const struct sonar_trac
         sw->utime = ob[15].utime + 500000;
         if (s < 4 && sonar_tracker_update(tk, ob, 16, sw) != SONAR_OK)
             return -1;
+    }
+    return 0;
+}
+
+/*
+ * The activity's worst look over that scene's tracks (activity.h): each has a slot and both windows
+ * full (a turn of 400 beams of 1200 samples over 50 m filled them), so a look correlates all of them.
+ * row: 1200 bytes of scratch.
+ */
+static int bench_activity_scene(struct sonar_activity *a, struct sonar_tracker *tk, uint8_t *row)
+{
+    int look, g, i;
+    if (sonar_activity_init(a) != SONAR_OK)
+        return -1;
+    for (look = 0; look < 3; look++) {
+        for (g = 0; g < 400 && look > 0; g++) {
+            for (i = 0; i < 1200; i++)
+                row[i] = (uint8_t)((unsigned)(g * 7 + i * 13 + look * 29) * 2654435761u >> 24);
+            sonar_activity_beam(a, (uint16_t)g, row, 1200, 50.0f, 0);
+        }
+        sonar_activity_look(a, tk, tk->last_utime, 0.0f, 60.0f, 0);
+    }
+    for (g = 0; g < 400; g++) {
+        for (i = 0; i < 1200; i++)
+            row[i] = (uint8_t)((unsigned)(g * 7 + i * 13) * 2654435761u >> 24);
+        sonar_activity_beam(a, (uint16_t)g, row, 1200, 50.0f, 0);
     }
     return 0;
 }

@@ -26,6 +26,7 @@ sonar has been silent; it resumes by itself when sonard comes back.
 import argparse
 import asyncio
 import json
+import math
 import os
 import struct
 import sys
@@ -166,10 +167,14 @@ def lcm_setup(url, hub, types_dir):
 
     def on_trk(data):
         m = tracks_t.decode(data)
-        kinds, modes = ("new", "moving", "resting", "structure", "static since start"), ("moving", "turning", "resting")
+        kinds, modes = ("new", "moving", "resting", "still", "static since start"), ("moving", "turning", "resting")
+        acts = ("unknown", "moving", "standing", "struggling")
         hub.text({"kind": "tracks", "sweep": m.sweep, "tracks": [
             {"id": k.id, "state": k.state, "x": k.x_m, "y": k.y_m, "what": kinds[k.kind] if 0 <= k.kind < 5 else "?",
-             "mode": modes[k.mode] if 0 <= k.mode < 3 else "?", "still_s": k.still_s} for k in m.tracks],
+             "mode": modes[k.mode] if 0 <= k.mode < 3 else "?", "still_s": k.still_s,
+             "activity": acts[k.activity] if 0 <= k.activity < 4 else "?",
+             "echo_corr": None if math.isnan(k.echo_corr) else round(k.echo_corr, 2),
+             "alarms": [a for b, a in ((1, "struggle"), (2, "still")) if k.alarms & b]} for k in m.tracks],
             # the last sweep's IDs this look revised: published as id, now as now (0: withdrawn)
             "revisions": [{"id": a, "now": b} for a, b in zip(m.revised_from, m.revised_to)]})
 

@@ -136,11 +136,16 @@ function shapes() {
     octx.stroke();
     const [u, v] = view.toPixel(t.x, t.y);
     // what it is: structure grey, resting (moved, now still: the pool watcher's case) amber, else blue; dim unless hit
-    const hue = t.what === "structure" ? "#9aa5b1" : t.what === "resting" ? "#ffb347" : "#5ac8ff";
+    const hue = t.what === "still" ? "#9aa5b1" : t.what === "resting" ? "#ffb347" : "#5ac8ff";
     octx.fillStyle = t.state === 1 ? hue : "#6b7580";
     octx.beginPath(); octx.arc(u, v, 4, 0, 2 * Math.PI); octx.fill();
-    octx.fillText("#" + t.id + (t.what && t.what !== "new" && t.what !== "moving" ? " " + t.what : "")
-                  + (t.what === "resting" ? " " + Math.round(t.still_s) + " s" : ""), u + 6, v - 6);
+    // what it is doing (standing, struggling) where known, else what it is; an alarm in red capitals
+    const act = t.activity === "standing" || t.activity === "struggling" ? t.activity : "";
+    const alarm = (t.alarms || []).map(a => a.toUpperCase()).join(" ");
+    octx.fillStyle = alarm ? "#ff4040" : octx.fillStyle;
+    octx.fillText("#" + t.id + (act ? " " + act : t.what && t.what !== "new" && t.what !== "moving" ? " " + t.what : "")
+                  + (t.what === "resting" || act === "standing" ? " " + Math.round(t.still_s) + " s" : "")
+                  + (alarm ? " " + alarm : ""), u + 6, v - 6);
   }
 }
 

@@ -41,15 +41,23 @@ function draw() {
   // A track that never moved is the site's structure while nothing says otherwise; with the survey in use the
   // survey holds the structure, so such a track is an object that has not moved (someone standing, or worse).
   const surveyed = s && s.survey_state === 1;
-  const live = st.tracks.filter(t => surveyed || (t.what !== "structure" && t.what !== "static since start"));
+  // A track sonard says stands or struggles is a person whatever its kind.
+  const live = st.tracks.filter(t => surveyed || (t.what !== "still" && t.what !== "static since start") ||
+                                     t.activity === "standing" || t.activity === "struggling");
   rows["objects / tracks"] = `${objs.length} in the last sweep / ${live.length} tracked`;
+  const acts = ["moving", "standing", "struggling"].map(a => [a, st.tracks.filter(t => t.activity === a).length]);
+  rows["activity"] = acts.map(([a, n]) => `${n} ${a}`).join(", ");
   let still = null;
   for (const t of live) if (t.still_s > 0 && (!still || t.still_s > still.still_s)) still = t;
   rows["stillest track"] = still ? `#${still.id} still ${Math.round(still.still_s)} s` : "none still";
   rows.survey = survey(s);
   const alarms = [];
   const limit = v.still_alarm_s || 60;
-  for (const t of live) if (t.still_s > limit) alarms.push(`STILL: track #${t.id} still ${t.still_s.toFixed(1)} s (> ${limit} s)`);
+  // sonard's own alarms first: struggling in 2 of the last 3 looks; still past its --still-alarm
+  for (const t of st.tracks) if ((t.alarms || []).includes("struggle"))
+    alarms.push(`STRUGGLE: track #${t.id} struggling at ${Math.hypot(t.x, t.y).toFixed(1)} m, ${(Math.atan2(t.y, t.x) * 180 / Math.PI).toFixed(0)}°`);
+  for (const t of live) if ((t.alarms || []).includes("still") || t.still_s > limit)
+    alarms.push(`STILL: track #${t.id} still ${t.still_s.toFixed(1)} s` + ((t.alarms || []).includes("still") ? " (sonard's alarm)" : ` (> ${limit} s)`));
   if (lost && st.updates > 0) alarms.push("SONAR LOST: " + rows.link);
   st.alarms = alarms;
   st.rows = rows;

@@ -1,4 +1,5 @@
 /* sizes.c -- not run: compiled for each target, its arrays' sizes (read back with nm -S by tools/build/sizes.sh) are the core's state structs' sizeof, for docs/sizes.md; no code. */
+#include "sonar/activity.h"
 #include "sonar/background.h"
 #include "sonar/cpframe.h"
 #include "sonar/detector.h"
@@ -26,6 +27,8 @@ SIZE(detector, sonar_detections)
 SIZE(tracker, sonar_tracker)
 SIZE(tracker, sonar_track)
 SIZE(tracker, sonar_trk_alt)
+SIZE(activity, sonar_activity)
+SIZE(activity, sonar_act_slot)
 SIZE(median, sonar_median2d)
 SIZE(obstacle, sonar_obstacle)
 SIZE(pose, sonar_pose_ring)
