@@ -1,4 +1,4 @@
-/* activity.h -- what each track is doing (moving, standing, struggling) and its alarms, from its motion over two looks and the look-to-look correlation of its raw echo in a small window; RAM: sizeof(struct sonar_activity) = 19 216 B at 32 slots (sizeof(struct sonar_act_slot) = 568 B a slot, two 258 B windows in it, and the alarm events); per beam O(slots), per look O(slots x 256 + tracks x slots). */
+/* activity.h -- what each track is doing (moving, standing, struggling) and its alarms, from its motion over two looks and the look-to-look correlation of its raw echo in a small window; RAM: sizeof(struct sonar_activity) = 20 800 B at 32 slots (sizeof(struct sonar_act_slot) = 616 B a slot, two 258 B windows in it, and the alarm events); per beam O(slots), per look O(slots x 256 + tracks x slots). */
 #ifndef SONAR_ACTIVITY_H
 #define SONAR_ACTIVITY_H
 

@@ -87,7 +87,7 @@
 
 /*
  * Tracks whose activity (activity.h) is judged: each keeps two looks' raw windows. RAM:
- * sizeof(struct sonar_act_slot) = 568 B each, SONAR_ACT_SLOTS * 568 = 18 176 B (struct sonar_activity, the
+ * sizeof(struct sonar_act_slot) = 616 B each, SONAR_ACT_SLOTS * 616 = 19 712 B (struct sonar_activity, the
  * caller's: the host's app, the firmware's large bank). Tracks beyond it are unknown, and counted.
  */
 #ifndef SONAR_ACT_SLOTS
