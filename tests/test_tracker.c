@@ -117,6 +117,47 @@ static void test_confirm_velocity_and_one_id(void **state)
     assert_int_equal(tk.deleted, 0);
 }
 
+/*
+ * AquaScan sonar4's sweep 18, built: a swimmer's track (A) stops at a wall and turns back 1.2 m,
+ * its rest model leading; a track of two hits (B, clutter) missed once, predicted along the
+ * velocity its two hits gave, lands on the same spot. B lost its object after too few hits to say
+ * how it moves: A, hit at its last look, is asked first and keeps its swimmer.
+ */
+static void test_two_hit_coaster_waits(void **state)
+{
+    const float dt = 3.2f;
+    int s;
+    uint32_t a = 0, b = 0;
+    (void)state;
+    init();
+    for (s = 0; s <= 7; s++) {
+        struct sonar_tracker_obs o[2];
+        struct sonar_tracker_sweep sw = everywhere((int64_t)(s + 1) * 3200000);
+        int n = 0;
+        float ax = s <= 5 ? 0.4f * dt * (float)s : s == 6 ? 0.4f * dt * 5.0f : 0.4f * dt * 5.0f - 1.2f;
+        o[n].x_m = ax;
+        o[n].y_m = 0.0f;
+        o[n].utime = (int64_t)s * 3200000 + 1600000;
+        o[n].size_m = 0.3f;
+        n++;
+        if (s == 4 || s == 5) { /* B: toward where A will be at sweep 7, at 0.8 m/s */
+            o[n].x_m = 0.4f * dt * 5.0f - 1.2f;
+            o[n].y_m = -0.8f * dt * (float)(7 - s);
+            o[n].utime = o[0].utime;
+            o[n].size_m = 0.3f;
+            n++;
+        }
+        assert_int_equal(sonar_tracker_update(&tk, o, (uint8_t)n, &sw), SONAR_OK);
+        if (s == 0)
+            a = tk.t[0].id;
+        if (s == 5)
+            b = tk.t[tk.n - 1].id;
+    }
+    assert_non_null(by_id(a));
+    assert_int_equal(by_id(a)->det, 0); /* A kept its swimmer at the turn */
+    assert_true(by_id(b) == NULL || by_id(b)->det == -1); /* missed twice: gone */
+}
+
 /* A reload's new angle offset: the track turns with the frame, keeps its ID and goes on with the turned detections. */
 static void test_turned_with_the_frame(void **state)
 {
@@ -944,6 +985,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_assignment_is_optimal),
         cmocka_unit_test(test_confirm_velocity_and_one_id),
+        cmocka_unit_test(test_two_hit_coaster_waits),
         cmocka_unit_test(test_turned_with_the_frame),
         cmocka_unit_test(test_coast_delete_and_ids_never_reused),
         cmocka_unit_test(test_crossing_targets_keep_ids),

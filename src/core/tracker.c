@@ -257,6 +257,18 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
         t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STILL : SONAR_TRACK_KIND_NEW;
 }
 
+/*
+ * A track of the first pass: confirmed, more than one hit, and not one that lost its object after
+ * too few hits to say how it moves. A track of two hits from clutter, missed, then predicted along
+ * the velocity those two gave, took a swimmer's detection from the swimmer's own track of 18 hits
+ * (AquaScan sonar4, sweep 18). Such tracks come in the last pass, with the tentative ones.
+ */
+static int established(const struct sonar_track *t)
+{
+    return t->state != SONAR_TRACK_TENTATIVE && t->hits > 1 &&
+           !(t->state == SONAR_TRACK_COASTING && t->hits < SONAR_TRK_KIND_HITS);
+}
+
 /* A hit: t's models predicted to o's time, corrected by it; det is o's index. */
 void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, uint8_t det,
                    float r2, int *clipped)
@@ -383,7 +395,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
      * the sector scene). What is left starts new tracks.
      */
     for (k = 0; k < tk->n; k++)
-        if (tk->t[k].state != SONAR_TRACK_TENTATIVE && tk->t[k].hits > 1)
+        if (established(&tk->t[k]))
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 1, &clipped);
     for (k = 0, nc = 0; k < tk->n; k++)
@@ -391,7 +403,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 1, 0, &clipped);
     for (k = 0, nc = 0; k < tk->n; k++)
-        if (tk->t[k].state == SONAR_TRACK_TENTATIVE || tk->t[k].hits <= 1)
+        if (!established(&tk->t[k]))
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 0, &clipped);
     for (k = 0; k < tk->n; k++)
