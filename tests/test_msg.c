@@ -106,6 +106,7 @@ static void status_round_trip(void **state)
     s.tracker.out_of_order = 150;
     s.tracker.revisions = 151;
     s.tracker.hyp_overflow = 152;
+    s.tracker.activity_unplaced = 153;
     s.pose.state = SONAR_POSE_STALE;
     s.pose.accepted = 120;
     s.pose.out_of_order = 121;

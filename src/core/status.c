@@ -15,6 +15,7 @@ void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *
         s->tracker.out_of_order = p->trk.out_of_order;
         s->tracker.revisions = p->trk.revisions;
         s->tracker.hyp_overflow = p->trk.hyp_overflow;
+        s->tracker.activity_unplaced = p->act != NULL ? p->act->unplaced : 0u;
     }
     s->pose.world_sweeps = p->world_sweeps;
     s->pose.body_sweeps = p->body_sweeps;

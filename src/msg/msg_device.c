@@ -85,6 +85,7 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->track_out_of_order = s->tracker.out_of_order;
     m->track_revisions = s->tracker.revisions;
     m->track_hyp_overflow = s->tracker.hyp_overflow;
+    m->track_activity_unplaced = s->tracker.activity_unplaced;
     m->pose_state = (int8_t)s->pose.state;
     m->pose_accepted = s->pose.accepted;
     m->pose_out_of_order = s->pose.out_of_order;
@@ -188,6 +189,7 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->tracker.out_of_order = to_u32(m->track_out_of_order);
     s->tracker.revisions = to_u32(m->track_revisions);
     s->tracker.hyp_overflow = to_u32(m->track_hyp_overflow);
+    s->tracker.activity_unplaced = to_u32(m->track_activity_unplaced);
     s->pose.state = m->pose_state;
     s->pose.accepted = to_u32(m->pose_accepted);
     s->pose.out_of_order = to_u32(m->pose_out_of_order);

@@ -32,6 +32,7 @@ from scipy.ndimage import median_filter
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import eval_structure  # noqa: E402
 import eval_survey  # noqa: E402
+import eval_activity  # noqa: E402
 import figures  # noqa: E402
 import study_pipeline  # noqa: E402
 
@@ -811,6 +812,8 @@ def main():
     L += eval_structure.section(sh, score, fmt, B, W, have_real)
     L += eval_survey.section(sh, run, score, fmt, B, W, have_real, cost,
                              (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
+    L += eval_activity.section(sh, B, W, have_real, presets,
+                               (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:
