@@ -322,19 +322,22 @@ check "sonar-sim --scene activity: the truth says each person's activity (moving
     sh -c "grep -q '\"activity\":\"moving\"' '$T/activity.json' && grep -q '\"activity\":\"standing\"' '$T/activity.json' && grep -q '\"activity\":\"struggling\"' '$T/activity.json'"
 # sonard's activity on it, as a pool would run it: the empty site surveyed first (the stander is there and
 # motionless from the first ping: without a survey nothing tells it from the site), then each seed's pool.
-for seed in 1 2 3 4 5; do
-    "$B/sonar-sim" --scene activity --seed "$seed" --out "$T/act$seed.csv" --truth "$T/act$seed.json" > /dev/null 2>&1
-    "$B/sonar-sim" --scene activity --empty --seed $((seed + 50)) --sweeps 20 --out "$T/act_e.csv" --truth "$T/x.json" > /dev/null 2>&1
+# The activity scene (full turns), the occupied pool (the AquaScan recordings' statistics: a back-and-forth sector at
+# 3 gradians, whose passes a gradian apart see a standing body through its 2-degree beam) and the laps pool.
+for run in activity:1 activity:2 activity:3 activity:4 activity:5 occupied:1 occupied:2 occupied:3 occupied:4 occupied:5 laps:1 laps:2; do
+    sc=${run%%:*}; seed=${run#*:}
+    "$B/sonar-sim" --scene "$sc" --seed "$seed" --out "$T/act.csv" --truth "$T/act.json" > /dev/null 2>&1
+    "$B/sonar-sim" --scene "$sc" --empty --seed $((seed + 50)) --sweeps 20 --out "$T/act_e.csv" --truth "$T/x.json" > /dev/null 2>&1
     rm -f "$T/act.sv"
     "$B/sonard" --replay "$T/act_e.csv" --survey 20 --survey "$T/act.sv" --quiet --log-level warn > /dev/null
-    "$B/sonard" --replay "$T/act$seed.csv" --survey "$T/act.sv" --json --quiet --still-alarm 60 > "$T/act$seed.jsonl" 2> "$T/act$seed.err"
-    check "activity, simulated pool seed $seed: >= 75 % of person-sweeps covered, standing vs struggling right, the struggler alarmed by its 4th look, no one else alarmed" \
-        python3 tools/eval/activity.py "$T/act$seed.json" "$T/act$seed.jsonl" --check --sim --label "seed $seed: "
+    "$B/sonard" --replay "$T/act.csv" --survey "$T/act.sv" --json --quiet --still-alarm 60 > "$T/act.jsonl" 2> "$T/act$sc$seed.err"
+    check "activity, simulated $sc pool seed $seed: >= 75 % of person-sweeps covered, standing vs struggling right, the struggler alarmed by its 4th look, no one else alarmed" \
+        python3 tools/eval/activity.py "$T/act.json" "$T/act.jsonl" --check --sim --label "$sc $seed: "
 done
 sed 's/^/    /' "$T/out"
 check "... the struggle alarm said once on stderr with the track and where, the stander's still alarm (--still-alarm 60) too" \
-    sh -c "test \$(grep -c 'alarm: track [0-9]*: struggle alarm raised at sweep [0-9]*, at x' '$T/act1.err') -eq 1 &&
-           grep -q 'alarm: track [0-9]*: still alarm raised' '$T/act1.err' || { cat '$T/act1.err'; exit 1; }"
+    sh -c "test \$(grep -c 'alarm: track [0-9]*: struggle alarm raised at sweep [0-9]*, at x' '$T/actactivity1.err') -eq 1 &&
+           grep -q 'alarm: track [0-9]*: still alarm raised' '$T/actactivity1.err' || { cat '$T/actactivity1.err'; exit 1; }"
 
 echo "e2e: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -14,8 +14,8 @@
  * look after look. Limbs and splash decorrelate it. So each track keeps the raw samples of a
  * window at where it stood when the look began (+-0.5 m by -7..+8 gradians about its bearing, 16
  * range samples a beam, every beam the sweep had there), from this look and the one before, and
- * correlates them (Pearson, beams paired in angle order: a back-and-forth sector visits other
- * gradians each way). Below SONAR_ACT_CORR_MIN averaged over the last three looks it struggles,
+ * correlates them (Pearson, each beam paired with the last look's nearest, SONAR_ACT_PAIR_GRAD at
+ * most: a back-and-forth sector visits other gradians each way). Below SONAR_ACT_CORR_MIN averaged over the last three looks it struggles,
  * above it stands; a track that moved more than SONAR_ACT_MOVE_M in two looks moves, whatever its
  * echo. Only looks where the track had a detection, this one and the one before, are correlated:
  * a missed track's window may hold only water, whose speckle decorrelates like splash. The
@@ -36,6 +36,7 @@
 #endif
 #define SONAR_ACT_REANCHOR_M 0.25f /* a track this far from its window's centre gets a new window */
 SONAR_STATIC_ASSERT(SONAR_ACT_ROWS <= 16 && SONAR_ACT_ROWS * SONAR_ACT_COLS * 255u * 255u <= 0xffffffffu, act_sums_fit_u32);
+#define SONAR_ACT_PAIR_GRAD 2       /* a beam pairs with the last look's nearest one this many gradians away at most */
 #define SONAR_ACT_MIN_ROWS 3       /* beams each window needs for a correlation */
 #ifndef SONAR_ACT_MIN_LOOKS
 #define SONAR_ACT_MIN_LOOKS 1      /* correlations a still track needs before standing or struggling is said */

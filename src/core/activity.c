@@ -68,24 +68,44 @@ void sonar_activity_beam(struct sonar_activity *a, uint16_t angle, const uint8_t
     }
 }
 
-/* The filled rows of p, in angle order, into idx; returns how many. */
-static unsigned filled(const struct sonar_act_patch *p, uint8_t *idx)
+/*
+ * Pairs each filled row of q (this look) with the nearest filled row of p (the look before), at
+ * most SONAR_ACT_PAIR_GRAD gradians away: a back-and-forth sector visits other gradians each way
+ * (AquaScan's passes at 3-gradian steps are 1 and 2 gradians apart), and the nearest beams share
+ * the most of a 2-degree beam's footprint. Returns the pairs, p's rows in ip and q's in iq.
+ */
+static unsigned pairs(const struct sonar_act_patch *p, const struct sonar_act_patch *q, uint8_t *ip, uint8_t *iq)
 {
     unsigned r, m = 0;
-    for (r = 0; r < SONAR_ACT_ROWS; r++)
-        if (p->rows & (1u << r))
-            idx[m++] = (uint8_t)r;
+    int d;
+    for (r = 0; r < SONAR_ACT_ROWS; r++) {
+        if (!(q->rows & (1u << r)))
+            continue;
+        for (d = 0; d <= SONAR_ACT_PAIR_GRAD; d++) {
+            int lo = (int)r - d, hi = (int)r + d;
+            if (lo >= 0 && (p->rows & (1u << lo))) {
+                ip[m] = (uint8_t)lo;
+                break;
+            }
+            if (hi < SONAR_ACT_ROWS && (p->rows & (1u << hi))) {
+                ip[m] = (uint8_t)hi;
+                break;
+            }
+        }
+        if (d <= SONAR_ACT_PAIR_GRAD)
+            iq[m++] = (uint8_t)r;
+    }
     return m;
 }
 
 /*
- * Pearson's correlation of two looks' windows, their filled rows paired in angle order (as many as
- * both have); 0 when either is flat. Returns 0 and sets *ok = 0 when too few rows.
+ * Pearson's correlation of two looks' windows over their paired rows (pairs()); 0 when either is
+ * flat. Returns 0 and sets *ok = 0 when fewer than SONAR_ACT_MIN_ROWS pairs.
  */
 static float correlate(const struct sonar_act_patch *p, const struct sonar_act_patch *q, int *ok)
 {
     uint8_t ip[SONAR_ACT_ROWS], iq[SONAR_ACT_ROWS];
-    unsigned np = filled(p, ip), nq = filled(q, iq), m = np < nq ? np : nq, r, c;
+    unsigned m = pairs(p, q, ip, iq), r, c;
     /* Whole sums: 256 cells of 0..255 keep every sum of products under 2^24 (exact in 32 bits). */
     uint32_t su = 0, sv = 0, suu = 0, svv = 0, suv = 0;
     int64_t cnt, du, dv;
@@ -153,12 +173,20 @@ static void free_gone(struct sonar_activity *a, const struct sonar_tracker *tk)
     }
 }
 
-/* The window for the next look where the track is now; kept while it stays within SONAR_ACT_REANCHOR_M. */
+/*
+ * The window for the next look where the track is now; kept while it stays within
+ * SONAR_ACT_REANCHOR_M. Its correlations so far stay with it through a struggler's jitter, and
+ * are forgotten when it is a window's depth or more from where they were taken: another place,
+ * or another body (a track that swapped onto someone).
+ */
 static void place(struct sonar_act_slot *s, const struct sonar_track *t, float angle_offset_grad)
 {
     double g;
-    if (s->looks > 0 && s->have_prev && hypotf(t->px - s->centre_x, t->py - s->centre_y) <= SONAR_ACT_REANCHOR_M)
+    float d = hypotf(t->px - s->centre_x, t->py - s->centre_y);
+    if (s->looks > 0 && s->have_prev && d <= SONAR_ACT_REANCHOR_M)
         return;
+    if (d > 2.0f * SONAR_ACT_HALF_M)
+        s->ncorr = 0;
     g = sonar_frame_bearing_deg((double)t->px, (double)t->py) / SONAR_DEG_PER_GRAD - (double)angle_offset_grad;
     s->centre_a = (uint16_t)sonar_frame_wrap((int)floor(g + 0.5));
     s->centre_r = hypotf(t->px, t->py);

@@ -28,7 +28,8 @@ static double rayleigh(struct scene_rng *g)
  * 140-160, the far ones 95-105 (so that the beams' means through them are sonar4's: 110, 87 and 76
  * at the centre of the three near people, 41 for the far one).
  *   occupied: five people there from the first ping (two standing, one struggling on the spot, one
- *             swimming near the sonar, one faint at 9.5 m drifting at 0.03 m/s) and a wall at 14.5 m.
+ *             swimming 5 m lengths near the sonar at 0.33 m/s, one faint at 9.5 m drifting at 0.03 m/s) and a
+ *             wall at 14.5 m; the truth says the activity of the first four (standing, struggling, moving).
  *   far:      faint targets at 8.5-12.5 m, two of them drifting, in open water.
  *   still:    one person standing from the first ping, and one who swims for 60 s and then floats
  *             still for three minutes.
@@ -41,7 +42,7 @@ static double rayleigh(struct scene_rng *g)
  *   laps:     full turns at 4 gradians, 600 samples over 15 m (6.3 s a turn): the sonar hangs in the
  *             middle of a 16 x 25 m pool, walls all round (its corners beyond the range), two swaying
  *             lane ropes, a ladder (structure); three swimmers doing lengths at 0.6 m/s, one standing
- *             from the first ping (30 turns).
+ *             from the first ping, a steady echo (30 turns); the truth says their activity.
  */
 static int pool_scene(struct scene *s, const char *name)
 {
@@ -58,14 +59,19 @@ static int pool_scene(struct scene *s, const char *name)
             {"stand_b", -5.9, 0.9, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
             {"struggle", 0, 0, 0.35, 0, 0, 140, 0, 7, {0, 20, 40, 60, 80, 100, 200}, {-7.3, -7.0, -7.4, -7.1, -7.3, -7.0, -7.2},
              {-1.0, -0.8, -1.2, -0.9, -1.1, -0.8, -1.0}, 0, 0},
-            {"swimmer", 0, 0, 0.35, 0, 0, 160, 0, 5, {0, 30, 60, 90, 200}, {-2.3, -2.0, -3.6, -2.4, -3.0},
-             {2.0, -2.5, -3.0, 3.0, 0.5}, 0, 0},
+            {"swimmer", 0, 0, 0.35, 0, 0, 160, 0, 10, {0, 15, 30, 45, 60, 75, 90, 105, 120, 200},
+             {-2.3, -2.0, -2.4, -2.2, -2.5, -2.1, -2.3, -2.0, -2.4, -2.4}, {4.0, -1.0, 4.0, -1.0, 4.0, -1.0, 4.0, -1.0, 4.0, 3.0},
+             0, 0},
             {"far", 0, 0, 0.35, 0, 0, 100, 0, 3, {0, 100, 200}, {-9.5, -9.3, -9.7}, {-0.6, 2.4, 0.6}, 0, 0},
         };
+        /* One of each of the labels' states (issue 46): the standers' echo steady, the struggler's fresh each look. */
+        static const int acts[] = {SCENE_ACT_STANDING, SCENE_ACT_STANDING, SCENE_ACT_STRUGGLING, SCENE_ACT_MOVING,
+                                   SCENE_ACT_NONE};
         s->wall[0] = wall;
         s->nwall = 1;
         s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
+        memcpy(s->act, acts, sizeof(acts));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else if (strcmp(name, "far") == 0) {
         static const struct scene_object o[] = {
@@ -129,6 +135,11 @@ static int pool_scene(struct scene *s, const char *name)
         s->sweeps = 30;
         memcpy(s->obj, o, sizeof(o));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+        {
+            static const int laps_acts[] = {SCENE_ACT_NONE, SCENE_ACT_MOVING, SCENE_ACT_MOVING, SCENE_ACT_MOVING,
+                                            SCENE_ACT_STANDING};
+            memcpy(s->act, laps_acts, sizeof(laps_acts));
+        }
         if (strcmp(name, "activity") == 0) {
             /* The same pool with the AquaScan recordings' three states: a swimmer doing lengths, one standing, one
                struggling (within a metre, a fresh echo each look), each from the first ping. */
@@ -501,6 +512,29 @@ static double rayleigh_unit(struct scene_rng *g)
 }
 
 /*
+ * A steady reflector's Rayleigh amplitude (unit mean power) in sample i of a beam at bearing th
+ * (radians): fixed complex returns at each whole gradian, summed under the beam's amplitude pattern,
+ * a Gaussian of 1.3 gradians (its power's full width at half maximum 2.2 gradians: the Ping360's 2
+ * degrees), so that beams a gradian or two apart see much of the same echo. A back-and-forth
+ * sector's passes come a gradian apart; AquaScan sonar4's standers correlate 0.45-0.80 across them
+ * (median 0.60-0.65), the occupied scene's 0.41-0.79 (median 0.64-0.69).
+ */
+#define STEADY_SIGMA 1.3
+static double steady_unit(int k, int i, double th)
+{
+    double g = th * 200.0 / PI, re = 0.0, im = 0.0, w2 = 0.0;
+    long long g0 = (long long)floor(g), j;
+    for (j = g0 - 2; j <= g0 + 3; j++) {
+        double d = ((double)j - g) / STEADY_SIGMA, w = exp(-0.5 * d * d), a = sqrt(-log(hashed_uniform((unsigned long long)k + 1u, i, j)));
+        double ph = 2.0 * PI * hashed_uniform((unsigned long long)k + 101u, i, j);
+        re += w * a * cos(ph);
+        im += w * a * sin(ph);
+        w2 += w * w;
+    }
+    return sqrt((re * re + im * im) / w2);
+}
+
+/*
  * The water's K-distribution at range r (metres): shape nu, mean power mu, and the noise floor c
  * subtracted after; fitted by tools/eval/speckle_fit.py on AquaScan sonar4's unlabelled cells in five
  * range bands (docs/results.md section 8), interpolated between the bands' centres (log nu, mu, c).
@@ -619,11 +653,8 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
             double r = (i + 0.5) * range_m / n;
             if (r >= near && r <= far) {
                 /* A standing body returns the same echo to a fixed sonar look after look: its pattern is a function
-                   of the cell (the sample and the beam's bearing, to a milliradian), not drawn afresh each look; its
-                   sway only moves the beam pattern's gain a little. */
-                double u = s->act[k] == SCENE_ACT_STANDING
-                               ? sqrt(-log(hashed_uniform((unsigned long long)k + 1u, i, (long long)floor(th * 1000.0 + 0.5))))
-                               : rayleigh_unit(g);
+                   of the cell, not drawn afresh each look; its sway only moves the beam pattern's gain a little. */
+                double u = s->act[k] == SCENE_ACT_STANDING ? steady_unit(k, i, th) : rayleigh_unit(g);
                 double a = o->strength * gain * u;
                 pw[i] += a * a;
             }
