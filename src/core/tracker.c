@@ -261,7 +261,8 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
  * A track of the first pass: confirmed, more than one hit, and not one that lost its object after
  * too few hits to say how it moves. A track of two hits from clutter, missed, then predicted along
  * the velocity those two gave, took a swimmer's detection from the swimmer's own track of 18 hits
- * (AquaScan sonar4, sweep 18). Such tracks come in the last pass, with the tentative ones.
+ * (AquaScan sonar4, sweep 18). Such tracks have a pass of their own just after, before the second
+ * chance's wide gates.
  */
 static int established(const struct sonar_track *t)
 {
@@ -386,7 +387,8 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     /*
      * A cascade of assignments, each over the detections the ones before it left: established
      * tracks first, gated by their IMM's combined covariance (a tentative one, whose velocity is
-     * not known, has a wide gate and would take detections that belong to them); then a second
+     * not known, has a wide gate and would take detections that belong to them); then the
+     * confirmed ones that lost their object after fewer than 4 hits (established()); then a second
      * chance for manoeuvres, in which a track hit in its last visible sweep that found nothing is
      * gated by each of its models' own covariances, the manoeuvre model's wide one among them (not
      * coasting ones: over two revisits that gate would span half the scene); then the tentative
@@ -399,11 +401,15 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 1, &clipped);
     for (k = 0, nc = 0; k < tk->n; k++)
+        if (!established(&tk->t[k]) && tk->t[k].state != SONAR_TRACK_TENTATIVE && tk->t[k].hits > 1)
+            cand[nc++] = k;
+    nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 1, &clipped);
+    for (k = 0, nc = 0; k < tk->n; k++)
         if (tk->t[k].det == -1 && tk->t[k].state == SONAR_TRACK_CONFIRMED && tk->t[k].hits > 1)
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 1, 0, &clipped);
     for (k = 0, nc = 0; k < tk->n; k++)
-        if (!established(&tk->t[k]))
+        if (tk->t[k].state == SONAR_TRACK_TENTATIVE || tk->t[k].hits <= 1)
             cand[nc++] = k;
     nl = sonar_trk_pass(tk, cost, cand, nc, obs, left, nl, r2, 0, 0, &clipped);
     for (k = 0; k < tk->n; k++)
