@@ -331,6 +331,14 @@ def main():
            "against the survey)", alarm, f"{alarm}; tracks {[(t['id'], t['what'], round(t['still_s'])) for t in trk]}")
         objs = in_frame("fan", "return sonarView.detections.filter(d => !d.structure).length")
         ok("the fan widget draws the swimmers' detections against the survey", objs >= 2, f"{objs} objects")
+        # What each is doing, as sonard says on SONAR_TRACKS (docs/activity.md): swimmers moving, the stander standing.
+        acts = wait_for(lambda: (lambda a: a if {"moving", "standing"} <= a else None)(
+            {t.get("activity") for t in in_frame("status", "return sonarStatus.tracks")}), 90)
+        row = wait_for(lambda: (lambda r: r if re.search(r"[1-9]\d* standing", r.get("activity", "")) else None)(
+            in_frame("status", "return sonarStatus.rows")), 20) or in_frame("status", "return sonarStatus.rows")
+        ok("sonard's activity reaches the status widget: the swimmers moving, the stander standing "
+           f"(its row: {row.get('activity')})", acts and re.search(r"[1-9]\d* standing", row.get("activity", "")),
+           f"{acts}; tracks {[(t['id'], t.get('activity'), t.get('echo_corr')) for t in in_frame('status', 'return sonarStatus.tracks')]}")
         drv.save_screenshot(os.path.join(shot_dir, "cockpit-occupied.png"))
 
         # A survey pressed while people swim: refused, why said, the survey in use kept.
