@@ -31,16 +31,12 @@
 #define SONAR_ACT_COLS 16          /* range samples of each beam's part of the window */
 #define SONAR_ACT_HALF_M 0.5f      /* the window's half-depth in range, metres */
 #define SONAR_ACT_CORR_MIN 0.40f   /* below it a still track struggles: the middle of sonar4's gap (its standers 0.48 and up, its struggler 0.31 and down) */
-#ifndef SONAR_ACT_MOVE_M
 #define SONAR_ACT_MOVE_M 1.0f      /* path over its last two looks beyond which a track moves, metres */
-#endif
 #define SONAR_ACT_REANCHOR_M 0.25f /* a track this far from its window's centre gets a new window */
 SONAR_STATIC_ASSERT(SONAR_ACT_ROWS <= 16 && SONAR_ACT_ROWS * SONAR_ACT_COLS * 255u * 255u <= 0xffffffffu, act_sums_fit_u32);
 #define SONAR_ACT_PAIR_GRAD 2       /* a beam pairs with the last look's nearest one this many gradians away at most */
 #define SONAR_ACT_MIN_ROWS 3       /* beams each window needs for a correlation */
-#ifndef SONAR_ACT_MIN_LOOKS
 #define SONAR_ACT_MIN_LOOKS 1      /* correlations a still track needs before standing or struggling is said */
-#endif
 #define SONAR_ACT_STILL_ALARM_MAX 86400.0f /* still_alarm_s: 0 (off) or 1 .. one day */
 
 enum sonar_activity_kind {
@@ -65,7 +61,7 @@ struct sonar_act_patch {
 
 /* One track's windows and history. */
 struct sonar_act_slot {
-    uint32_t id;          /* the track's ID; 0: free */
+    uint32_t id;          /* the track's ID; 0: unused */
     uint16_t centre_a;    /* the window's centre, beam gradians (0 .. 399) */
     uint8_t have_prev;    /* w[cur ^ 1] holds the last look's window at this centre */
     uint8_t looks;        /* looks the slot has had (saturating) */
@@ -100,7 +96,7 @@ struct sonar_activity {
     uint16_t n;        /* samples a beam of the windows being filled (0: none yet) ... */
     int16_t gain;      /* ... their gain (-1: unknown) ... */
     float range_m;     /* ... and range, metres: a change restarts every window */
-    uint32_t unplaced; /* track-looks with no free slot (their activity unknown), since init */
+    uint32_t unplaced; /* track-looks that found every slot taken (their activity unknown), since init */
 };
 
 /* Empties every slot. a: caller's. Returns SONAR_OK or SONAR_ERR_ARG (NULL). */

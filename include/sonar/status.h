@@ -27,7 +27,7 @@ struct sonar_status {
         uint32_t live, ended, bad_detections, clock_back, overflow;
         uint32_t dropped, out_of_order;    /* detections past SONAR_MAX_CLUSTERS a sweep; older than the last sweep */
         uint32_t revisions, hyp_overflow;  /* IDs a later look revised; alternatives that did not fit (final at once) */
-        uint32_t activity_unplaced;        /* track-looks with no activity slot free (their activity unknown) */
+        uint32_t activity_unplaced;        /* track-looks that found every activity slot taken (their activity unknown) */
     } tracker;                             /* all 0 with tracking off */
     struct {
         int state;                         /* enum sonar_pose_state, at the latest beam */
