@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: view-cost cockpit-test fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-property test-stalls test-under-load view-cost cockpit-test fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing or
@@ -275,6 +275,15 @@ view-cost: all .venv-view/.done
 test-arm: all
 	@sh tests/arm.sh
 
+## test-stalls: the live suites (live mavlink scan-test mcap passive-test view-test; STALL_SUITES) with each one's whole session frozen for 150 ms every 3 s (SIGSTOP/SIGCONT, as a paused VM): all pass
+STALL_SUITES ?= live mavlink scan-test mcap passive-test view-test
+test-stalls: all .venv-mavlink/.done .venv-mcap/.done .venv-view/.done
+	@sh tests/stalls.sh stalls $(STALL_SUITES)
+
+## test-under-load: the live suites three times each while niced busy loops keep both cores busy: all pass
+test-under-load: all .venv-mavlink/.done .venv-mcap/.done .venv-view/.done
+	@sh tests/stalls.sh load $(STALL_SUITES)
+
 ## live: sonar-feed -> sonard over TCP, UDP and a pty, faulty link, auto mode, SIGTERM (loopback only)
 live: all
 	@sh tests/live.sh $(BUILD)
@@ -374,7 +383,7 @@ demo: deps all
 	@sh tools/demo.sh $(BUILD)
 
 ## bench: per-stage speed against OpenCV, memcpy and the study's Python pipeline; live sweep time, recovery, CPU, RSS (creates .venv)
-bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv
+bench: deps all $(BUILD)/bench $(BUILD)/bench_opencv venv .venv-mavlink/.done
 	@sh tools/bench/bench.sh $(BUILD)
 
 $(BUILD)/bench: tools/bench/bench.c $(BUILD)/libsonarcore.a
@@ -497,11 +506,17 @@ $(BUILD)/mcu/bench-f405.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/boar
 $(BUILD)/mcu/sonard-an500.bin: $(BUILD)/mcu/sonard-an500.elf
 	$(ARM_OBJCOPY) -O binary $< $@
 
-## mcu-test: the core's unit cases on the Cortex-M7 in QEMU, then the firmware between sonar-feed (UART0) and sonard --coprocessor (UART1): detections equal --replay, a faulty sonar recovered
+## mcu-test: the core's unit cases on the Cortex-M7 in QEMU, then the firmware between sonar-feed (UART0) and sonard --coprocessor (UART1): detections equal --replay, a faulty sonar recovered, issue 50's served beams on every board, then MCU_CASES of the property cases
 mcu-test: all firmware
 	@if command -v qemu-system-arm >/dev/null 2>&1; then $(MAKE) --no-print-directory mcu-unit; \
 	else echo "mcu-unit: SKIPPED: qemu-system-arm is not installed (make deps installs it)"; fi
 	@sh tests/mcu.sh $(BUILD)
+	@sh tests/mcu_property.sh $(BUILD) $(MCU_CASES) 2
+
+## mcu-property: each board against the host on the same beams over generated cases (the simulator's pools and seeds, 1- and 2-gradian steps, 500 and 600 samples, default options, --min-points 10, the preset): MCU_CASES of them (default 12, as make test runs; every combination is 180 a board, 540 in all)
+MCU_CASES ?= 12
+mcu-property: all firmware
+	@sh tests/mcu_property.sh $(BUILD) $(MCU_CASES) 2
 
 ## cross: build the core with arm-none-eabi-gcc for Cortex-M7 and Cortex-M4F (-Os)
 cross:

@@ -23,6 +23,7 @@ import time
 from pymavlink.dialects.v20 import ardupilotmega as apm
 
 from ardupilot_model import Proximity
+from stallwatch import LOOP_S, Watch, overlap
 from sim_geom import ray_segment
 
 
@@ -50,6 +51,16 @@ def nearest_in_arc(centre, width, walls, objects, rmax, by_centre=False):
     return best if best is not None and best <= rmax else None
 
 
+SO_TIMESTAMPNS = getattr(socket, "SO_TIMESTAMPNS", 35)  # Linux's value; Python names it from 3.12 on
+def arrival(anc):
+    """The kernel's receive time (SO_TIMESTAMPNS) of a datagram, epoch seconds; now when it gave none."""
+    for level, kind, data in anc:
+        if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS and len(data) >= 16:
+            sec, nsec = struct.unpack("qq", data[:16])
+            return sec + nsec * 1e-9
+    return time.time()
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--port", type=int, required=True)
@@ -68,6 +79,8 @@ def main():
     dest = ("127.0.0.1", a.port)
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     s.setblocking(False)
+    # Each datagram's arrival as the kernel stamped it: a gap between messages is sonard's, not this checker's wake.
+    s.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
     ours = apm.MAVLink(None, srcSystem=255 if a.listen_only else a.sysid, srcComponent=190 if a.listen_only else 1)
     gcs = apm.MAVLink(None, srcSystem=255, srcComponent=190)
     ardupilot = Proximity()
@@ -91,8 +104,10 @@ def main():
     next_hb = next_pose = next_junk = t0
     counts, bad = {}, 0
     od, hb, od3d = [], [], []
+    watch = Watch()    # this loop's own lateness: the machine was paused, or busy
     while time.time() - t0 < a.seconds:
         now = time.time()
+        watch.tick()
         ms = int((now - t0) * 1000)
         if now >= next_hb:
             if a.listen_only:
@@ -142,10 +157,10 @@ def main():
                 next_snap = now + 1.0
         try:
             while True:
-                data, _ = s.recvfrom(4096)
+                data, anc, _, _ = s.recvmsg(4096, socket.CMSG_SPACE(16))
                 if router is not None and feed_addr is not None:
                     router.sendto(data, feed_addr)
-                got = time.time() - t0
+                got = arrival(anc) - t0
                 for m in rx.parse_buffer(data) or []:
                     name = m.get_type()
                     if name == "BAD_DATA":
@@ -171,13 +186,20 @@ def main():
                                      "z": m.z, "frame": m.frame})
         except BlockingIOError:
             pass
-        time.sleep(0.005)
-    rep = {"counts": counts, "bad_data": bad, "od_n": len(od), "hb": hb, "od3d": od3d, "zero_distances": zeros,
+        time.sleep(LOOP_S)
+    stalls = [(x - t0, y - t0) for x, y in watch.stalls]
+    rep = {"stalls": [[round(x, 3), round(y, 3)] for x, y in stalls], "stalled_s": sum(y - x for x, y in stalls),
+           "counts": counts, "bad_data": bad, "od_n": len(od), "hb": hb, "od3d": od3d, "zero_distances": zeros,
            "od_last_abs": od_abs[-1] if od_abs else None}
     if len(od) > 2:
         rep["od_rate_hz"] = (len(od) - 1) / (od[-1]["t"] - od[0]["t"])
         gaps = [b["t"] - a_["t"] for a_, b in zip(od, od[1:])]
         rep["od_max_gap_s"] = max(gaps)
+        # Each gap less the stalls this checker saw within it: what sonard was late by itself.
+        own = [b["t"] - a_["t"] - overlap(stalls, a_["t"], b["t"]) for a_, b in zip(od, od[1:])]
+        rep["od_max_gap_own_s"] = max(own)
+        rep["od_p99_gap_s"] = sorted(gaps)[min(len(gaps) - 1, int(0.99 * len(gaps)))]
+        rep["od_rate_unstalled_hz"] = (len(od) - 1) / (od[-1]["t"] - od[0]["t"] - overlap(stalls, od[0]["t"], od[-1]["t"]))
         rep["od_fields"] = sorted({json.dumps({k: v for k, v in o.items() if k not in ("t", "distances")},
                                               sort_keys=True) for o in od})
         rep["od_last"] = od[-1]["distances"]

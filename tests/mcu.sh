@@ -57,11 +57,13 @@ OPTS="--range 12 --samples 200 --sector 100:300 --step 2"
 # The F405's own grid with no detector option given: what a user runs (issue 44).
 DEFAULT_OPTS="--range 12 --samples 500 --step 2 --sector 100:300"
 
-# run NAME SWEEPS [feed options...]: feed -> QEMU UART0; QEMU UART1 -> sonard --coprocessor.
+FEED="--scene pool"
+# run NAME SWEEPS [feed options...]: feed ($FEED) -> QEMU UART0; QEMU UART1 -> sonard --coprocessor.
 run() {
     name=$1 sweeps=$2; shift 2
     p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))
-    "$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" --scene pool --pace fast --log "$T/$name.feed" --max-seconds 150 "$@" \
+    # shellcheck disable=SC2086 # FEED: the feeder's source, words
+    "$B/sonar-feed" --listen "tcp:127.0.0.1:$p0" $FEED --pace fast --log "$T/$name.feed" --max-seconds 150 "$@" \
         2> /dev/null & fp=$!
     sleep 0.3
     qemu-system-arm -M "$MACHINE" -display none -monitor none -kernel "$ELF" \
@@ -70,34 +72,17 @@ run() {
     PIDS="$fp $qp"
     sleep 0.5
     # shellcheck disable=SC2086
-    timeout 140 "$B/sonard" --coprocessor "tcp:127.0.0.1:$p1" $OPTS --sweeps "$sweeps" --json \
+    timeout "${RUN_TIMEOUT:-140}" "$B/sonard" --coprocessor "tcp:127.0.0.1:$p1" $OPTS --sweeps "$sweeps" --json \
         --lcm "file://$T/$name.lcm?mode=w" --coprocessor-beams 1 --csv-out "$T/$name.csv" \
         > "$T/$name.jsonl" 2> "$T/$name.err"; rc=$?
     kill $qp $fp 2>/dev/null; wait $qp $fp 2>/dev/null; PIDS=""
 }
 
 cmp_replay() {
+    # The rows carry the range the device gave (range_m=, from its sample period): --range would override it.
     # shellcheck disable=SC2086
-    "$B/sonard" --replay "$T/$1.csv" $OPTS --json --quiet --log-level warn > "$T/$1.replay.jsonl"
-    python3 - "$T/$1.jsonl" "$T/$1.replay.jsonl" <<'PY'
-import json, sys
-co = [json.loads(l) for l in open(sys.argv[1])]
-re = {d["sweep"]: d for d in map(json.loads, open(sys.argv[2]))}
-assert co, "no sweeps from the co-processor"
-n, per = 0, []
-for c in co:
-    r = re[c["sweep"]]
-    per.append(f"{c['sweep']}: {len(c['detections'])}/{len(r['detections'])}")
-    for k in ("beams", "threshold", "runs", "groups"):
-        assert c[k] == r[k], (c["sweep"], k, c[k], r[k])
-    assert len(c["detections"]) == len(r["detections"]), (c["sweep"], len(c["detections"]), len(r["detections"]))
-    for a, b in zip(c["detections"], r["detections"]):
-        assert a["points"] == b["points"], (c["sweep"], a["points"], b["points"])
-        assert abs(a["x_m"] - b["x_m"]) <= 0.001 and abs(a["y_m"] - b["y_m"]) <= 0.001, (c["sweep"], a, b)
-        n += 1
-print(f"{len(co)} sweeps, {n} detections: counts, cells and positions (within 1 mm) equal; sweep: co-processor/replay "
-      f"detections {', '.join(per)}")
-PY
+    "$B/sonard" --replay "$T/$1.csv" $(echo "$OPTS" | sed 's/--range [0-9.]*//') --json --quiet --log-level warn > "$T/$1.replay.jsonl"
+    python3 tests/mcu_equal.py "$T/$1.jsonl" "$T/$1.replay.jsonl"
 }
 
 run clean 4
@@ -194,6 +179,76 @@ check "STM32F405: 600 samples (its build takes 500) refused by name, sonard exit
     sh -c "test $rc -eq 2 && grep -q 'samples: 200..500 on this board' '$T/big.err'"
 ELF="$B/mcu/sonard-an500.elf"
 MACHINE=mps2-an500
+
+# Issue 50's case (../shared/data/regress/f405-equal): the beams a stand-in Ping360 served to the F405, 600 samples a
+# row, asked for at 500 samples, 2-gradian steps, 15 m, --min-points 10. The F405's reported answer is the host's on
+# the beams it was given: the rows at the 500 samples it asked for (a Ping360 answers with the samples asked).
+REG=${SONARD_REGRESS:-../shared/data/regress}/f405-equal
+if [ -f "$REG/served-beams.csv.gz" ]; then
+    gunzip -c "$REG/served-beams.csv.gz" > "$T/served.csv"
+    python3 - "$T/served.csv" "$T/served500.csv" <<'PY'
+import sys
+# Each row at 500 samples over the same range, sample i the row's nearest at or before i * 600 / 500 (as sonar-feed
+# answers a recording asked for another number of samples).
+with open(sys.argv[2], "w") as out:
+    for line in open(sys.argv[1]):
+        s, ns, a, v = line.rstrip("\n").split(",", 3)
+        v = v.strip('"').split()
+        out.write(f"{s},{ns},{a},{' '.join(v[i * len(v) // 500] for i in range(500))}\n")
+PY
+    "$B/sonard" --replay "$T/served500.csv" --range 15 --min-points 10 --json --quiet --log-level warn > "$T/served500.jsonl"
+    "$B/sonard" --replay "$T/served.csv" --range 15 --min-points 10 --json --quiet --log-level warn > "$T/served600.jsonl"
+    check "f405-equal: the F405's reported detections are the host's on the beams it asked for (the rows at 500 samples), every sweep: count, cells, centroids within 1 mm" \
+        python3 - "$REG/coprocessor-f405.json" "$T/served500.jsonl" "$T/served600.jsonl" <<'PY'
+import json, sys
+co = json.load(open(sys.argv[1]))["sweeps"]
+h5 = {d["sweep"]: d for d in map(json.loads, open(sys.argv[2]))}
+h6 = {d["sweep"]: d for d in map(json.loads, open(sys.argv[3]))}
+key = lambda ds, x, y: sorted((d[x], d[y], d["points"]) for d in ds)
+n6 = 0
+for c in co:
+    a, b = key(c["detections"], "x", "y"), key(h5[c["sweep"]]["detections"], "x_m", "y_m")
+    assert len(a) == len(b), (c["sweep"], a, b)
+    for p, q in zip(a, b):
+        assert p[2] == q[2] and abs(p[0] - q[0]) <= 0.001 and abs(p[1] - q[1]) <= 0.001, (c["sweep"], p, q)
+    n6 += key(c["detections"], "x", "y") == key(h6[c["sweep"]]["detections"], "x_m", "y_m")
+print(f"{len(co)} sweeps equal to the host on the rows at 500 samples; {n6} of them equal to the host on the 600-sample rows")
+assert n6 < len(co), "the 600-sample rows should differ: the case would not be the one reported"
+PY
+    sed 's/^/    /' "$T/out"
+    # The same served rows through each board, asked for the same settings; each board's detections equal the host's
+    # replay of the beams that board was given (sonar-feed answers the 500 samples asked, as the stand-in did).
+    OPTS_KEPT=$OPTS
+    OPTS="--range 15 --min-points 10 --samples 500 --step 2"
+    FEED="--csv $T/served.csv --range 15"
+    for board in an500:mps2-an500:sonard-an500 h743:mps2-an500:sonard-an500-h743 f405:netduinoplus2:sonard-f405; do
+        bn=${board%%:*}; MACHINE=$(echo "$board" | cut -d: -f2); ELF=$B/mcu/$(echo "$board" | cut -d: -f3).elf
+        run "reg-$bn" 5
+        check "f405-equal on $bn: 5 sweeps of the served beams, exit 0" \
+            sh -c "test $rc -eq 0 && test \$(wc -l < '$T/reg-$bn.jsonl') -eq 5"
+        check "f405-equal on $bn: detections equal the host's replay of the beams it was served (count, cells, within 1 mm)" cmp_replay "reg-$bn"
+        sed 's/^/    /' "$T/out"
+    done
+    # A sonar that answers with more samples than asked, and than the F405 holds: never cut to fit; said by name.
+    MACHINE=netduinoplus2; ELF=$B/mcu/sonard-f405.elf
+    RUN_TIMEOUT=20
+    run reg-long 1 --samples-as-recorded
+    RUN_TIMEOUT=140
+    check "a sonar answering 600 samples to the F405 (it holds 500): said by name, nothing cut to fit or detected" \
+        sh -c "grep -q 'co-processor: beam: 600 samples from the sonar, more than this board.s build holds (500' '$T/reg-long.err' &&
+               ! grep -q x_m '$T/reg-long.jsonl'"
+    # A step finer than the F405's angle cells: refused by name when configured (it would put two beams in a cell).
+    OPTS="--range 15 --samples 500 --step 1"
+    run reg-step 1
+    check "the F405 asked for 1-gradian steps (200 angle cells a turn): refused by name, sonard exits 2" \
+        sh -c "test $rc -eq 2 && grep -q 'step: at least 400 gradians / 200 angle cells' '$T/reg-step.err'"
+    FEED="--scene pool"
+    OPTS=$OPTS_KEPT
+    ELF="$B/mcu/sonard-an500.elf"
+    MACHINE=mps2-an500
+else
+    echo "mcu: the f405-equal case SKIPPED: $REG is absent (../shared beside the clone holds it)"
+fi
 
 # A bad host: garbage, truncated and corrupt frames, an out-of-range configuration (named, settings kept), then silence.
 p0=$PORT p1=$((PORT + 1)); PORT=$((PORT + 2))

@@ -38,12 +38,25 @@ struct live_aux {
 #define LIVE_MAX_AUX 4
 
 /*
+ * Stalls: stretches when sonard was not running though it had asked to be (a paused VM, a stopped process, a starved
+ * CPU): an iteration's wall time beyond its CPU time and its poll's timeout, when LIVE_STALL_MIN_US or more. The time
+ * lost is given back to the source's timers (a reply that came, or comes just after, is read before its request is
+ * declared timed out); the sinks' timers are not held (their messages are late already).
+ */
+#define LIVE_STALL_MIN_US 25000
+struct live_stalls {
+    uint32_t n;         /* stalls seen */
+    int64_t total_us;   /* their time */
+    int64_t longest_us;
+};
+
+/*
  * Runs the loop until the app has its sweeps or SIGINT/SIGTERM arrives, then stops the source
  * (motor_off, at most 1.5 s) and sends a last status. aux (naux <= LIVE_MAX_AUX, may be NULL when
  * 0): other sources served alongside (the autopilot's MAVLink), whose stop is never waited for.
- * Returns HOST_OK or HOST_ERR_IO (signalfd).
+ * stalls (may be NULL): filled with the host's stalls over the run. Returns HOST_OK or HOST_ERR_IO (signalfd).
  */
 HOST_CHECK int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
-                        live_reload_fn reload, void *reload_user);
+                        live_reload_fn reload, void *reload_user, struct live_stalls *stalls);
 
 #endif

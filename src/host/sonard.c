@@ -236,14 +236,24 @@ static void site_background(struct sonard *s)
     }
 }
 
+/* The host's stalls over a live run: "sonard: loop: host stalls N, longest L ms, T ms in all". */
+static void stall_summary(const struct live_stalls *st)
+{
+    fprintf(stderr, "sonard: loop: host stalls %" PRIu32 ", longest %.0f ms, %.0f ms in all (sonard kept from running: "
+                    "the sonar's timeouts waited them out)\n", st->n, (double)st->longest_us * 1e-3,
+            (double)st->total_us * 1e-3);
+}
+
 static int run_live(struct sonard *s)
 {
     struct sonar_status st;
     struct live_source ls;
+    struct live_stalls stalls;
     source_link_live(&s->link, &ls);
-    if (live_run(s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
+    if (live_run(s->app, &ls, s->aux, s->naux, reload, s, &stalls) != HOST_OK)
         return 2;
     if (shows(s, APP_INFO)) {
+        stall_summary(&stalls);
         app_report_status(s->app, SONAR_P360_STOPPED, &st); /* the final counters (also one more SONAR_STATUS) */
         summary(&st);
         sink_summary(s->app);
@@ -262,10 +272,12 @@ static int run_live(struct sonard *s)
 static int run_coproc(struct sonard *s)
 {
     struct live_source ls;
+    struct live_stalls stalls;
     source_coproc_live(&s->coproc, &ls);
-    if (live_run(s->app, &ls, s->aux, s->naux, reload, s) != HOST_OK)
+    if (live_run(s->app, &ls, s->aux, s->naux, reload, s, &stalls) != HOST_OK)
         return 2;
     if (shows(s, APP_INFO)) {
+        stall_summary(&stalls);
         fprintf(stderr, "sonard: co-processor link: frames %u crc_errors %u oversize %u bytes_dropped %u decode_errors %u"
                         " before_config %u\n",
                 s->coproc.parser.counters.frames, s->coproc.parser.counters.crc_errors, s->coproc.parser.counters.oversize,

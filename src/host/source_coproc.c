@@ -88,7 +88,10 @@ static void frame(struct source_coproc *s, const struct sonar_cpf_frame *f, int6
     (void)now;
     switch (f->channel) {
     case SONAR_CPF_REPLY:
-        if (f->len >= 2 && memcmp(f->payload, "ok", 2) == 0) {
+        if (f->len >= 9 && memcmp(f->payload, "warning: ", 9) == 0) {
+            /* Something the firmware cannot do with what the sonar sends (not the configuration): said, run on. */
+            warn(s, "co-processor: %.*s", (int)f->len - 9, (const char *)f->payload + 9);
+        } else if (f->len >= 2 && memcmp(f->payload, "ok", 2) == 0) {
             if (!s->configured)
                 say(s, "co-processor on %s: configuration accepted%s", s->desc, s->reloading ? " (SIGHUP)" : "");
             s->configured = 1;

@@ -78,10 +78,18 @@ static double now_s(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
-/* --replay-speed: waits until the row's recorded time, scaled, has come; a clock that jumps back does not wait. */
-static void pace(const struct source_replay *r, int64_t utime, int64_t utime0, double wall0)
+#define PACE_LATE_S 0.1 /* a row this late: the host stalled; the replay goes on at its pace, not in a burst */
+
+/*
+ * --replay-speed: waits until the row's recorded time, scaled, has come; a clock that jumps back does not wait. A
+ * row over PACE_LATE_S late moves the pace on by its lateness, as a sonar paused with its host would. Returns the
+ * wall time the recording's utime0 is now paced from.
+ */
+static double pace(const struct source_replay *r, int64_t utime, int64_t utime0, double wall0)
 {
     double due = wall0 + (double)(utime - utime0) * 1e-6 / r->speed, wait = due - now_s();
+    if (wait < -PACE_LATE_S)
+        return wall0 - wait;
     if (wait > 0.0) {
         struct timespec ts;
         if (wait > 10.0)
@@ -90,6 +98,7 @@ static void pace(const struct source_replay *r, int64_t utime, int64_t utime0, d
         ts.tv_nsec = (long)((wait - (double)ts.tv_sec) * 1e9);
         nanosleep(&ts, NULL);
     }
+    return wall0;
 }
 
 /* "beams 12000  sweeps 30  41000 beams/s  37 %  ETA 3 s", over itself with \r. */
@@ -169,7 +178,7 @@ unsigned long source_replay_run(struct source_replay *r, struct app *a, FILE *er
                 utime0 = b.utime;
                 wall0 = now_s();
             }
-            pace(r, b.utime, utime0, wall0);
+            wall0 = pace(r, b.utime, utime0, wall0);
         }
         if (r->pose != NULL)
             posefile_feed(r->pose, a, b.utime + SONAR_POSE_STALE_US, errf);

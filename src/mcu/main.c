@@ -21,6 +21,7 @@ struct fw {
     struct sonar_activity *act;      /* the pipeline's tracks' echo windows, in the large bank too */
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
+    uint8_t long_said;               /* a beam longer than the build holds was said to the host, this configuration */
     int64_t next_status;
     /* One frame buffer: messages are encoded at its payload offset and framed in place (4 KB less RAM). */
     uint8_t out[SONAR_CPF_MAX_PAYLOAD + SONAR_CPF_OVERHEAD];
@@ -75,6 +76,27 @@ static void on_sweep(void *user, const struct sonar_detections *d)
     host_send(f, SONAR_CPF_DETECTIONS, sonar_detections_t_encode(MSG(f), 0, MSG_CAP, &m));
 }
 
+/* Once a configuration: the sonar sent a beam of n samples, more than this build holds; none such is processed. */
+static void say_too_long(struct fw *f, uint32_t n)
+{
+    static const char head[] = "beam: ", tail[] = " samples from the sonar, more than this board's build holds (" SONAR_STR(
+        SONAR_MAX_SAMPLES) ", SONAR_MAX_SAMPLES): not processed";
+    char why[sizeof(head) + 10 + sizeof(tail)], digits[10];
+    size_t k = 0, d = 0;
+    if (f->long_said)
+        return;
+    f->long_said = 1;
+    do
+        digits[d++] = (char)('0' + n % 10u);
+    while ((n /= 10u) != 0 && d < sizeof(digits));
+    memcpy(why, head, sizeof(head) - 1);
+    k = sizeof(head) - 1;
+    while (d > 0)
+        why[k++] = digits[--d];
+    memcpy(why + k, tail, sizeof(tail));
+    reply(f, "warning", why);
+}
+
 static void beam_in(struct fw *f, struct sonar_record *r, int64_t now)
 {
     struct sonar_beam b;
@@ -86,6 +108,8 @@ static void beam_in(struct fw *f, struct sonar_record *r, int64_t now)
         host_send(f, SONAR_CPF_BEAM, sonar_beam_t_encode(MSG(f), 0, MSG_CAP, &m));
     }
     sonar_device_beam(r, &b);
+    if (r->n > SONAR_MAX_SAMPLES)
+        say_too_long(f, r->n); /* a sonar that answers with more than was asked: never cut to fit */
     if (sonar_pipeline_push(&f->pipe, &b) != SONAR_OK)
         f->rejected++; /* bad geometry from the device: not processed, counted in status */
 }
@@ -126,15 +150,23 @@ static void status(struct fw *f, int64_t now)
 
 static const struct sonar_ping360_io io = {sonar_send, NULL, NULL, NULL, NULL};
 
-/* NULL when the samples asked fit this build's SONAR_MAX_SAMPLES; a smaller board's build says so by name. */
+/*
+ * NULL when the beams asked fit this build's grid; a smaller board's build says which setting does not, by name.
+ * Samples beyond SONAR_MAX_SAMPLES cannot be held; steps finer than its angle cells (SONAR_MAX_ANGLES across a turn)
+ * would share a cell of the background between two beams, which the host's grid keeps apart: a different answer.
+ */
 static const char *fits_build(const struct sonar_ping360_config *d)
 {
 #if SONAR_MAX_SAMPLES < SONAR_DEVICE_MAX_SAMPLES
     if (d->samples == 0 || d->samples > SONAR_MAX_SAMPLES)
         return "samples: 200.." SONAR_STR(SONAR_MAX_SAMPLES) " on this board's build (SONAR_MAX_SAMPLES; 0, the most the range allows, may be more)";
-#else
-    (void)d;
 #endif
+#if SONAR_MAX_ANGLES < SONAR_GRAD_TURN
+    if ((unsigned)d->step * SONAR_MAX_ANGLES < SONAR_GRAD_TURN)
+        return "step: at least 400 gradians / " SONAR_STR(SONAR_MAX_ANGLES) " angle cells on this board's build "
+               "(SONAR_MAX_ANGLES: a finer step would put two beams in one cell)";
+#endif
+    (void)d;
     return NULL;
 }
 
@@ -179,6 +211,7 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
         return;
     }
     sonar_pipeline_set_activity(&f->pipe, f->act);
+    f->long_said = 0;
     f->sweeps = 0;
     f->beams = 0;
     f->beam_every = beam_every;

@@ -62,3 +62,5 @@ awk -v med="$(v median5_ns_per_sample)" -v cvrow="$(v cv_median5_row_ns_per_samp
 }'
 echo
 python3 tools/bench/bench_live.py "$B"
+echo
+sh tools/bench/bench_mavlink.sh "$B"

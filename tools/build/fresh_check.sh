@@ -20,6 +20,8 @@ if [ "$(id -u)" -ne 0 ]; then
     exit 0
 fi
 sh tools/build/deps.sh debootstrap qemu-user-static binfmt-support git
+APT_WHO=fresh-check sudo=
+. tools/build/apt.sh
 # README command lines that start with make and are not run here, and why (the check fails on any other).
 NOT_RUN="make blueos|images for three platforms with buildah (root, a container store, binfmt): .ci/run runs it on the CI machine right after this check
 make test|its first targets run here (deps unit docs-check); the whole of it is .ci/run's own first step"
@@ -32,7 +34,8 @@ if [ ! -e "$base" ]; then
     cold=1
     rm -rf "$F/base" "$F"/base-*.tar
     echo "fresh-check: $RECIPE (cached as $base)"
-    $RECIPE "$F/base" > "$F/debootstrap.log" 2>&1 || { tail -5 "$F/debootstrap.log"; exit 1; }
+    boot() { rm -rf "$F/base"; $RECIPE "$F/base" > "$F/debootstrap.log" 2>&1; }
+    retry_once "$RECIPE" boot || { tail -5 "$F/debootstrap.log"; exit 1; }
     rm -rf "$F"/base/var/cache/apt/archives/*.deb "$F"/base/var/lib/apt/lists/*
     tar -C "$F/base" -cf "$base" . && rm -rf "$F/base"
 fi
@@ -67,6 +70,24 @@ for v in SSL_CERT_FILE PIP_CERT REQUESTS_CA_BUNDLE CURL_CA_BUNDLE GIT_SSL_CAINFO
     [ -n "$x" ] && NET_ENV="$NET_ENV $v=$x"
 done
 printf 'Binary::apt::APT::Keep-Downloaded-Packages "true";\n' > "$R/etc/apt/apt.conf.d/keep-cache"
+# The sources a standard install has (debootstrap writes only the release's own), and one more: a mirror in mid-sync,
+# whose indexes' sizes do not match its Release file (as deb.debian.org's armhf security index once did), for every
+# architecture the build fetches. apt-get update fails on it every time; nothing may fail because of it.
+m=$(sed -n 's/^deb \([^ ]*\) .*/\1/p' "$R/etc/apt/sources.list" | head -1)
+{ echo "deb ${m:-http://deb.debian.org/debian} $SUITE main"
+  echo "deb ${m:-http://deb.debian.org/debian} $SUITE-updates main"
+  echo "deb http://deb.debian.org/debian-security $SUITE-security main"
+  echo "deb [trusted=yes] file:/srv/mid-sync $SUITE main"; } > "$R/etc/apt/sources.list"
+for a in amd64 armhf arm64; do
+    mkdir -p "$R/srv/mid-sync/dists/$SUITE/main/binary-$a"
+    printf 'Package: sonard-mid-sync\nVersion: 1\nArchitecture: %s\n\n' $a > "$R/srv/mid-sync/dists/$SUITE/main/binary-$a/Packages"
+done
+{ printf 'Origin: sonard fresh-check\nLabel: a mirror in mid-sync\nSuite: %s\nCodename: %s\nDate: %s\n' $SUITE $SUITE "$(date -Ru)"
+  printf 'Architectures: amd64 armhf arm64\nComponents: main\nSHA256:\n'
+  for a in amd64 armhf arm64; do
+      f=$R/srv/mid-sync/dists/$SUITE/main/binary-$a/Packages
+      printf ' %s %d main/binary-%s/Packages\n' "$(sha256sum "$f" | cut -d' ' -f1)" $(( $(wc -c < "$f") + 352 )) $a
+  done; } > "$R/srv/mid-sync/dists/$SUITE/Release"
 # A clean clone of HEAD, and ../shared beside it when there is one (the real recordings; tests skip without).
 git clone -q . "$R/root/sonard"
 [ -d ../shared ] && cp -r ../shared "$R/root/shared"
@@ -74,13 +95,16 @@ git clone -q . "$R/root/sonard"
 inside() { chroot "$R" /usr/bin/env -i HOME=/root PATH=/usr/sbin:/usr/bin:/sbin:/bin LANG=C.UTF-8 $NET_ENV sh -c "cd /root/sonard && $1"; }
 # 1. The README's first lines, as a new user types them on a fresh machine.
 t0=$(date +%s)
-inside "apt-get update -qq && apt-get install -y -qq make > /dev/null" > "$F/make.log" 2>&1
+inside "apt-get update -qq; apt-get install -y -qq make > /dev/null" > "$F/make.log" 2>&1
 check "apt-get install make on the fresh system (README: the one thing make demo cannot install itself)" \
     sh -c "chroot '$R' sh -c 'command -v make' > /dev/null || { tail -5 '$F/make.log'; exit 1; }"
 inside "make demo" > "$F/demo.log" 2>&1; rc=$?
 t1=$(date +%s)
 check "make demo on the fresh system: its installs, its build, the live run, the pool's objects found ($((t1 - t0)) s)" \
     sh -c "test $rc -eq 0 && grep -q 'F1 1.000' '$F/demo.log' || { tail -15 '$F/demo.log'; exit 1; }"
+check "a mirror in mid-sync: make demo's apt-get update failure said, naming the index, and nothing failed for it" \
+    sh -c "grep 'package index not updated: .*mid-sync/dists/$SUITE/main/binary-amd64' '$F/demo.log' | head -1 | grep . ||
+           { grep -i 'apt\|index' '$F/demo.log' | head -5; exit 1; }"
 inside "make deps unit docs-check" > "$F/test.log" 2>&1; rc=$?
 t2=$(date +%s)
 check "make test's first targets (deps unit docs-check) on the fresh system ($((t2 - t1)) s)" \
@@ -96,6 +120,8 @@ for a in armhf arm64; do
     t3=$(date +%s)
     check "make ARCH=$a on the fresh system, its sysroot and cross compiler installed by it ($((t3 - t2)) s)" \
         sh -c "test $rc -eq 0 || { grep -m3 -i error '$F/$a.log'; tail -5 '$F/$a.log'; exit 1; }"
+    check "... the $a index of the mirror in mid-sync said by name on the way, and nothing failed for it" \
+        sh -c "grep -q 'package index not updated: .*mid-sync/dists/$SUITE/main/binary-$a' '$F/$a.log'"
     inside "$q -L build-$a/sysroot build-$a/sonard --replay /tmp/pool.csv --json --quiet --log-level warn > /tmp/$a.jsonl &&
             cmp /tmp/amd64.jsonl /tmp/$a.jsonl" > "$F/$a.replay.log" 2>&1; rc=$?
     check "... its sonard under $q replays the pool byte-equal to amd64's" \

@@ -23,5 +23,9 @@ sleep "$SEC"
 kill -TERM "$sp" 2>/dev/null
 wait "$sp" 2>/dev/null
 wait "$fp" 2>/dev/null
-python3 tools/eval/score_live.py "$O/$SC-$MODE.truth" "$O/$SC-$MODE.jsonl" --step "$STEP" --json > "$O/$SC-$MODE.score.json"
-python3 tools/eval/score_live.py "$O/$SC-$MODE.truth" "$O/$SC-$MODE.jsonl" --step "$STEP" --label "$SC $MODE: "
+# STALLS (tests/stallwatch.py's file, when set): the machine's stalls, taken out of the unvisited stretches.
+ST=""; [ -n "${STALLS:-}" ] && ST="--stalls $STALLS"
+# shellcheck disable=SC2086
+python3 tools/eval/score_live.py "$O/$SC-$MODE.truth" "$O/$SC-$MODE.jsonl" --step "$STEP" $ST --json > "$O/$SC-$MODE.score.json"
+# shellcheck disable=SC2086
+python3 tools/eval/score_live.py "$O/$SC-$MODE.truth" "$O/$SC-$MODE.jsonl" --step "$STEP" $ST --label "$SC $MODE: "

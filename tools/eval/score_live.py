@@ -75,8 +75,14 @@ def where(frames, ftimes, oid, u):
     return float("inf"), float("inf")
 
 
-def revisit(beams, frames, t0, step, merge_us):
-    """Intervals (us) between looks at each visible object after t0, and the longest unvisited grid angle (us)."""
+def stalled_us(stalls, a, b):
+    """Microseconds of the stalls ((start, end) us) within [a, b]."""
+    return sum(max(0, min(y, b) - max(x, a)) for x, y in stalls)
+
+
+def revisit(beams, frames, t0, step, merge_us, stalls=()):
+    """Intervals (us) between looks at each visible object after t0, and the longest unvisited grid angle (us), each
+    unvisited stretch less the machine's stalls within it (stalls: (start, end) us; none: as measured)."""
     ftimes = [fr["t_us"] for fr in frames]
     last, gaps, worst = {}, [], {}
     for t, a in beams:
@@ -105,10 +111,10 @@ def revisit(beams, frames, t0, step, merge_us):
         for t, a in beams:
             if gap(a, g) <= step / 2.0 + 1e-6:
                 if prev is not None and t >= t0:
-                    unvisited = max(unvisited, t - max(prev, t0))
+                    unvisited = max(unvisited, t - max(prev, t0) - stalled_us(stalls, max(prev, t0), t))
                 prev = t
         if prev is not None:
-            unvisited = max(unvisited, end - max(prev, t0))
+            unvisited = max(unvisited, end - max(prev, t0) - stalled_us(stalls, max(prev, t0), end))
     return gaps, worst, unvisited
 
 
@@ -124,6 +130,7 @@ def main():
     ap.add_argument("--step", type=int, default=4, help="the sweep's gradians a step (default 4)")
     ap.add_argument("--pass-s", type=float, default=0.3, help="looks closer than this are one (default 0.3 s)")
     ap.add_argument("--gate", type=float, default=1.0, help="match distance, metres (default 1.0)")
+    ap.add_argument("--stalls", help="tests/stallwatch.py's file: the machine's stalls, taken out of unvisited stretches")
     ap.add_argument("--label", default="")
     ap.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     ap.add_argument("--min-idf1", type=float)
@@ -160,7 +167,14 @@ def main():
             hidden[k] = [o for o in objs if o["id"] not in vis]
             lines[k] = {"tracks": sweeps[j].get("tracks", []) if j >= 0 else []}
     m = score_tracks(truth, lines, a.gate, hidden=hidden)
-    gaps, worst, unvisited = revisit(beams, frames, t0, a.step, int(a.pass_s * 1e6))
+    stalls = []
+    if a.stalls:
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests"))
+        import stallwatch  # noqa: E402
+        stalls = [(int(x * 1e6), int(y * 1e6)) for x, y in stallwatch.load(a.stalls)]
+    gaps, worst, unvisited = revisit(beams, frames, t0, a.step, int(a.pass_s * 1e6), stalls)
+    m["stalls"] = len(stalls)
+    m["stalled_s"] = sum(y - x for x, y in stalls) * 1e-6
     m.update({"revisit_median_s": pct(gaps, 50) * 1e-6, "revisit_p95_s": pct(gaps, 95) * 1e-6,
               "revisit_max_s": max(gaps) * 1e-6 if gaps else float("nan"), "looks": len(gaps),
               "unvisited_max_s": unvisited * 1e-6, "instants": len(truth),

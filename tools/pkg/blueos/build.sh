@@ -13,6 +13,8 @@ BASE=docker.io/library/debian:bookworm-slim
 SUITE=bookworm
 mkdir -p "$O"
 sh tools/build/deps.sh buildah podman debootstrap qemu-user-static binfmt-support
+APT_WHO=blueos sudo=
+. tools/build/apt.sh
 [ -e /proc/sys/fs/binfmt_misc/register ] || mount -t binfmt_misc binfmt_misc /proc/sys/fs/binfmt_misc
 for p in ${*:-armv7 arm64 amd64}; do
     case $p in
@@ -35,7 +37,8 @@ for p in ${*:-armv7 arm64 amd64}; do
     b=$O/base-$p
     if [ ! -e "$b/.done" ]; then
         rm -rf "$b"
-        debootstrap --arch=$deb --variant=minbase $SUITE "$b" > "$O/base-$p.log" 2>&1 || { tail -5 "$O/base-$p.log"; exit 1; }
+        boot() { rm -rf "$b"; debootstrap --arch=$deb --variant=minbase $SUITE "$b" > "$O/base-$p.log" 2>&1; }
+        retry_once "debootstrap of the $p base" boot || { tail -5 "$O/base-$p.log"; exit 1; }
         cat > "$b/etc/dpkg/dpkg.cfg.d/slim" <<'EOC'
 # as Debian's slim images: no documentation, manual pages or translations installed
 path-exclude /usr/share/doc/*

@@ -96,6 +96,7 @@ struct feed {
     long gain_ref;      /* --gain-model G: the setting the scene is drawn at; each step up doubles the echoes (saturating at 255), each down halves them; -1: off */
     int gain_fixed;     /* --gain-fixed: keep the first gain asked, whatever later requests say (a refusal) */
     int empty;          /* --empty: the scene with nobody in it (walls, ropes, structure): a site to survey */
+    int as_recorded;    /* --samples-as-recorded: a recording's rows as they are, whatever is asked */
     int arrive;         /* --arrive-at-motor-off: empty until the first motor_off, then `full` from sweep 0 */
     struct scene full;  /* the scene as made, held while --arrive-at-motor-off keeps it empty */
     int gain_set;

@@ -128,9 +128,17 @@ void feed_render(struct feed *f, uint16_t a, uint8_t *out, uint16_t *n, uint16_t
                 best = i;
             }
         }
-        memcpy(out, r->rows[best], r->n);
-        *n = r->n;
-        if (sonar_geometry_sample_period(r->range_m, r->n, f->c, sp) != SONAR_OK)
+        /* A Ping360 answers with the samples asked for: the recording's row over the same range, taken at the
+           nearest of its samples when the count asked differs (none asked yet: the row as recorded). */
+        uint16_t want = !f->as_recorded && f->n >= SONAR_DEVICE_MIN_SAMPLES && f->n <= SONAR_MAX_SAMPLES ? f->n : r->n;
+        if (want == r->n) {
+            memcpy(out, r->rows[best], r->n);
+        } else {
+            for (i = 0; i < want; i++)
+                out[i] = r->rows[best][(uint32_t)i * r->n / want];
+        }
+        *n = want;
+        if (sonar_geometry_sample_period(r->range_m, want, f->c, sp) != SONAR_OK)
             *sp = f->sp; /* a range the device could not do: report the requested period */
     }
 }

@@ -114,6 +114,8 @@ static const struct opt_spec feed_spec[] = {
      "the site empty until the first motor_off (a survey's run ends), then the\nscene's people, its sweeps counted from 0: a survey recorded, then used", NULL, NULL},
     {"csv", "FILE", OPT_STR, 0, 0, FO(csv_path), 0, 0, "file", NULL, "play a recording instead", NULL, NULL},
     {"range", "M", OPT_F64, 0, 0, FO(csv_range), 1, 60, "metres", "the file's", "range of the recording", NULL, NULL},
+    {"samples-as-recorded", NULL, OPT_FLAG, 0, 0, FO(as_recorded), 0, 0, NULL, "off",
+     "a recording's rows as they are, whatever number of samples is asked (a sonar\nthat answers with other than asked); without it, the nearest sample of the row", NULL, NULL},
     {"pace", "device|fast|xN", OPT_CUSTOM, 0, 0, 0, 0, 0, "device, fast or xN", "device",
      "device: 19.4 ms + 6 ms a gradian + 2R/c a beam; xN: N times\nfaster; fast: at once", NULL, parse_pace},
     {"firmware", "X.Y.Z", OPT_CUSTOM, 0, 0, 0, 0, 0, "X.Y.Z", "3.3.8", "firmware version reported", NULL, parse_firmware},
