@@ -178,5 +178,22 @@ for l in open('$T/plcm.jsonl'):
         n += 1
 assert n > 0"
 
+# A paused machine: sonard and the sonar stand-in frozen together (SIGSTOP, as a VM's pause freezes every process),
+# 200 ms at a time, 8 times while requests are awaited at device pace. sonard must see each stall and wait it out:
+# no request declared timed out (the stand-in answers as soon as it runs again).
+feed "tcp:127.0.0.1:$((PORT + 40))" --pace device
+"$B/sonard" --sonar "tcp:127.0.0.1:$((PORT + 40))" --range 12 --step 4 --no-lcm --quiet > /dev/null 2> "$T/stall.err" & sp=$!
+sleep 1
+for i in 1 2 3 4 5 6 7 8; do
+    kill -STOP $sp $FEEDPID; sleep 0.2; kill -CONT $FEEDPID $sp; sleep 0.6
+done
+kill -TERM $sp; wait $sp; rc=$?
+endfeed
+grep 'loop: host stalls\|timeouts' "$T/stall.err" | sed 's/^/    /'
+check "a paused machine (8 freezes of 200 ms, sonard and the sonar together): each stall seen, no request timed out" sh -c "
+    test $rc -eq 0 && grep -q ' timeouts 0 ' '$T/stall.err' &&
+    n=\$(sed -n 's/.*loop: host stalls \\([0-9]*\\), longest \\([0-9]*\\) ms.*/\\1 \\2/p' '$T/stall.err') &&
+    set -- \$n && test \"\$1\" -ge 8 && test \"\$2\" -ge 150"
+
 echo "live: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
