@@ -275,8 +275,8 @@ view-cost: all .venv-view/.done
 test-arm: all
 	@sh tests/arm.sh
 
-## test-stalls: the live suites (live mavlink scan-test mcap passive-test view-test; STALL_SUITES) with each one's whole session frozen for 150 ms every 3 s (SIGSTOP/SIGCONT, as a paused VM): all pass
-STALL_SUITES ?= live mavlink scan-test mcap passive-test view-test
+## test-stalls: the live suites (live mavlink scan-test mcap passive-test view-test cockpit-test; STALL_SUITES) with each one's whole session frozen for 150 ms every 3 s (SIGSTOP/SIGCONT, as a paused VM): all pass
+STALL_SUITES ?= live mavlink scan-test mcap passive-test view-test cockpit-test
 test-stalls: all .venv-mavlink/.done .venv-mcap/.done .venv-view/.done
 	@sh tests/stalls.sh stalls $(STALL_SUITES)
 

@@ -7,7 +7,7 @@
 set -u
 mode=${1:-stalls}
 [ $# -gt 0 ] && shift
-suites=${*:-live mavlink scan-test mcap passive-test view-test}
+suites=${*:-live mavlink scan-test mcap passive-test view-test cockpit-test}
 STALL_MS=${STALL_MS:-150}
 STALL_EVERY=${STALL_EVERY:-3}
 ROUNDS=${ROUNDS:-3}
