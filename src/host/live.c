@@ -49,6 +49,9 @@ static int64_t stalled(struct live_stalls *st, int64_t wall_us, int64_t cpu, int
     return now + most > held ? now + most : held;
 }
 
+/* Long: the one event loop (signals, the source, its aux descriptors, status ticks, the stop's deadline, the stall
+   measure around the poll) reads as one poll cycle; issue 36 asks for one loop around every link, which will take
+   the source and aux parts out. */
 int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
              live_reload_fn reload, void *reload_user, struct live_stalls *stalls)
 {
