@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
+UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker clutter activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
 UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
@@ -463,7 +463,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker pose obstacle pipeline scan gain structure
+MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker clutter pose obstacle pipeline scan gain structure
 # The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)

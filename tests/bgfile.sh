@@ -30,6 +30,21 @@ check "... where learning afresh loses the people there from the first ping (rec
 check "occupied pool, default (auto) from its recording: F1 >= 0.93" \
     python3 tools/eval/score.py "$T/occ.json" "$T/auto.jsonl" --min-f1 0.93 --label "  auto loaded: "
 
+# The clutter map (issue 51) rides after the image: loaded and said; a file without one (written before sonard kept
+# one) loads and says so; a damaged map is refused by name and learnt afresh, the background loaded all the same.
+"$B/sonard" --replay "$T/occ.csv" --json --background-load "$T/auto.bg" > /dev/null 2> "$T/err"
+check "the saved file carries a clutter map: loaded and said" grep -q "clutter map: loaded, learnt over 10 looks" "$T/err"
+size=$(wc -c < "$T/auto.bg")
+head -c $((size - 1628)) "$T/auto.bg" > "$T/nomap.bg"
+"$B/sonard" --replay "$T/occ.csv" --json --background-load "$T/nomap.bg" > "$T/nomap.jsonl" 2> "$T/err"
+check "a file without a clutter map (as before issue 51): loads, said, the map learnt as it runs" \
+    sh -c "grep -q 'background: loaded' '$T/err' && grep -q 'clutter map: none in the file' '$T/err'"
+cp "$T/auto.bg" "$T/badmap.bg"
+printf '\377' | dd of="$T/badmap.bg" bs=1 seek=$((size - 100)) conv=notrunc 2> /dev/null
+"$B/sonard" --replay "$T/occ.csv" --json --background-load "$T/badmap.bg" > "$T/badmap.jsonl" 2> "$T/err"
+check "a damaged clutter map: refused by name, learnt afresh; the background loaded, output as without a map" \
+    sh -c "grep -q 'background: loaded' '$T/err' && grep -q 'clutter map: refused, damaged .*learnt afresh' '$T/err' && cmp -s '$T/badmap.jsonl' '$T/nomap.jsonl'"
+
 # Bad files: named, the run goes on and learns afresh (its output equal to a run with no file).
 "$B/sonard" --replay "$T/occ.csv" --json > "$T/none.jsonl" 2> /dev/null
 refused() { # what file word

@@ -37,7 +37,7 @@ static void beams(struct sonar_activity *a, int a0, int a1, int step, unsigned l
     }
 }
 
-/* A tracker holding one track per (x, y), hit this look, confirmed. */
+/* A tracker holding one track per (x, y), hit this look, confirmed, its existence established. */
 static void one(struct sonar_tracker *tk, unsigned k, uint32_t id, float x, float y)
 {
     struct sonar_track *t = &tk->t[k];
@@ -46,6 +46,8 @@ static void one(struct sonar_tracker *tk, unsigned k, uint32_t id, float x, floa
     t->py = y;
     t->det = 0;
     t->state = SONAR_TRACK_CONFIRMED;
+    t->existence = 1.0f;
+    t->exists = 1;
     t->utime = 0;
     t->still_ms = 0;
     if (tk->n <= k)
@@ -76,6 +78,33 @@ static void test_steady_echo_stands(void **state)
     assert_int_equal(tk.t[0].echo_corr, 100);
     assert_int_equal(tk.t[0].alarms, 0);
     assert_string_equal(sonar_activity_str(tk.t[0].activity), "standing");
+}
+
+/*
+ * The same changing echo on a confirmed track whose existence is not established (the water's own
+ * echoes hopping into one track): struggling, but no alarm until it is (tracker.h's exists); then
+ * at once, its struggle already counted.
+ */
+static void test_alarm_needs_existence(void **state)
+{
+    unsigned k, n;
+    (void)state;
+    reset();
+    one(&tk, 0, 7, 0.0f, 5.0f);
+    tk.t[0].existence = SONAR_TRK_EXIST_ALARM - 0.05f;
+    tk.t[0].exists = 0;
+    for (k = 0; k < 5; k++) {
+        if (k == 4) {
+            tk.t[0].existence = SONAR_TRK_EXIST_ALARM;
+            tk.t[0].exists = 1;
+        }
+        beams(&act, 80, 120, 3, k + 1, N, RANGE, 1);
+        sonar_activity_look(&act, &tk, 0, 0.0f, 60.0f, 0);
+        (void)sonar_activity_events(&act, &n);
+        assert_int_equal(tk.t[0].activity, k < 2 ? SONAR_ACT_UNKNOWN : SONAR_ACT_STRUGGLING);
+        assert_int_equal(tk.t[0].alarms, k == 4 ? SONAR_ALARM_STRUGGLE : 0);
+        assert_int_equal(n, k == 4 ? 1u : 0u);
+    }
 }
 
 static void test_changing_echo_struggles_and_alarms(void **state)
@@ -305,6 +334,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_steady_echo_stands),
         cmocka_unit_test(test_changing_echo_struggles_and_alarms),
+        cmocka_unit_test(test_alarm_needs_existence),
         cmocka_unit_test(test_gone_clears),
         cmocka_unit_test(test_travel_moves),
         cmocka_unit_test(test_still_alarm),

@@ -107,6 +107,13 @@ static void status_round_trip(void **state)
     s.tracker.revisions = 151;
     s.tracker.hyp_overflow = 152;
     s.tracker.activity_unplaced = 153;
+    s.tracker.clutter.looks = 154;
+    s.tracker.clutter.cells_seen = 155;
+    s.tracker.clutter.site = 0.0125f;
+    s.tracker.clutter.per_look = 3.5f;
+    s.tracker.clutter.peak = 0.25f;
+    s.tracker.clutter.peak_range_m = 1.5f;
+    s.tracker.clutter.peak_bearing_g = 232.0f;
     s.pose.state = SONAR_POSE_STALE;
     s.pose.accepted = 120;
     s.pose.out_of_order = 121;
@@ -435,6 +442,7 @@ static void tracks_carry_the_tracker(void **state)
     tk.t[0].activity = SONAR_ACT_STANDING;
     tk.t[0].echo_corr = 57;
     tk.t[0].alarms = SONAR_ALARM_STILL;
+    tk.t[0].existence = 0.625f;
     tk.t[1].echo_corr = SONAR_ACT_NO_CORR;
     tk.t[1].id = 4000000000u; /* beyond int32: held at its largest */
     tk.t[1].det = -1;
@@ -469,6 +477,7 @@ static void tracks_carry_the_tracker(void **state)
     assert_int_equal(in.tracks[0].activity, SONAR_ACT_STANDING);
     assert_true(fabsf(in.tracks[0].echo_corr - 0.57f) < 1e-6f);
     assert_int_equal(in.tracks[0].alarms, SONAR_ALARM_STILL);
+    assert_true(in.tracks[0].existence == 0.625f);
     assert_int_equal(in.tracks[1].activity, SONAR_ACT_UNKNOWN);
     assert_true(isnan(in.tracks[1].echo_corr)); /* none yet */
     assert_int_equal(in.tracks[1].alarms, 0);

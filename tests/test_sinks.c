@@ -239,6 +239,7 @@ static void test_report_sink_json_line(void **state)
     tk.t[0].activity = SONAR_ACT_STRUGGLING;
     tk.t[0].echo_corr = 12;
     tk.t[0].alarms = SONAR_ALARM_STRUGGLE | SONAR_ALARM_STILL;
+    tk.t[0].existence = 0.987f;
     tk.nrev = 2; /* the track published last sweep as 4 was 9, and 9 was not there */
     tk.rev[0].from = 4;
     tk.rev[0].to = 9;
@@ -250,7 +251,7 @@ static void test_report_sink_json_line(void **state)
     assert_non_null(strstr(text, "{\"sweep\":3,"));
     assert_non_null(strstr(text, "\"tracks\":[{\"id\":4,\"state\":\"confirmed\","));
     assert_non_null(strstr(text, "\"vx_mps\":0.500,"));
-    assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0,\"still_s\":3.0,\"mode\":\"turning\",\"kind\":\"moving\","
+    assert_non_null(strstr(text, "\"age\":6,\"hits\":5,\"detection\":0,\"still_s\":3.0,\"existence\":0.987,\"mode\":\"turning\",\"kind\":\"moving\","
                                   "\"activity\":\"struggling\",\"echo_corr\":0.12,\"alarms\":[\"struggle\",\"still\"]}]"));
     assert_non_null(strstr(text, ",\"revisions\":[{\"id\":4,\"now\":9},{\"id\":9,\"now\":0}]}\n"));
     assert_non_null(strstr(text, "\"x_m\":1.000"));

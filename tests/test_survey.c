@@ -180,13 +180,56 @@ static void test_spread_gate(void **state)
     assert_int_equal(sonar_survey_apply(&sv, &bg, 190, beam, fg, N), 0);
 }
 
+/*
+ * A fresh recording of 2 x SONAR_SURVEY_PATH sweeps with one confirmed track (ID 7, of the existence
+ * given) going 0.5 m a look in a line; returns the last sonar_survey_rec_sweep's result.
+ */
+static int moving_track(float existence)
+{
+    uint8_t beam[N];
+    int i, r = SONAR_OK;
+    sonar_survey_rec_init(&rec);
+    assert_int_equal(sonar_tracker_init(&tk, &(struct sonar_tracker_config){0.05f, 0.5f, 0.15f, 1.0f, 2.5f, 9.21f, 2, 3, 2,
+                                                                          60.0f, 1, 1, 0}),
+                     SONAR_OK);
+    tk.n = 1;
+    tk.t[0].id = 7;
+    tk.t[0].state = SONAR_TRACK_CONFIRMED;
+    tk.t[0].det = 0;
+    tk.t[0].existence = existence;
+    tk.t[0].exists = existence >= SONAR_TRK_EXIST_ALARM;
+    for (i = 0; i < SONAR_SURVEY_PATH; i++) {
+        uint16_t a;
+        for (a = FROM; a <= TO; a += STEP) {
+            memset(beam, 10, sizeof(beam));
+            assert_true(sonar_survey_rec_apply(&rec, a, beam, beam, N, 8) == (i >= SONAR_SURVEY_REC_LOOKS));
+            assert_int_equal(sonar_survey_rec_beam(&rec, a, beam, N, RANGE, 1, i + 1), SONAR_OK);
+        }
+        tk.t[0].px = -3.0f + 0.5f * (float)i;
+        tk.t[0].py = 2.0f;
+        assert_int_equal(sonar_survey_rec_sweep(&rec, &tk, 0), SONAR_OK); /* its rows not yet judged: no path kept */
+    }
+    for (i = 0; i < SONAR_SURVEY_PATH; i++) {
+        uint16_t a;
+        for (a = FROM; a <= TO; a += STEP) {
+            memset(beam, 10, sizeof(beam));
+            assert_int_equal(sonar_survey_rec_apply(&rec, a, beam, beam, N, 8), 1);
+            assert_int_equal(sonar_survey_rec_beam(&rec, a, beam, N, RANGE, 1, i + 10), SONAR_OK);
+        }
+        tk.t[0].px = -3.0f + 0.5f * (float)i;
+        r = sonar_survey_rec_sweep(&rec, &tk, 0);
+        if (i + 1 < SONAR_SURVEY_PATH)
+            assert_int_equal(r, SONAR_OK);
+    }
+    return r;
+}
+
 /* Each refusal of a recording, by name. */
 static void test_refusals(void **state)
 {
     uint8_t beam[N];
     uint16_t angle;
     uint8_t looks;
-    int i;
     (void)state;
     memset(beam, 10, sizeof(beam));
     sonar_survey_rec_init(&rec);
@@ -219,41 +262,14 @@ static void test_refusals(void **state)
     assert_int_equal(sonar_survey_rec_check(&rec, FROM, TO + 20, STEP, &angle, &looks), SONAR_ERR_STATE);
     assert_int_equal(looks, 0);
     assert_in_range(angle, TO + 3, TO + 20);
-    /* Something that moves through the site: a track going 0.5 m a look in a line. */
-    sonar_survey_rec_init(&rec);
-    assert_int_equal(sonar_tracker_init(&tk, &(struct sonar_tracker_config){0.05f, 0.5f, 0.15f, 1.0f, 2.5f, 9.21f, 2, 3, 2,
-                                                                          60.0f, 1, 1}),
-                     SONAR_OK);
-    tk.n = 1;
-    tk.t[0].id = 7;
-    tk.t[0].state = SONAR_TRACK_CONFIRMED;
-    tk.t[0].det = 0;
-    for (i = 0; i < SONAR_SURVEY_PATH; i++) {
-        uint16_t a;
-        for (a = FROM; a <= TO; a += STEP) {
-            memset(beam, 10, sizeof(beam));
-            assert_true(sonar_survey_rec_apply(&rec, a, beam, beam, N, 8) == (i >= SONAR_SURVEY_REC_LOOKS));
-            assert_int_equal(sonar_survey_rec_beam(&rec, a, beam, N, RANGE, 1, i + 1), SONAR_OK);
-        }
-        tk.t[0].px = -3.0f + 0.5f * (float)i;
-        tk.t[0].py = 2.0f;
-        assert_int_equal(sonar_survey_rec_sweep(&rec, &tk, 0), SONAR_OK); /* its rows not yet judged: no path kept */
-    }
-    for (i = 0; i < SONAR_SURVEY_PATH; i++) {
-        uint16_t a;
-        int r;
-        for (a = FROM; a <= TO; a += STEP) {
-            memset(beam, 10, sizeof(beam));
-            assert_int_equal(sonar_survey_rec_apply(&rec, a, beam, beam, N, 8), 1);
-            assert_int_equal(sonar_survey_rec_beam(&rec, a, beam, N, RANGE, 1, i + 10), SONAR_OK);
-        }
-        tk.t[0].px = -3.0f + 0.5f * (float)i;
-        r = sonar_survey_rec_sweep(&rec, &tk, 0);
-        assert_int_equal(r, i + 1 < SONAR_SURVEY_PATH ? SONAR_OK : SONAR_ERR_STATE);
-    }
+    /* Something that moves through the site: a track going 0.5 m a look in a line, established. */
+    assert_int_equal(moving_track(1.0f), SONAR_ERR_STATE);
     assert_int_equal(rec.why, SONAR_SURVEY_MOVED);
     assert_int_equal(rec.moved_id, 7);
     assert_true(rec.moved_m > 1.4f && rec.moved_m < 1.6f);
+    /* The same path by a track whose existence is not established (clutter hops joined): no refusal. */
+    assert_int_equal(moving_track(SONAR_TRK_EXIST_ALARM - 0.1f), SONAR_OK);
+    assert_int_equal(rec.why, SONAR_SURVEY_OK);
 }
 
 /* A track that jitters about one place (a float, a wall's piece) is no mover. */

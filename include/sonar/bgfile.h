@@ -74,6 +74,13 @@ SONAR_CHECK int sonar_bgfile_layout(uint16_t n, uint8_t flags, uint8_t places, s
 /* Bytes of the image of a model of n samples a beam with no spread and no places, 0 for n out of range. */
 size_t sonar_bgfile_size(uint16_t n);
 
+/*
+ * The bytes of in (len of them) that its header says the image holds: the rest, if any, is a block
+ * after it (a clutter map, clutter.h). len when the header cannot say (sonar_bgfile_check then names
+ * what is wrong).
+ */
+size_t sonar_bgfile_declared(const uint8_t *in, size_t len);
+
 /* The header of m into out[0 .. SONAR_BGFILE_HEADER). */
 void sonar_bgfile_put_header(uint8_t *out, const struct sonar_bgfile_meta *m);
 

@@ -77,8 +77,8 @@
 #endif
 
 /*
- * Tracks the tracker keeps (tracker.h). RAM: sizeof(struct sonar_track) = 176 B each (three models of 32 B),
- * SONAR_MAX_TRACKS * 176 = 5 632 B; an update's float cost matrix is on the stack, SONAR_MAX_CLUSTERS *
+ * Tracks the tracker keeps (tracker.h). RAM: sizeof(struct sonar_track) = 184 B each (three models of 32 B),
+ * SONAR_MAX_TRACKS * 184 = 5 888 B; an update's float cost matrix is on the stack, SONAR_MAX_CLUSTERS *
  * SONAR_MAX_TRACKS * 4 = 2 048 B.
  */
 #ifndef SONAR_MAX_TRACKS
@@ -95,9 +95,22 @@
 #endif
 
 /*
+ * The clutter map's grid (clutter.h): range bands of 1/SONAR_CLUTTER_BANDS of the range scanned by
+ * bearing sectors of 400/SONAR_CLUTTER_SECTORS gradians about the sonar. RAM: 4 B a cell,
+ * SONAR_CLUTTER_BANDS * SONAR_CLUTTER_SECTORS * 4 = 1 600 B in sizeof(struct sonar_clutter) = 1 624 B
+ * (the caller's: the host's app, the firmware's large bank).
+ */
+#ifndef SONAR_CLUTTER_BANDS
+#define SONAR_CLUTTER_BANDS 16
+#endif
+#ifndef SONAR_CLUTTER_SECTORS
+#define SONAR_CLUTTER_SECTORS 25
+#endif
+
+/*
  * Assignment hypotheses the tracker weighs for a sweep until the next look (tracker.h): the one
  * published and up to this - 1 others, each holding two tracks' states. RAM:
- * sizeof(struct sonar_trk_alt) = 368 B each, (SONAR_TRK_HYPOTHESES - 1) * 368 = 2 576 B.
+ * sizeof(struct sonar_trk_alt) = 384 B each, (SONAR_TRK_HYPOTHESES - 1) * 384 = 2 688 B.
  */
 #ifndef SONAR_TRK_HYPOTHESES
 #define SONAR_TRK_HYPOTHESES 8
@@ -142,6 +155,8 @@ SONAR_STATIC_ASSERT(SONAR_ACT_SLOTS >= 1 && SONAR_ACT_SLOTS <= 64, act_slots_1_6
 SONAR_STATIC_ASSERT(SONAR_TRK_HYPOTHESES >= 2 && SONAR_TRK_HYPOTHESES <= 16, hypotheses_2_16);
 SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 32, places_1_32);
 SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);
+SONAR_STATIC_ASSERT(SONAR_CLUTTER_BANDS >= 1 && SONAR_CLUTTER_BANDS <= 64, clutter_bands_1_64);
+SONAR_STATIC_ASSERT(SONAR_CLUTTER_SECTORS >= 1 && SONAR_CLUTTER_SECTORS <= 400 && 400 % SONAR_CLUTTER_SECTORS == 0, clutter_sectors_divide_400);
 SONAR_STATIC_ASSERT(SONAR_MAX_SWEEP_BEAMS >= 8 && SONAR_MAX_SWEEP_BEAMS < 65535, sweep_beams);
 
 #endif

@@ -8,6 +8,7 @@
 
 #include "sonar/activity.h"
 #include "sonar/background.h"
+#include "sonar/clutter.h"
 #include "sonar/config.h"
 #include "sonar/detector.h"
 #include "sonar/err.h"
@@ -88,6 +89,7 @@ struct sonar_pipeline {
     struct sonar_structure st; /* the places structure is learnt from (body frame, per-angle and auto modes) */
     struct sonar_survey *sv;   /* the caller's (sonar_pipeline_set_survey), or NULL: no survey can be used */
     struct sonar_activity *act; /* the caller's (sonar_pipeline_set_activity), or NULL: every track's activity unknown */
+    struct sonar_clutter *clutter; /* the caller's (sonar_pipeline_set_clutter), or NULL: no clutter learnt, the floor everywhere */
     struct sonar_survey_rec *rec; /* a survey being recorded (sonar_pipeline_set_recording), or NULL */
     uint32_t survey_unfit_sweep; /* the sweep at whose end the survey was last given up */
     uint32_t bg_sweeps;        /* sweeps since the background (re)started or was loaded */
@@ -170,6 +172,14 @@ SONAR_CHECK int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar
  * none, every track's activity unknown). Call between sweeps.
  */
 void sonar_pipeline_set_activity(struct sonar_pipeline *p, struct sonar_activity *act);
+
+/*
+ * Where the pipeline keeps the site's clutter map (clutter.h: the caller's, initialised or loaded;
+ * NULL: none, every track judged against the floor density). The tracker reads it and teaches it,
+ * and each sweep with its beams' cover takes its look. Kept across sonar_pipeline_init only by
+ * setting it again. Call between sweeps.
+ */
+void sonar_pipeline_set_clutter(struct sonar_pipeline *p, struct sonar_clutter *clutter);
 
 /*
  * Where the pipeline keeps a site's survey (survey.h: the caller's, with its spread block; NULL:

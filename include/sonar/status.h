@@ -28,6 +28,7 @@ struct sonar_status {
         uint32_t dropped, out_of_order;    /* detections past SONAR_MAX_CLUSTERS a sweep; older than the last sweep */
         uint32_t revisions, hyp_overflow;  /* IDs a later look revised; alternatives that did not fit (final at once) */
         uint32_t activity_unplaced;        /* track-looks that found every activity slot taken (their activity unknown) */
+        struct sonar_clutter_summary clutter; /* the site's clutter map at a glance (clutter.h); zeros without one */
     } tracker;                             /* all 0 with tracking off */
     struct {
         int state;                         /* enum sonar_pose_state, at the latest beam */

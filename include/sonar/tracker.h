@@ -1,9 +1,10 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, M-of-N confirmation; RAM: sizeof(struct sonar_track) = 176 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 528 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, confirmation by M of N hits or by probability of existence; RAM: sizeof(struct sonar_track) = 184 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 904 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
 #include <stdint.h>
 
+#include "sonar/clutter.h"
 #include "sonar/config.h"
 #include "sonar/err.h"
 #include "sonar/pose.h"
@@ -59,10 +60,30 @@ enum sonar_track_state {
 /* A track has moved when its filtered position leaves a disc of this radius about where it last moved, metres.
    (Structure, an echo there from the first look that never moved, is not tracked: structure.h.) */
 #define SONAR_TRK_STILL_M 0.3f
+#define SONAR_TRK_LEFT_ONCE 2u /* sonar_track.moved: left its disc on its last hit, not yet on two */
 /* The rest model's position wander, m/s per root second (a floating body bobbing): variance grows REST^2 x dt. */
 #define SONAR_TRK_REST_MPS 0.05f
 /* Hits before a track that never moved is called structure (enum sonar_track_kind). */
 #define SONAR_TRK_KIND_HITS 4
+
+/*
+ * A track's probability of existence (the integrated PDA's, Musicki et al., with the one detection
+ * the assignment gives it; tracker_exist.c). Each look it survives with SONAR_TRK_EXIST_SURVIVE;
+ * a miss where it was in view multiplies the odds by 1 - P_D P_G; a hit by 1 - P_D (P_G - g / rho),
+ * g the detection's likelihood under its models (per m^2) and rho the clutter density there
+ * (clutter.h): a detection where clutter is rare is good evidence, one where it flickers every look
+ * is little. P_D is the track's own (its hits over its looks, starting from SONAR_TRK_EXIST_PD),
+ * so a faint far swimmer seen every other look is not ended by the looks that miss it.
+ */
+#define SONAR_TRK_EXIST_BIRTH 0.5f    /* a new track's, from one detection nothing else explains */
+#define SONAR_TRK_EXIST_CONFIRM 0.9f  /* confirmed at or above */
+#define SONAR_TRK_EXIST_ALARM 0.97f   /* established at or above: alarms only on such tracks (activity.h) */
+#define SONAR_TRK_EXIST_DOUBT 0.5f    /* a confirmed track hit below it is tentative again, until it earns CONFIRM */
+#define SONAR_TRK_EXIST_END 0.1f      /* a confirmed track below it ends ... */
+#define SONAR_TRK_EXIST_END_NEW 0.05f /* ... a tentative one below this */
+#define SONAR_TRK_EXIST_SURVIVE 0.98f /* the chance a real object is still there a look later */
+#define SONAR_TRK_EXIST_PD 0.9f       /* a new track's chance to be detected when in view; 0.5 .. 0.95 as it learns its own */
+#define SONAR_TRK_EXIST_PG 0.99f      /* the chance its detection falls inside the gate */
 
 struct sonar_tracker_config {
     float accel_mps2;     /* acceleration noise std, m/s^2, 0.001..10 */
@@ -80,6 +101,8 @@ struct sonar_tracker_config {
     uint8_t imm;          /* 1: the three models; 0: near constant velocity alone */
     uint8_t defer;        /* 1: keep the likeliest other assignments of a sweep and let the next look decide
                              (IDs may then be revised, each revision said); 0: each sweep's assignment is final */
+    uint8_t existence;    /* 1: confirmed and ended by probability of existence (SONAR_TRK_EXIST_*); 0: confirmed
+                             by confirm_m of confirm_n hits and ended after max_misses misses (sonard before issue 51) */
 };
 
 /*
@@ -111,12 +134,17 @@ struct sonar_track {
     uint32_t still_ms;   /* ms it had stood still at utime: since it last moved more than SONAR_TRK_STILL_M, or was born */
     uint8_t mode;        /* enum sonar_track_mode at its last hit */
     uint8_t kind;        /* enum sonar_track_kind */
-    uint8_t moved;       /* 1 once it has moved more than SONAR_TRK_STILL_M from where it was born */
+    uint8_t moved;       /* 1 once it has moved more than SONAR_TRK_STILL_M from where it was born, on two hits
+                            in a row; SONAR_TRK_LEFT_ONCE after the first of them; else 0 */
     uint8_t mu[SONAR_TRK_MODELS]; /* the models' probabilities at its last hit, 0..255 (255 = 1) */
     uint8_t chance;      /* 1: this sweep's detection came in the second chance (tracker.c), under its models' own gates */
     uint8_t activity;    /* enum sonar_activity_kind (activity.h), set after each look; 0 unknown */
     uint8_t alarms;      /* SONAR_ALARM_* bits (activity.h) */
     int8_t echo_corr;    /* its echo's look-to-look correlation x 100, averaged (activity.h); -128: none */
+    uint16_t looks;      /* sweeps it was in view or hit (saturating): its own P_D is hits over these */
+    uint8_t exists;      /* 1 once its existence reached SONAR_TRK_EXIST_ALARM, until it falls below SONAR_TRK_EXIST_DOUBT */
+    float existence;     /* probability it is a real object, 0..1 (SONAR_TRK_EXIST_*) */
+    float lik;           /* this sweep's detection's likelihood under its models, per m^2 (0: none) */
     struct sonar_track_model m[SONAR_TRK_MODELS]; /* the IMM, mixed for the next step; px .. pc above combine them */
 };
 
@@ -135,6 +163,10 @@ struct sonar_tracker_sweep {
                              the tracks' frame; NULL: everywhere */
     float min_range_m, max_range_m; /* the ranges scanned (a track predicted inside min_range is out of view) */
     float origin_x, origin_y; /* the sonar's position at utime in the tracks' frame (0, 0 in the body frame) */
+    struct sonar_clutter *clutter; /* the site's clutter map about origin: its look taken over cover and the ranges
+                                      first (what the last sweep taught), then each track's evidence judged against
+                                      it and the detections tentative tracks took taught to it; NULL: the floor
+                                      density everywhere, nothing taught */
 };
 
 /*
@@ -187,6 +219,7 @@ struct sonar_tracker {
      * cost[d][k] holds detection d's cost for track slot k.
      */
     const struct sonar_tracker_obs *cache_obs;
+    const struct sonar_tracker_sweep *cur_sw; /* the sweep being updated (its clutter map and origin), else NULL */
     uint64_t cache_known[SONAR_MAX_CLUSTERS];
     float cache_cost[SONAR_MAX_CLUSTERS][SONAR_MAX_TRACKS];
 };
@@ -215,9 +248,10 @@ SONAR_CHECK int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_
  * track instead), offers what is left to the confirmed tracks that found nothing under each of
  * their models' own gates (a second assignment), keeps the likeliest other assignments for the
  * next look, updates, confirms, coasts, deletes, and starts tentative tracks from the detections
- * left over. A track's det is its detection's index in obs. Bad detections and full tables are
- * counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG (tk or sw NULL, or obs NULL with n > 0;
- * nothing changed).
+ * left over; each track's existence moved by its hit or miss (sw's clutter map, whose look it takes
+ * first). A track's det is its detection's index in obs. Bad detections and full tables are
+ * counted, never fatal. Returns SONAR_OK, or SONAR_ERR_ARG (tk or sw NULL, obs NULL with n > 0, or
+ * sw's clutter map with a max_range_m it cannot take: nothing changed).
  */
 SONAR_CHECK int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, unsigned n,
                                      const struct sonar_tracker_sweep *sw);

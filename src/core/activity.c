@@ -226,6 +226,16 @@ static unsigned bits(unsigned v)
     return n;
 }
 
+/*
+ * Whether t may raise an alarm: confirmed, and its existence established (tracker.h: it reached
+ * SONAR_TRK_EXIST_ALARM and has not fallen below SONAR_TRK_EXIST_DOUBT since). The water's own
+ * echoes hop from place to place and seldom get there; a person seen look after look does.
+ */
+static int alarmable(const struct sonar_track *t)
+{
+    return t->state != SONAR_TRACK_TENTATIVE && t->exists;
+}
+
 /* One track's look: its windows compared, its positions and verdict moved on, its alarms set. */
 static void look(struct sonar_act_slot *s, struct sonar_track *t, int64_t utime, float still_alarm_s, int world)
 {
@@ -248,9 +258,10 @@ static void look(struct sonar_act_slot *s, struct sonar_track *t, int64_t utime,
     t->echo_corr = (int8_t)(s->ncorr > 0 ? floorf(100.0f * mean + 0.5f) : SONAR_ACT_NO_CORR);
     s->struggled = (uint8_t)((s->struggled << 1) | (t->activity == SONAR_ACT_STRUGGLING));
     t->alarms = 0;
-    if (bits(s->struggled & 7u) >= 2 && t->state != SONAR_TRACK_TENTATIVE)
+    if (alarmable(t) && bits(s->struggled & 7u) >= 2)
         t->alarms |= SONAR_ALARM_STRUGGLE;
-    if (still_alarm_s > 0.0f && t->activity != SONAR_ACT_MOVING && sonar_track_still_s(t, utime) >= still_alarm_s)
+    if (alarmable(t) && still_alarm_s > 0.0f && t->activity != SONAR_ACT_MOVING &&
+        sonar_track_still_s(t, utime) >= still_alarm_s)
         t->alarms |= SONAR_ALARM_STILL;
     s->hit = t->det >= 0;
     s->have_prev = s->w[s->cur].rows != 0;

@@ -143,6 +143,17 @@ int32_t sonar_bgfile_write(const struct sonar_background *bg, const struct sonar
     return (int32_t)l.size;
 }
 
+size_t sonar_bgfile_declared(const uint8_t *in, size_t len)
+{
+    struct sonar_bgfile_layout l;
+    if (in == NULL || len < SONAR_BGFILE_HEADER || memcmp(in, magic, sizeof(magic)) != 0 ||
+        sonar_le16(in + 8) != SONAR_BGFILE_VERSION || sonar_le16(in + 12) == 0 || sonar_le16(in + 12) > SONAR_MAX_SAMPLES ||
+        in[19] > SONAR_MAX_CLUSTERS || sonar_bgfile_layout(sonar_le16(in + 12), in[18], in[19], &l) != SONAR_OK ||
+        l.size > len)
+        return len;
+    return l.size;
+}
+
 int sonar_bgfile_check(const uint8_t *in, size_t len, struct sonar_bgfile_meta *m, const char **why)
 {
     struct sonar_bgfile_layout l;

@@ -59,6 +59,11 @@ void sonar_pipeline_set_activity(struct sonar_pipeline *p, struct sonar_activity
     p->act = act;
 }
 
+void sonar_pipeline_set_clutter(struct sonar_pipeline *p, struct sonar_clutter *clutter)
+{
+    p->clutter = clutter;
+}
+
 void sonar_pipeline_set_survey(struct sonar_pipeline *p, struct sonar_survey *sv)
 {
     p->sv = sv;

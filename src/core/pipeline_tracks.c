@@ -238,6 +238,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     sw.max_range_m = have_cover ? p->range_m : (float)SONAR_PIPE_MAX_RANGE_M;
     sw.origin_x = world ? w->pose.north_m : 0.0f;
     sw.origin_y = world ? w->pose.east_m : 0.0f;
+    sw.clutter = have_cover ? p->clutter : NULL; /* detections alone (no beams) say nothing of where they looked */
     if ((r = sonar_tracker_update(&p->trk, obs, no, &sw)) != SONAR_OK)
         return r;
     sonar_tracker_static_start(&p->trk, still, no);

@@ -178,7 +178,9 @@ int sonar_survey_rec_sweep(struct sonar_survey_rec *rec, const struct sonar_trac
             rec->path[k].hits++;
         if (rec->path[k].hits == SONAR_SURVEY_PATH)
             mean_of(&rec->path[k], &rec->path[k].x0, &rec->path[k].y0);
-        if (rec->path[k].n == SONAR_SURVEY_PATH &&
+        /* Only what exists is judged: clutter hops joined into a track wander metres a look but seldom hold their
+           existence (tracker.h); a swimmer's track does, and only the swimmer must refuse the survey. */
+        if (rec->path[k].n == SONAR_SURVEY_PATH && t->existence >= SONAR_TRK_EXIST_ALARM &&
             ((rec->sweeps - rec->path[k].sweep[0] <= SONAR_SURVEY_PATH + 1u && went(rec->path[k].x, rec->path[k].y, &d)) ||
              (rec->path[k].hits >= 2 * SONAR_SURVEY_PATH && drifted(&rec->path[k], &d)))) {
             rec->moved_id = t->id;

@@ -1,4 +1,4 @@
-/* tracker.c -- the tracks' life: configuration, frames, one update (the last look's alternatives read, a cascade of gated assignments in tracker_assign.c, the IMM in tracker_imm.c, alternatives kept in tracker_defer.c), M-of-N confirmation, coasting and ends; O(detections^2 x (tracks + detections)) per sweep, no heap. */
+/* tracker.c -- the tracks' life: configuration, frames, one update (the last look's alternatives read, a cascade of gated assignments in tracker_assign.c, the IMM in tracker_imm.c, alternatives kept in tracker_defer.c), confirmation, coasting and ends by existence in tracker_exist.c; O(detections^2 x (tracks + detections)) per sweep, no heap. */
 #include "sonar/tracker.h"
 
 #include <math.h>
@@ -24,6 +24,7 @@ void sonar_tracker_defaults(struct sonar_tracker_config *cfg)
     cfg->max_dt_s = 120.0f;
     cfg->imm = 1;
     cfg->defer = 1;
+    cfg->existence = 0;
 }
 
 const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
@@ -52,6 +53,8 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *c)
         return "imm: 0 (near constant velocity alone) or 1 (three models)";
     if (c->defer > 1)
         return "defer: 0 (each sweep final) or 1 (the next look decides)";
+    if (c->existence > 1)
+        return "existence: 0 (hit counts) or 1 (probability of existence)";
     return NULL;
 }
 
@@ -208,19 +211,6 @@ static int visible(const struct sonar_track *t, const struct sonar_tracker_sweep
     return (int)(((unsigned)sw->cover[a / 8] >> (unsigned)(a % 8)) & 1u);
 }
 
-static unsigned popcount8(unsigned v)
-{
-    unsigned n = 0;
-    for (; v != 0; v &= v - 1u)
-        n++;
-    return n;
-}
-
-static uint16_t sat_inc(uint16_t v)
-{
-    return v == UINT16_MAX ? v : (uint16_t)(v + 1u);
-}
-
 float sonar_track_still_s(const struct sonar_track *t, int64_t utime)
 {
     double s = (double)t->still_ms * 1e-3 + (double)(utime - t->utime) * 1e-6;
@@ -243,15 +233,20 @@ static void after_hit(struct sonar_track *t, const struct sonar_tracker_obs *o, 
     float dx = t->px - t->ax, dy = t->py - t->ay;
     int64_t ms = (t->utime - was) / 1000;
     t->size_dm = size_dm(o->size_m);
-    if (dx * dx + dy * dy > SONAR_TRK_STILL_M * SONAR_TRK_STILL_M) {
+    /* The first move takes two hits in a row outside the disc: one stray echo taken beside a place that has
+       stood since it was born must not make it a mover for good (an emptied real pool: docs/decisions.md). */
+    if (dx * dx + dy * dy > SONAR_TRK_STILL_M * SONAR_TRK_STILL_M && t->moved != 0) {
         t->ax = t->px;
         t->ay = t->py;
         t->still_ms = 0;
         t->moved = 1;
+    } else if (dx * dx + dy * dy > SONAR_TRK_STILL_M * SONAR_TRK_STILL_M) {
+        t->moved = SONAR_TRK_LEFT_ONCE;
     } else {
+        t->moved = t->moved == SONAR_TRK_LEFT_ONCE ? 0 : t->moved;
         t->still_ms = ms >= (int64_t)(UINT32_MAX - t->still_ms) ? UINT32_MAX : t->still_ms + (uint32_t)ms;
     }
-    if (t->moved) /* by its models, not by the disc: a drifting float leaves its disc now and then, and stays at rest */
+    if (t->moved == 1) /* by its models, not by the disc: a drifting float leaves its disc now and then, and stays at rest */
         t->kind = t->mode == SONAR_TRACK_RESTING ? SONAR_TRACK_KIND_RESTING : SONAR_TRACK_KIND_MOVING;
     else
         t->kind = t->hits + 1u >= SONAR_TRK_KIND_HITS ? SONAR_TRACK_KIND_STILL : SONAR_TRACK_KIND_NEW;
@@ -278,49 +273,12 @@ void sonar_trk_hit(const struct sonar_tracker *tk, struct sonar_track *t, const 
     int64_t was = t->utime;
     if (o->utime > t->utime)
         t->utime = o->utime;
+    /* Its likelihood per m^2 before the update (the cost is -2 ln of it x 2 pi r2): the evidence that it exists. */
+    float c = sonar_trk_imm_cost(tk, t, o, r2, dt, tk->cfg.imm ? 1 : t->chance);
+    t->lik = c < SONAR_TRK_OUTSIDE ? expf(-0.5f * c) / (6.2831853f * r2) : 0.0f;
     (void)sonar_trk_imm_hit(tk, t, o, r2, dt);
     after_hit(t, o, was);
     t->det = (int8_t)det;
-}
-
-int sonar_trk_account(const struct sonar_tracker *tk, struct sonar_track *t, int hit, int seen)
-{
-    const unsigned window = (1u << tk->cfg.confirm_n) - 1u;
-    int keep = 1;
-    if (hit) {
-        t->hits = sat_inc(t->hits);
-        t->misses = 0;
-        t->unseen = 0;
-        t->history = (uint8_t)((((unsigned)t->history << 1) | 1u) & window);
-        t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
-        if (t->state == SONAR_TRACK_COASTING ||
-            (t->state == SONAR_TRACK_TENTATIVE && popcount8(t->history) >= tk->cfg.confirm_m))
-            t->state = SONAR_TRACK_CONFIRMED;
-        return 1;
-    }
-    if (seen) {
-        t->misses = sat_inc(t->misses);
-        t->history = (uint8_t)(((unsigned)t->history << 1) & window);
-        t->seen = (uint8_t)(t->seen < tk->cfg.confirm_n ? t->seen + 1u : t->seen);
-        if (t->state == SONAR_TRACK_TENTATIVE) {
-            /* Dead once the misses in its window leave fewer than M possible hits. */
-            keep = t->seen - popcount8(t->history) <= (unsigned)(tk->cfg.confirm_n - tk->cfg.confirm_m);
-        } else {
-            t->state = SONAR_TRACK_COASTING;
-            keep = t->misses < tk->cfg.max_misses;
-        }
-    }
-    /*
-     * Out of view (gone round the edge of a sector, say) a track can be neither hit nor missed: it
-     * coasts, and a bound on its sweeps without a hit ends it, so one that left for good is not
-     * published for as long as its covariance takes to grow.
-     */
-    t->unseen = (uint8_t)(t->unseen < UINT8_MAX ? t->unseen + 1u : t->unseen);
-    if (t->state == SONAR_TRACK_CONFIRMED)
-        t->state = SONAR_TRACK_COASTING;
-    if (t->unseen >= 2u * tk->cfg.max_misses)
-        keep = 0;
-    return keep;
 }
 
 /* Long: the cascade of assignments, then confirmation, coasting and births, in the order the contract above
@@ -340,6 +298,8 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         tk->empty_sweeps++;
         return SONAR_OK;
     }
+    if (sw->clutter != NULL && sonar_clutter_look(sw->clutter, sw->cover, sw->min_range_m, sw->max_range_m) != SONAR_OK)
+        return SONAR_ERR_ARG;
     tk->sweeps++;
     if (n > SONAR_MAX_CLUSTERS) {
         tk->dropped += n - SONAR_MAX_CLUSTERS;
@@ -371,10 +331,12 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
                     tk->t[k].utime = earliest;
         }
     }
+    tk->cur_sw = sw;
     for (k = 0; k < tk->n; k++) {
         tk->t[k].det = -1;
+        tk->t[k].lik = 0.0f;
         tk->t[k].chance = 0;
-        tk->t[k].age = sat_inc(tk->t[k].age);
+        tk->t[k].age = sonar_trk_sat_inc(tk->t[k].age);
     }
     /* The last sweep's other hypotheses, read against this sweep's detections. */
     tk->nrev = 0;
@@ -466,11 +428,8 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
             t = &tk->t[tk->n++];
             memset(t, 0, sizeof(*t));
             t->id = tk->next_id++;
-            t->state = tk->cfg.confirm_m <= 1 ? SONAR_TRACK_CONFIRMED : SONAR_TRACK_TENTATIVE;
-            t->history = 1;
-            t->seen = 1;
+            sonar_trk_exist_birth(tk, t);
             t->det = (int8_t)rows[i];
-            t->hits = 1;
             t->utime = o->utime;
             t->px = o->x_m;
             t->py = o->y_m;
@@ -485,7 +444,9 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
         tk->last_utime = obs[rows[i]].utime > tk->last_utime ? obs[rows[i]].utime : tk->last_utime;
     tk->last_utime = sw->utime > tk->last_utime ? sw->utime : tk->last_utime;
     tk->clock_gaps += (uint32_t)clipped;
+    sonar_trk_exist_teach(tk, obs, sw);
     sonar_trk_cache_reset(tk, NULL); /* the hits moved the tracks: nothing in it holds now */
+    tk->cur_sw = NULL;
     return SONAR_OK;
 }
 
@@ -494,7 +455,7 @@ void sonar_tracker_static_start(struct sonar_tracker *tk, const uint8_t *is_stat
     uint8_t k;
     for (k = 0; k < tk->n; k++) {
         struct sonar_track *t = &tk->t[k];
-        if (t->det >= 0 && (unsigned)t->det < n && is_static[t->det] && !t->moved)
+        if (t->det >= 0 && (unsigned)t->det < n && is_static[t->det] && t->moved != 1)
             t->kind = SONAR_TRACK_KIND_STATIC_START;
     }
 }

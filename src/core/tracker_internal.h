@@ -7,6 +7,12 @@
 #define SONAR_TRK_LOST_M2 100.0f /* position variance beyond which a coasting prediction says nothing: (10 m)^2 */
 #define SONAR_TRK_MERGED (-2)    /* det while a track coasts through a merged echo (one update only) */
 
+/* v + 1, saturating at 65535. */
+static inline uint16_t sonar_trk_sat_inc(uint16_t v)
+{
+    return v == UINT16_MAX ? v : (uint16_t)(v + 1u);
+}
+
 /* Seconds from t's state to utime: never negative (no prediction backwards), clipped at max_dt_s (*clipped = 1). */
 float sonar_trk_step_s(const struct sonar_tracker *tk, const struct sonar_track *t, int64_t utime, int *clipped);
 
@@ -73,10 +79,22 @@ float sonar_trk_fresh(const struct sonar_tracker *tk, float r2);
 float sonar_trk_best_total(const float (*cost)[SONAR_MAX_TRACKS], uint8_t rows, uint8_t nc, float fresh);
 
 /*
- * Its life after a sweep (tracker.c): a hit (hit 1), a miss where it was visible (hit 0, visible
- * 1), or out of view; confirmation, coasting; returns 0 when it should end.
+ * Its life after a sweep (tracker_exist.c): a hit (hit 1), a miss where it was visible (hit 0,
+ * visible 1), or out of view; its existence (read against tk->cur_sw's clutter map, if any),
+ * confirmation, coasting; returns 0 when it should end.
  */
 int sonar_trk_account(const struct sonar_tracker *tk, struct sonar_track *t, int hit, int visible);
+
+/* A new track's life so far: one hit, tentative (confirmed at once when confirm_m is 1 under hit counts). */
+void sonar_trk_exist_birth(const struct sonar_tracker *tk, struct sonar_track *t);
+
+/*
+ * After the sweep's tracks are hit and confirmed: each detection that a tentative track took (a
+ * newborn's included) teaches sw's clutter map; a confirmed track's never does. A faint swimmer's
+ * tentative track teaches its own place too: the cost measured in docs/decisions.md.
+ */
+void sonar_trk_exist_teach(const struct sonar_tracker *tk, const struct sonar_tracker_obs *obs,
+                           const struct sonar_tracker_sweep *sw);
 
 /*
  * Deferred association (tracker_defer.c). _offer: after the passes, before any hit is applied,

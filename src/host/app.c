@@ -202,6 +202,8 @@ int app_init(struct app **out, struct app_storage *mem, const struct sonar_pipel
     if (sonar_activity_init(&a->act) != SONAR_OK)
         return HOST_ERR_CONFIG;
     sonar_pipeline_set_activity(&a->pipe, &a->act);
+    sonar_clutter_init(&a->clutter);
+    sonar_pipeline_set_clutter(&a->pipe, &a->clutter);
     sonar_survey_init(&a->survey, &a->spread, a->survey_places);
     sonar_pipeline_set_survey(&a->pipe, &a->survey);
     if (dcfg != NULL) {

@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 097 360 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 099 368 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -65,6 +65,7 @@ struct app_storage {
     struct sonar_background bg_;
     struct sonar_survey_spread spread_;
     struct sonar_activity act_;
+    struct sonar_clutter clutter_;
     unsigned char rest_[APP_STORAGE_REST];
 };
 
@@ -184,7 +185,8 @@ uint32_t app_rows_bad(const struct app *a);
 float app_last_sweep_s(const struct app *a);
 
 /*
- * A site's survey, or a recorded background (a bgfile.h image of len bytes, read by the caller and
+ * A site's survey, or a recorded background (a bgfile.h image of len bytes, a clutter map after it
+ * or not (app_clutter_image; one that does not decode is said and learnt afresh), read by the caller and
  * kept by it for the app's life: it is taken back from there when the beams fit it again after a
  * misfit): checked whole, its filters against the running configuration; then the angles it knows
  * are judged against it (sonar_pipeline_load_background), and every beam and sweep against its
@@ -194,11 +196,19 @@ float app_last_sweep_s(const struct app *a);
 HOST_CHECK int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen);
 
 /*
- * The learnt model as a bgfile.h image into out (cap bytes). Returns its length, or < 0 with err
+ * The learnt model as a bgfile.h image into out (cap bytes), the clutter map after it (app_clutter_image).
+ * Returns its length, or < 0 with err
  * saying why: HOST_ERR_STATE (no beam yet, the model is in the world frame, or a survey is in use:
  * nothing was learnt over it), HOST_ERR_REFUSED (out too small).
  */
 HOST_CHECK int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char *err, size_t errlen);
+
+/*
+ * The site's clutter map (clutter.h's bytes, SONAR_CLUTTER_WIRE of them) into out (cap bytes), for a
+ * survey or background file to carry after its image. Returns the bytes written, 0 when nothing is
+ * learnt yet (no look taken), or SONAR_ERR_SPACE.
+ */
+HOST_CHECK int32_t app_clutter_image(const struct app *a, uint8_t *out, size_t cap);
 
 /* The survey as it is now: its state, why, meta and places (sonar/survey.h). */
 const struct sonar_survey *app_survey(const struct app *a);

@@ -1,4 +1,4 @@
-/* app_bg.c -- the app's site survey (or recorded background): loaded and checked against the configuration, its fate said beam by beam (given up, taken back), the learnt model as an image; no RAM beyond struct app. */
+/* app_bg.c -- the app's site survey (or recorded background) and the clutter map after it: loaded and checked against the configuration, its fate said beam by beam (given up, taken back), the learnt model as an image; no RAM beyond struct app. */
 #include "app_internal.h"
 
 #include <math.h>
@@ -22,13 +22,52 @@ static const char *gain_str(uint8_t g)
     return g == 0 ? "0" : g == 1 ? "1" : g == 2 ? "2" : "unknown";
 }
 
+/*
+ * The clutter map after a site file's image (tail bytes of it; none in a file written before sonard
+ * kept one): loaded, or learnt afresh, and said either way. A damaged map never costs the survey.
+ */
+static void clutter_load(struct app *a, const uint8_t *tail, size_t len)
+{
+    struct sonar_clutter_summary s;
+    int r;
+    if (len == 0) {
+        app_say(a, "clutter map: none in the file (written before sonard kept one): learnt as sonard runs");
+        return;
+    }
+    if ((r = sonar_clutter_decode(&a->clutter, tail, len)) != SONAR_OK) {
+        sonar_clutter_init(&a->clutter);
+        app_warn(a, "clutter map: refused, %s: learnt afresh as sonard runs",
+                 r == SONAR_ERR_ID       ? "another grid than this build's (bands x sectors)"
+                 : r == SONAR_ERR_LENGTH ? "truncated or too long"
+                                         : "damaged (its checksum or a value is wrong)");
+        return;
+    }
+    sonar_clutter_summarise(&a->clutter, &s);
+    app_say(a, "clutter map: loaded, learnt over %u looks: %.2f false detections a look expected, densest %.3f a m^2 at "
+               "%.1f m, %.0f gradians",
+            (unsigned)s.looks, (double)s.per_look, (double)s.peak, (double)s.peak_range_m, (double)s.peak_bearing_g);
+}
+
+int32_t app_clutter_image(const struct app *a, uint8_t *out, size_t cap)
+{
+    struct sonar_clutter_summary s;
+    sonar_clutter_summarise(&a->clutter, &s);
+    if (s.looks == 0)
+        return 0;
+    return sonar_clutter_encode(&a->clutter, out, cap);
+}
+
 int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err, size_t errlen)
 {
     const struct sonar_pipeline_config *c = sonar_pipeline_running(&a->pipe);
     struct sonar_bgfile_meta m;
     const char *why;
     char date[40];
-    if (sonar_bgfile_check(img, len, &m, &why) != SONAR_OK) {
+    /* The image, then a clutter map if the file has one (a tail that is not one: refused as trailing bytes). */
+    size_t head = sonar_bgfile_declared(img, len);
+    if (len - head < 4 || memcmp(img + head, "SCM1", 4) != 0)
+        head = len;
+    if (sonar_bgfile_check(img, head, &m, &why) != SONAR_OK) {
         snprintf(err, errlen, "%s", why);
         return HOST_ERR_CONFIG;
     }
@@ -37,12 +76,12 @@ int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err
                  m.median2d, c->median2d ? 1u : c->median, c->median2d);
         return HOST_ERR_CONFIG;
     }
-    if (sonar_pipeline_load_background(&a->pipe, img, len, &why) != SONAR_OK) {
+    if (sonar_pipeline_load_background(&a->pipe, img, head, &why) != SONAR_OK) {
         snprintf(err, errlen, "%s", why);
         return HOST_ERR_CONFIG;
     }
     a->survey_img = img;
-    a->survey_len = len;
+    a->survey_len = head;
     a->survey_state = SONAR_SURVEY_IN_USE;
     a->survey_why = SONAR_SURVEY_OK;
     date_of(m.utime, date, sizeof(date));
@@ -54,6 +93,7 @@ int app_background_load(struct app *a, const uint8_t *img, size_t len, char *err
         app_say(a, "background: loaded, %u samples over %.3f m at gain %s, learnt over %u sweeps (%s): learnt on from "
                    "(a learnt model, not a survey: what stands in it from the start may be learnt)",
                 m.n, (double)m.range_mm * 1e-3, gain_str(m.gain), m.sweeps, date);
+    clutter_load(a, img + head, len - head);
     return HOST_OK;
 }
 
@@ -162,6 +202,10 @@ int32_t app_background_image(const struct app *a, uint8_t *out, size_t cap, char
         return HOST_ERR_STATE;
     }
     r = sonar_pipeline_save_background(&a->pipe, &m, out, cap);
+    if (r >= 0) { /* the clutter map after it, loaded with it */
+        int32_t k = app_clutter_image(a, out + r, cap - (size_t)r);
+        r = k < 0 ? k : r + k;
+    }
     if (r == SONAR_ERR_STATE)
         snprintf(err, errlen, "background: nothing to save (a world-frame model, tied to where the vehicle was, or a "
                               "mode without per-angle rows)");

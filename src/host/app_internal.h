@@ -17,6 +17,7 @@ struct app {
     struct sonar_pipeline pipe;
     struct sonar_background bg; /* the pipeline's */
     struct sonar_activity act;  /* the pipeline's: its tracks' echo windows */
+    struct sonar_clutter clutter; /* the pipeline's: the site's clutter map */
     struct sonar_device dev;
     int have_dev;
     struct sonar_scan scan;     /* follow mode: chooses each request's angle (app_set_scan) */

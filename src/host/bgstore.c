@@ -13,7 +13,7 @@
 /* Two of the largest image (SONAR_BGFILE_MAX), + 1: a longer file is seen to be longer. The one the app holds
    (app_background_load keeps it to take the survey back) is never read into: a survey recorded while running is
    loaded into the other, so a file that fails leaves the one in use whole. The second's pages are touched only then. */
-static uint8_t images[2][SONAR_BGFILE_MAX + 1];
+static uint8_t images[2][SONAR_BGFILE_MAX + SONAR_CLUTTER_WIRE + 1];
 
 /* The buffer the app does not hold. */
 static uint8_t *free_image(const struct app *a)

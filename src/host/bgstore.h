@@ -1,4 +1,4 @@
-/* bgstore.h -- a site's survey and --background-load / --background-save: the file read whole and checked, written atomically (temporary file, fsync, rename); RAM: two image buffers, static (SONAR_BGFILE_MAX + 1: 963 894 B each at the default limits; the second touched only by a survey loaded while running). */
+/* bgstore.h -- a site's survey and --background-load / --background-save: the file read whole and checked, written atomically (temporary file, fsync, rename); RAM: two image buffers, static (SONAR_BGFILE_MAX + SONAR_CLUTTER_WIRE + 1: 965 522 B each at the default limits, a clutter map after the image; the second touched only by a survey loaded while running). */
 #ifndef SONARD_BGSTORE_H
 #define SONARD_BGSTORE_H
 

@@ -62,7 +62,8 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                     i ? "," : "", t->id, sonar_track_state_str(t->state), t->utime, (double)body(v, t, i, 0),
                     (double)body(v, t, i, 1), (double)body(v, t, i, 2), (double)body(v, t, i, 3), (unsigned)t->age,
                     (unsigned)t->hits, (int)t->det, (double)sonar_track_still_s(t, d->utime));
-            fprintf(f, ",\"mode\":\"%s\",\"kind\":\"%s\"", sonar_track_mode_str(t->mode), sonar_track_kind_str(t->kind));
+            fprintf(f, ",\"existence\":%.3f,\"mode\":\"%s\",\"kind\":\"%s\"", (double)t->existence,
+                    sonar_track_mode_str(t->mode), sonar_track_kind_str(t->kind));
             activity_json(f, t);
             if (v != NULL && v->world)
                 fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f,\"vn_mps\":%.3f,\"ve_mps\":%.3f", (double)t->px,

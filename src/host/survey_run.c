@@ -99,6 +99,15 @@ int survey_run_finish(struct survey_run *r, struct app *a, const struct sonard_o
         snprintf(err, errlen, "survey: refused, nothing written: %s", sonar_err_str(len));
         return HOST_ERR_REFUSED;
     }
+    {
+        /* The clutter map learnt over the same sweeps, after the image: a site's false echoes come with its survey. */
+        int32_t map = app_clutter_image(a, r->image + len, sizeof(r->image) - (size_t)len);
+        if (map < 0) {
+            snprintf(err, errlen, "survey: refused, nothing written: the clutter map: %s", sonar_err_str(map));
+            return HOST_ERR_REFUSED;
+        }
+        len += map;
+    }
     if (bgstore_write("survey", o->survey, r->image, (size_t)len, err, errlen) != HOST_OK)
         return HOST_ERR_IO;
     for (k = 0; k < np; k++)

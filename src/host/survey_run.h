@@ -1,4 +1,4 @@
-/* survey_run.h -- sonard --survey N: the empty site recorded while sonard runs as usual, then checked (nothing moved, every angle of the sector known), written atomically and summed up; RAM: sizeof(struct survey_run) = 4 355 368 B (the recording's sums, a detector, the image). */
+/* survey_run.h -- sonard --survey N: the empty site recorded while sonard runs as usual, then checked (nothing moved, every angle of the sector known), written atomically and summed up; RAM: sizeof(struct survey_run) = 4 357 000 B (the recording's sums, a detector, the image). */
 #ifndef SONARD_SURVEY_RUN_H
 #define SONARD_SURVEY_RUN_H
 
@@ -7,13 +7,14 @@
 #include "app.h"
 #include "options.h"
 #include "sonar/bgfile.h"
+#include "sonar/clutter.h"
 #include "sonar/survey.h"
 
 struct survey_run {
     struct sonar_survey_rec rec;
     struct sonar_detector det; /* finds the site's structure in the levels */
     struct sonar_detection places[SONAR_MAX_CLUSTERS];
-    uint8_t image[SONAR_BGFILE_MAX];
+    uint8_t image[SONAR_BGFILE_MAX + SONAR_CLUTTER_WIRE]; /* the survey's image, its clutter map after it */
 };
 
 /* Starts recording: every beam after the median and every sweep's tracks of a go into r (app_record_survey; ends_run:

@@ -19,6 +19,7 @@ struct fw {
     struct sonar_pipeline pipe;
     struct sonar_background *bg;     /* the pipeline's, in the board's large bank (BOARD_LARGE) */
     struct sonar_activity *act;      /* the pipeline's tracks' echo windows, in the large bank too */
+    struct sonar_clutter *clutter;   /* the site's clutter map the tracks are judged against, in the large bank too */
     uint16_t beam_every;             /* forward every Nth raw beam; 0 = none */
     uint32_t beams, sweeps, frames_dropped, config_errors, rejected;
     uint8_t long_said;               /* a beam longer than the build holds was said to the host, this configuration */
@@ -211,6 +212,8 @@ static void configure(struct fw *f, const uint8_t *p, uint16_t len, int64_t now)
         return;
     }
     sonar_pipeline_set_activity(&f->pipe, f->act);
+    sonar_clutter_init(f->clutter); /* learnt afresh, as the host's is when sonard starts */
+    sonar_pipeline_set_clutter(&f->pipe, f->clutter);
     f->long_said = 0;
     f->sweeps = 0;
     f->beams = 0;
@@ -248,6 +251,7 @@ int main(void)
     static struct fw f;                          /* main's own, not a shared global */
     static struct sonar_background bg BOARD_LARGE; /* sizeof(struct sonar_background): docs/sizes.md */
     static struct sonar_activity act BOARD_LARGE;  /* the tracks' echo windows (activity.h) */
+    static struct sonar_clutter clutter BOARD_LARGE; /* the site's clutter map (clutter.h) */
     int64_t now;
     board_init();
     memset(&f, 0, sizeof(f));
@@ -268,6 +272,9 @@ int main(void)
         return 1;
     f.act = &act;
     sonar_pipeline_set_activity(&f.pipe, f.act);
+    f.clutter = &clutter;
+    sonar_clutter_init(f.clutter);
+    sonar_pipeline_set_clutter(&f.pipe, f.clutter);
     now = board_micros();
     probe(&f, now);
     f.next_status = now + STATUS_US;

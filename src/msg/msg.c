@@ -119,6 +119,7 @@ void msg_tracks(const struct sonar_tracker *tk, const struct sonar_detections *d
         t[i].activity = (int8_t)s->activity;
         t[i].echo_corr = s->echo_corr == SONAR_ACT_NO_CORR ? NAN : (float)s->echo_corr / 100.0f;
         t[i].alarms = (int8_t)s->alarms;
+        t[i].existence = s->existence;
     }
     m->utime = d->utime;
     m->sweep = (int32_t)d->sweep;

@@ -86,6 +86,13 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->track_revisions = s->tracker.revisions;
     m->track_hyp_overflow = s->tracker.hyp_overflow;
     m->track_activity_unplaced = s->tracker.activity_unplaced;
+    m->clutter_looks = s->tracker.clutter.looks;
+    m->clutter_cells = (int16_t)s->tracker.clutter.cells_seen;
+    m->clutter_site = s->tracker.clutter.site;
+    m->clutter_per_look = s->tracker.clutter.per_look;
+    m->clutter_peak = s->tracker.clutter.peak;
+    m->clutter_peak_range_m = s->tracker.clutter.peak_range_m;
+    m->clutter_peak_bearing_grad = s->tracker.clutter.peak_bearing_g;
     m->pose_state = (int8_t)s->pose.state;
     m->pose_accepted = s->pose.accepted;
     m->pose_out_of_order = s->pose.out_of_order;
@@ -190,6 +197,13 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->tracker.revisions = to_u32(m->track_revisions);
     s->tracker.hyp_overflow = to_u32(m->track_hyp_overflow);
     s->tracker.activity_unplaced = to_u32(m->track_activity_unplaced);
+    s->tracker.clutter.looks = to_u32(m->clutter_looks);
+    s->tracker.clutter.cells_seen = (uint16_t)(m->clutter_cells < 0 ? 0 : m->clutter_cells);
+    s->tracker.clutter.site = m->clutter_site;
+    s->tracker.clutter.per_look = m->clutter_per_look;
+    s->tracker.clutter.peak = m->clutter_peak;
+    s->tracker.clutter.peak_range_m = m->clutter_peak_range_m;
+    s->tracker.clutter.peak_bearing_g = m->clutter_peak_bearing_grad;
     s->pose.state = m->pose_state;
     s->pose.accepted = to_u32(m->pose_accepted);
     s->pose.out_of_order = to_u32(m->pose_out_of_order);

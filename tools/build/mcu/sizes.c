@@ -1,6 +1,7 @@
 /* sizes.c -- not run: compiled for each target, its arrays' sizes (read back with nm -S by tools/build/sizes.sh) are the core's state structs' sizeof, for docs/sizes.md; no code. */
 #include "sonar/activity.h"
 #include "sonar/background.h"
+#include "sonar/clutter.h"
 #include "sonar/cpframe.h"
 #include "sonar/detector.h"
 #include "sonar/device.h"
@@ -27,6 +28,7 @@ SIZE(detector, sonar_detections)
 SIZE(tracker, sonar_tracker)
 SIZE(tracker, sonar_track)
 SIZE(tracker, sonar_trk_alt)
+SIZE(clutter, sonar_clutter)
 SIZE(activity, sonar_activity)
 SIZE(activity, sonar_act_slot)
 SIZE(median, sonar_median2d)
