@@ -120,8 +120,10 @@ for a in armhf arm64; do
     t3=$(date +%s)
     check "make ARCH=$a on the fresh system, its sysroot and cross compiler installed by it ($((t3 - t2)) s)" \
         sh -c "test $rc -eq 0 || { grep -m3 -i error '$F/$a.log'; tail -5 '$F/$a.log'; exit 1; }"
-    check "... the $a index of the mirror in mid-sync said by name on the way, and nothing failed for it" \
-        sh -c "grep -q 'package index not updated: .*mid-sync/dists/$SUITE/main/binary-$a' '$F/$a.log'"
+    # apt need not name every index of a source it could not fetch (one run named armhf's and amd64's, not arm64's,
+    # though all three were broken): any of the mid-sync source's, named, is the mirror said.
+    check "... the mirror in mid-sync said by name on the way (an index of it), and nothing failed for it" \
+        sh -c "grep -q 'package index not updated: .*mid-sync/dists/$SUITE/main/binary-' '$F/$a.log'"
     inside "$q -L build-$a/sysroot build-$a/sonard --replay /tmp/pool.csv --json --quiet --log-level warn > /tmp/$a.jsonl &&
             cmp /tmp/amd64.jsonl /tmp/$a.jsonl" > "$F/$a.replay.log" 2>&1; rc=$?
     check "... its sonard under $q replays the pool byte-equal to amd64's" \
