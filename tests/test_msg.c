@@ -489,12 +489,48 @@ static void tracks_carry_the_tracker(void **state)
     sonar_tracks_t_decode_cleanup(&in);
 }
 
+/* The clutter map with a status: every cell as the tracker reads it, band by band; none without a map. */
+static void clutter_map(void **state)
+{
+    static struct sonar_clutter map;
+    float density[SONAR_CLUTTER_BANDS * SONAR_CLUTTER_SECTORS];
+    struct sonar_status s;
+    sonar_clutter_t m, in;
+    int i, n;
+    (void)state;
+    memset(&s, 0, sizeof(s));
+    assert_int_equal(msg_clutter(&s, density, &m), 0);
+    sonar_clutter_init(&map);
+    for (i = 0; i < 20; i++) {
+        sonar_clutter_teach(&map, 0.0f, 5.0f, 1.0f); /* gradian 100 at 5 m: band 5 of 15 m, sector 6 */
+        assert_int_equal(sonar_clutter_look(&map, NULL, 0.0f, 15.0f), SONAR_OK);
+    }
+    s.utime = 77;
+    s.tracker.map = &map;
+    sonar_clutter_summarise(&map, &s.tracker.clutter);
+    assert_int_equal(msg_clutter(&s, density, &m), 1);
+    n = sonar_clutter_t_encode(wire, 0, (int)sizeof(wire), &m);
+    assert_true(n > 0);
+    assert_int_equal(sonar_clutter_t_decode(wire, 0, n, &in), n);
+    assert_true(in.utime == 77 && in.looks == 20 && in.range_m == 15.0f);
+    assert_int_equal(in.bands, SONAR_CLUTTER_BANDS);
+    assert_int_equal(in.sectors, SONAR_CLUTTER_SECTORS);
+    assert_int_equal(in.cells, SONAR_CLUTTER_BANDS * SONAR_CLUTTER_SECTORS);
+    assert_true(in.density[5 * SONAR_CLUTTER_SECTORS + 6] == sonar_clutter_cell(&map, 5, 6));
+    for (i = 0; i < in.cells; i++)
+        if (i != 5 * SONAR_CLUTTER_SECTORS + 6)
+            assert_true(in.density[i] < in.density[5 * SONAR_CLUTTER_SECTORS + 6]);
+    assert_true(in.site == s.tracker.clutter.site && in.per_look == s.tracker.clutter.per_look);
+    sonar_clutter_t_decode_cleanup(&in);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(beam_round_trip),
         cmocka_unit_test(status_round_trip),
         cmocka_unit_test(survey_places),
+        cmocka_unit_test(clutter_map),
         cmocka_unit_test(pose_round_trip),
         cmocka_unit_test(config_round_trip),
         cmocka_unit_test(config_bad_values_are_refused_by_name),

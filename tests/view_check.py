@@ -95,6 +95,22 @@ def main():
                        t.get("mode") in ("moving", "turning", "resting") for t in trk), json.dumps(trk)[:300])
         sv = js("return document.getElementById('survey').textContent")
         ok("with no survey loaded, the page says so: 'no survey: learning'", sv == "no survey: learning", repr(sv))
+        cm = js("return sonarView.clutter && {bands: sonarView.clutter.bands, sectors: sonarView.clutter.sectors, "
+                "n: sonarView.clutter.density.length, looks: sonarView.clutter.looks, "
+                "taught: new Set(sonarView.clutter.density.filter(d => d > 0)).size}")
+        ok("the clutter map (SONAR_CLUTTER) reaches the page: every cell, looks taken",
+           cm is not None and cm["n"] == cm["bands"] * cm["sectors"] and cm["looks"] > 0, json.dumps(cm))
+        violet = """const d = document.getElementById('overlay').getContext('2d').getImageData(0, 0, 720, 720).data;
+                   let n = 0; for (let i = 0; i < d.length; i += 4)
+                     if (d[i + 3] > 0 && d[i] > 200 && d[i + 1] < 100 && d[i + 2] > 200) n++;
+                   return n;"""
+        off = js(violet)
+        drv.find_element("id", "clutter").click()
+        time.sleep(0.5)
+        on = js(violet)
+        drv.find_element("id", "clutter").click()
+        ok("the clutter layer: off by default, switched on it shades the map's cells (violet pixels)",
+           off == 0 and on > 0, f"{off} -> {on} violet pixels, {cm['taught']} densities among the cells")
         c1 = js("return document.getElementById('image').toDataURL()")
         f1 = js("return sonarView.frames")
         time.sleep(2.0)

@@ -88,6 +88,12 @@ void sonar_clutter_teach(struct sonar_clutter *m, float x, float y, float n);
  */
 float sonar_clutter_density(const struct sonar_clutter *m, float x, float y);
 
+/*
+ * Cell (band, sector)'s density as sonar_clutter_density gives it, per m^2 a look; 0 for a cell
+ * never looked at, or band / sector outside the grid (0..SONAR_CLUTTER_BANDS-1, 0..SONAR_CLUTTER_SECTORS-1).
+ */
+float sonar_clutter_cell(const struct sonar_clutter *m, int band, int sector);
+
 /* The map at a glance (s filled; m NULL: zeros). */
 void sonar_clutter_summarise(const struct sonar_clutter *m, struct sonar_clutter_summary *s);
 

@@ -29,6 +29,7 @@ struct sonar_status {
         uint32_t revisions, hyp_overflow;  /* IDs a later look revised; alternatives that did not fit (final at once) */
         uint32_t activity_unplaced;        /* track-looks that found every activity slot taken (their activity unknown) */
         struct sonar_clutter_summary clutter; /* the site's clutter map at a glance (clutter.h); zeros without one */
+        const struct sonar_clutter *map;   /* ... and the map itself (the pipeline's), NULL: none or no look yet */
     } tracker;                             /* all 0 with tracking off */
     struct {
         int state;                         /* enum sonar_pose_state, at the latest beam */

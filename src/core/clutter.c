@@ -142,6 +142,14 @@ float sonar_clutter_density(const struct sonar_clutter *m, float x, float y)
     return cell_density(m, b, s);
 }
 
+float sonar_clutter_cell(const struct sonar_clutter *m, int band, int sector)
+{
+    if (m == NULL || band < 0 || band >= SONAR_CLUTTER_BANDS || sector < 0 || sector >= SONAR_CLUTTER_SECTORS ||
+        m->c[band][sector].looks == 0)
+        return 0.0f;
+    return cell_density(m, band, sector);
+}
+
 void sonar_clutter_summarise(const struct sonar_clutter *m, struct sonar_clutter_summary *out)
 {
     int b, s;

@@ -17,6 +17,7 @@ void sonar_status_tracking(struct sonar_status *s, const struct sonar_pipeline *
         s->tracker.hyp_overflow = p->trk.hyp_overflow;
         s->tracker.activity_unplaced = p->act != NULL ? p->act->unplaced : 0u;
         sonar_clutter_summarise(p->clutter, &s->tracker.clutter);
+        s->tracker.map = s->tracker.clutter.looks > 0 ? p->clutter : NULL;
     }
     s->pose.world_sweeps = p->world_sweeps;
     s->pose.body_sweeps = p->body_sweeps;

@@ -8,6 +8,7 @@
 #include "msg.h"
 #include "report.h"
 #include "sonar_beam_t.h"
+#include "sonar_clutter_t.h"
 #include "sonar_detections_t.h"
 #include "sonar_status_t.h"
 #include "sonar_survey_t.h"
@@ -53,9 +54,14 @@ static int lcm_status(void *self, const struct sonar_status *st)
     sonar_status_t m;
     sonar_detection_t det[SONAR_MAX_CLUSTERS];
     sonar_survey_t sv;
+    sonar_clutter_t cm;
+    float density[SONAR_CLUTTER_BANDS * SONAR_CLUTTER_SECTORS];
     int r;
     msg_status(st, &m);
     r = lcm_send(s, s->status, sonar_status_t_encode(s->buf, 0, (int)sizeof(s->buf), &m));
+    /* The clutter map with each status while one is learnt, for a view's layer. */
+    if (r == HOST_OK && msg_clutter(st, density, &cm))
+        r = lcm_send(s, s->clutter, sonar_clutter_t_encode(s->buf, 0, (int)sizeof(s->buf), &cm));
     if (r != HOST_OK || st->survey.state == SONAR_SURVEY_NONE)
         return r;
     /* The survey's structure with each status while there is one, for a view that joins late. */
@@ -74,6 +80,7 @@ void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *p
     snprintf(s->status, sizeof(s->status), "%.30sSONAR_STATUS", prefix);
     snprintf(s->tracks, sizeof(s->tracks), "%.30sSONAR_TRACKS", prefix);
     snprintf(s->survey, sizeof(s->survey), "%.30sSONAR_SURVEY", prefix);
+    snprintf(s->clutter, sizeof(s->clutter), "%.30sSONAR_CLUTTER", prefix);
     s->sink.name = "lcm";
     s->sink.self = s;
     s->sink.stages = (uint8_t)(1u << SONAR_STAGE_RAW | (filtered ? 1u << SONAR_STAGE_FOREGROUND : 0u));

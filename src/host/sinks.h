@@ -1,4 +1,4 @@
-/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 880 B), no heap per message. */
+/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 944 B), no heap per message. */
 #ifndef SONARD_SINKS_H
 #define SONARD_SINKS_H
 
@@ -14,7 +14,7 @@ struct sink_lcm {
     void *lcm;                 /* lcm_t when opened by sink_lcm_open */
     sink_lcm_tx tx;
     void *tx_user;
-    char beam[64], filtered[64], detections[64], status[64], tracks[64], survey[64];
+    char beam[64], filtered[64], detections[64], status[64], tracks[64], survey[64], clutter[64];
     uint8_t buf[16384];
 };
 

@@ -11,6 +11,7 @@
 #include "sonar/tracker.h"
 #include "view.h"
 #include "sonar_beam_t.h"
+#include "sonar_clutter_t.h"
 #include "sonar_config_t.h"
 #include "sonar_detections_t.h"
 #include "sonar_pose_t.h"
@@ -57,6 +58,12 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s);
  * (SONAR_MAX_CLUSTERS entries) holds the places, whose hulls point into the survey's.
  */
 void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_survey_t *m);
+
+/*
+ * The clutter map of a status record -> sonar.clutter_t (SONAR_CLUTTER); density (SONAR_CLUTTER_BANDS x
+ * SONAR_CLUTTER_SECTORS entries, the caller's) holds the cells. Returns 0 when the record has no map (nothing to send).
+ */
+int msg_clutter(const struct sonar_status *s, float *density, sonar_clutter_t *m);
 
 /* A pose <-> sonar.pose_t (SONAR_POSE). */
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m);

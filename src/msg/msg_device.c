@@ -292,6 +292,27 @@ void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_surv
     m->places = det;
 }
 
+int msg_clutter(const struct sonar_status *s, float *density, sonar_clutter_t *m)
+{
+    const struct sonar_clutter *c = s->tracker.map;
+    int b, k;
+    if (c == NULL)
+        return 0;
+    for (b = 0; b < SONAR_CLUTTER_BANDS; b++)
+        for (k = 0; k < SONAR_CLUTTER_SECTORS; k++)
+            density[b * SONAR_CLUTTER_SECTORS + k] = sonar_clutter_cell(c, b, k);
+    m->utime = s->utime;
+    m->looks = s->tracker.clutter.looks;
+    m->range_m = c->range_m;
+    m->bands = SONAR_CLUTTER_BANDS;
+    m->sectors = SONAR_CLUTTER_SECTORS;
+    m->site = s->tracker.clutter.site;
+    m->per_look = s->tracker.clutter.per_look;
+    m->cells = SONAR_CLUTTER_BANDS * SONAR_CLUTTER_SECTORS;
+    m->density = density;
+    return 1;
+}
+
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m)
 {
     m->utime = p->utime;

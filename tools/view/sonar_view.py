@@ -3,8 +3,8 @@
 
   sonar_view.py [--lcm URL] [--listen 127.0.0.1:8360] [--prefix P] [--types build/lcm/python]
 
-It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS, SONAR_STATUS and SONAR_SURVEY (with
-sonard's --channel-prefix) and serves http://ADDR:PORT/ (index.html, view.js) and the WebSocket /ws.
+It subscribes to SONAR_BEAM, SONAR_BEAM_FILTERED, SONAR_DETECTIONS, SONAR_TRACKS, SONAR_STATUS, SONAR_SURVEY and
+SONAR_CLUTTER (with sonard's --channel-prefix) and serves http://ADDR:PORT/ (index.html, view.js) and the WebSocket /ws.
 Libraries: `websockets` (HTTP and WebSocket in one small, dependency-free asyncio library) and, for udpm:// (LCM's
 default), lcm_udpm.py beside this file; other LCM URLs need LCM's own Python binding. The page is plain JavaScript
 on a canvas and uses relative paths only, so it works behind a proxy's prefix (BlueOS shows it at
@@ -64,6 +64,7 @@ class Hub:
         self.last_rx = 0.0
         self.last_status = None
         self.last_survey = None  # the survey's structure (SONAR_SURVEY), for a page that joins late
+        self.last_clutter = None  # the clutter map (SONAR_CLUTTER), likewise
         self.udpm = None  # the plain-Python receiver, when it is the transport (its malformed datagrams count as bad)
         self.lc = None    # the LCM object, for SONAR_CONTROL
         self.control_t = None
@@ -130,6 +131,10 @@ def lcm_setup(url, hub, types_dir):
         from sonar import survey_t
     except ImportError:  # types of a sonard before the survey
         survey_t = None
+    try:
+        from sonar import clutter_t
+    except ImportError:  # types of a sonard before the clutter map
+        clutter_t = None
     if not url or url.startswith("udpm://"):
         sys.path.insert(0, HERE)
         from lcm_udpm import Udpm
@@ -197,9 +202,20 @@ def lcm_setup(url, hub, types_dir):
                                        "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]} for d in m.places]}
         hub.text(hub.last_survey)
 
+    def on_clutter(data):
+        m = clutter_t.decode(data)
+        if m.cells != m.bands * m.sectors or m.bands <= 0 or m.sectors <= 0:
+            raise ValueError(f"{m.cells} cells for {m.bands} bands x {m.sectors} sectors")
+        hub.last_clutter = {"kind": "clutter", "range_m": m.range_m, "bands": m.bands, "sectors": m.sectors,
+                            "looks": m.looks, "site": m.site, "per_look": m.per_look,
+                            "density": [round(d, 5) for d in m.density]}
+        hub.text(hub.last_clutter)
+
     lc.subscribe(p + "SONAR_STATUS$", guard(on_status))
     if survey_t is not None:
         lc.subscribe(p + "SONAR_SURVEY$", guard(on_survey))
+    if clutter_t is not None:
+        lc.subscribe(p + "SONAR_CLUTTER$", guard(on_clutter))
     hub.lc = lc
     return lc
 
@@ -235,9 +251,10 @@ async def handler(ws, hub):
     if hub.last_status is not None:
         c.texts.append(json.dumps({"kind": "status", "status": hub.last_status}))
         c.wake.set()
-    if hub.last_survey is not None:
-        c.texts.append(json.dumps(hub.last_survey))
-        c.wake.set()
+    for last in (hub.last_survey, hub.last_clutter):
+        if last is not None:
+            c.texts.append(json.dumps(last))
+            c.wake.set()
     task = asyncio.create_task(sender(c))
     try:
         async for msg in ws:

@@ -40,7 +40,7 @@ for (const e of byAngle) { e.idx = Int32Array.from(e.idx); e.frac = Float32Array
 
 const view = window.sonarView = {
   beams: 0, frames: 0, firstDrawMs: null, range: 0, state: "connecting", silent_s: null, status: null, viewInfo: null,
-  detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0, survey: null, surveyText: "",
+  detections: [], tracks: [], trails: new Map(), dropped: 0, revisions: 0, survey: null, surveyText: "", clutter: null,
   stats: { fps: 0, latency_ms_mean: null, latency_ms_max: null, latency_n: 0 },
   background: [0x10, 0x14, 0x1a],
   toPixel(x, y) { const k = view.range > 0 ? R / view.range : 0; return [Math.round(C + y * k), Math.round(C - x * k)]; },
@@ -113,7 +113,30 @@ function surveyText(st) {
   return `${what} does not fit (${why}): learning`;
 }
 
+// The clutter map (switched on by the page's box): each cell of range band x bearing sector shaded by its density
+// above the quietest cell's, against the densest, in violet (no other mark is) under everything else; a cell never
+// looked at, or with nothing learnt, is left clear.
+function clutterLayer() {
+  const box = document.getElementById("clutter"), m = view.clutter;
+  if (!box || !box.checked || !m || !(view.range > 0)) return;
+  // shaded from the quietest cell looked at (the site's mean, where nothing was learnt) to the densest
+  const seen = m.density.filter(d => d > 0), k = R / view.range, w = m.range_m / m.bands * k;
+  const low = Math.min(...seen), peak = Math.max(...seen);
+  if (!(peak > low)) return;
+  for (let b = 0; b < m.bands; b++) {
+    for (let s = 0; s < m.sectors; s++) {
+      const d = m.density[b * m.sectors + s] - low;
+      if (!(d > 0)) continue;
+      // gradians clockwise from forward (up) -> canvas angle from +x (right), clockwise: 0 gradians is -90 degrees
+      const a0 = (s * 400 / m.sectors) * Math.PI / 200 - Math.PI / 2, a1 = ((s + 1) * 400 / m.sectors) * Math.PI / 200 - Math.PI / 2;
+      octx.fillStyle = `rgba(230,60,255,${(0.6 * Math.sqrt(d / (peak - low))).toFixed(3)})`;
+      octx.beginPath(); octx.arc(C, C, (b + 1) * w, a0, a1); octx.arc(C, C, b * w, a1, a0, true); octx.closePath(); octx.fill();
+    }
+  }
+}
+
 function shapes() {
+  clutterLayer();
   surveyShapes();
   octx.lineWidth = 2;
   for (const d of view.detections) {
@@ -239,6 +262,7 @@ function connect() {
       for (const id of [...view.trails.keys()]) if (!seen.has(id)) view.trails.delete(id);
     } else if (m.kind === "status") view.status = m.status;
     else if (m.kind === "survey") view.survey = m;
+    else if (m.kind === "clutter") view.clutter = m;
     else if (m.kind === "view") view.viewInfo = m;
   };
   ws.onclose = () => { view.state = "offline"; setTimeout(connect, 1000); };
