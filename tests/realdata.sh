@@ -170,6 +170,13 @@ check "AquaScan sonar4: --survey 16 kept over the emptied sweeps, refused over t
 check "the survey carries its clutter map: loaded and said; the emptied sweeps after it raise no alarm" \
     sh -c "grep -q 'clutter map: loaded, learnt over' '$T/s4e.use.err' && python3 tools/eval/empty_site.py count '$T/s4e.sv.jsonl' --sweeps 16: --max-alarms 0 --label 'sonar4 emptied, surveyed, from sweep 16: '"
 sed 's/^/    /' "$T/out"
+# Hybrid scenes (sonar-sim --water): the simulated occupied pool's five people drawn on emptied sonar4, nothing else
+# changed; found there as docs/results.md section 12 measures (F1 0.744 by the default; floor under it).
+"$B/sonar-sim" --scene occupied --water "$T/aq/sonar4.empty.csv" --out "$T/hy4.csv" --truth "$T/hy4.json"
+"$B/sonard" --replay "$T/hy4.csv" --json --quiet --log-level error > "$T/hy4.jsonl"
+check "hybrid: the occupied scene's people on emptied sonar4, nothing else changed, sonard's sweeps the truth's; F1 >= 0.70" \
+    sh -c "python3 tests/water_check.py '$T/aq/sonar4.empty.csv' '$T/hy4.csv' '$T/hy4.json' --sweeps-from '$T/hy4.jsonl' && python3 tools/eval/score.py '$T/hy4.json' '$T/hy4.jsonl' --tracks --min-f1 0.70 --label 'hybrid on sonar4: '"
+sed 's/^/    /' "$T/out"
 
 # Live and streaming: sonar4 served by sonar-feed as a Ping360 over TCP (127.0.0.1), driven by
 # sonard --sonar over the same back-and-forth sector: the same detections as the replay.

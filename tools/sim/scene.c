@@ -593,16 +593,45 @@ static double object_gain(const struct scene *s, int k, int sweep, double t, dou
     return gain < 0.02 ? 0.0 : gain;
 }
 
-static void pool_beam(const struct scene *s, int sweep, double t, double th, double vn, double ve, double wall_near,
-                      double wall_far, double range_m, int n, struct scene_rng *g, uint8_t *out)
+/*
+ * Adds the objects' echoes at bearing th (radians) from (vn, ve), in power, to pw (n samples over range_m):
+ * SCENE_SPECKLE_POOL's people, on simulated water or on a recording's (scene_draw_on).
+ */
+static void pool_objects(const struct scene *s, int sweep, double t, double th, double vn, double ve, double range_m,
+                         int n, struct scene_rng *g, double *pw)
 {
-    double pw[1200], shadow[1200], floor_c[1200], tau = 1.0;
     /*
      * The recordings' people spread over about 10 degrees between half-brightness points at every
      * range (3 to 4 beams of 2.7 degrees, measured on sonar4's labels): the Ping360's 2-degree beam
      * seen through its intensity scale. So the pattern here is a Gaussian of that width.
      */
     double sig_beam = 4.2 * PI / 180.0;
+    int i, k;
+    for (k = 0; k < s->nobj; k++) {
+        const struct scene_object *o = &s->obj[k];
+        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
+        if (gain == 0.0)
+            continue;
+        /* A body's echo lasts through it (the labelled people are 0.7-1 m deep); it casts no shadow a sweep shows. */
+        near = d - o->r;
+        far = d + o->r + 0.05;
+        for (i = 0; i < n; i++) {
+            double r = (i + 0.5) * range_m / n;
+            if (r >= near && r <= far) {
+                /* A standing body returns the same echo to a fixed sonar look after look: its pattern is a function
+                   of the cell, not drawn afresh each look; its sway only moves the beam pattern's gain a little. */
+                double u = s->act[k] == SCENE_ACT_STANDING ? steady_unit(k, i, th) : rayleigh_unit(g);
+                double a = o->strength * gain * u;
+                pw[i] += a * a;
+            }
+        }
+    }
+}
+
+static void pool_beam(const struct scene *s, int sweep, double t, double th, double vn, double ve, double wall_near,
+                      double wall_far, double range_m, int n, struct scene_rng *g, uint8_t *out)
+{
+    double pw[1200], shadow[1200], floor_c[1200], tau = 1.0;
     int i, k;
     for (i = 0; i < n; i++) {
         double r = (i + 0.5) * range_m / n, nu, mu, c, a;
@@ -641,29 +670,38 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
             }
         }
     }
-    for (k = 0; k < s->nobj; k++) {
-        const struct scene_object *o = &s->obj[k];
-        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
-        if (gain == 0.0)
-            continue;
-        /* A body's echo lasts through it (the labelled people are 0.7-1 m deep); it casts no shadow a sweep shows. */
-        near = d - o->r;
-        far = d + o->r + 0.05;
-        for (i = 0; i < n; i++) {
-            double r = (i + 0.5) * range_m / n;
-            if (r >= near && r <= far) {
-                /* A standing body returns the same echo to a fixed sonar look after look: its pattern is a function
-                   of the cell, not drawn afresh each look; its sway only moves the beam pattern's gain a little. */
-                double u = s->act[k] == SCENE_ACT_STANDING ? steady_unit(k, i, th) : rayleigh_unit(g);
-                double a = o->strength * gain * u;
-                pw[i] += a * a;
-            }
-        }
-    }
+    pool_objects(s, sweep, t, th, vn, ve, range_m, n, g, pw);
     for (i = 0; i < n; i++) {
         double v = sqrt(pw[i]) * shadow[i] - floor_c[i];
         out[i] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : floor(v + 0.5));
     }
+}
+
+int scene_draw_on(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
+                  uint8_t *inout)
+{
+    double pw[1200], floor_c[1200], vn, ve, yaw, th;
+    int i;
+    if (s->speckle != SCENE_SPECKLE_POOL || n > 1200)
+        return -1;
+    scene_vehicle_at(s, t, &vn, &ve, &yaw);
+    th = angle * PI / 200.0 + yaw * PI / 180.0;
+    for (i = 0; i < n; i++) {
+        double r = (i + 0.5) * range_m / n, nu, mu, a;
+        pool_water(r, &nu, &mu, &floor_c[i]);
+        /*
+         * The device subtracted its noise floor and clipped at 0: a recorded v > 0 was an amplitude of v + c; a 0
+         * was anything below c, drawn here uniformly (a person's echo, 95-160 rms, is what decides those cells).
+         */
+        a = inout[i] > 0 ? inout[i] + floor_c[i] : floor_c[i] * scene_uniform(g);
+        pw[i] = a * a;
+    }
+    pool_objects(s, sweep, t, th, vn, ve, range_m, n, g, pw);
+    for (i = 0; i < n; i++) {
+        double v = sqrt(pw[i]) - floor_c[i];
+        inout[i] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : floor(v + 0.5));
+    }
+    return 0;
 }
 
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,

@@ -123,6 +123,17 @@ int scene_angle(const struct scene *s, int sweep, int i);
 void scene_beam(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
                 uint8_t *out);
 
+/*
+ * Draws the scene's objects, and nothing else of it (no walls, ropes or water), into a recorded beam of
+ * real water, in place (sonar-sim --water: the hybrid scenes): the recording's amplitudes taken back
+ * above the device's noise floor, the objects' echoes added in power as scene_beam adds them, the floor
+ * subtracted again. inout: n <= 1200 samples over range_m metres at angle gradians, during the given
+ * sweep at t seconds since the recording's first beam. Uses and advances g. Returns 0, or -1 (inout
+ * untouched) when the scene's echo model is not SCENE_SPECKLE_POOL or n is over 1200.
+ */
+int scene_draw_on(const struct scene *s, int sweep, double t, int angle, double range_m, int n, struct scene_rng *g,
+                  uint8_t *inout);
+
 /* What the truth says of one object in one sweep: where it was when a beam crossed it. */
 struct scene_seen {
     int present;            /* there and inside the range */
