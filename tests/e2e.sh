@@ -84,6 +84,24 @@ check "sonar-sim --water over rows without times: exit 2, the file and line name
 check "sonar-sim --water, a malformed row: said by line and skipped, every other row drawn" \
     sh -c "test $rc -eq 0 && grep -q 'gwater.csv:6: .*(row skipped)' '$T/hg.err' && test \$(wc -l < '$T/hg.csv') -eq \$(wc -l < '$T/water.csv')"
 
+# The water's transients (sonar-sim --transients; calibrated against emptied sonar4 in make realdata): short-lived
+# echoes all over the empty pool, several a sweep where the plain water gives about one; the older scenes refuse it.
+"$B/sonar-sim" --scene occupied --empty --transients --seed 3 --out "$T/wt.csv" --truth "$T/x.json"
+"$B/sonard" --replay "$T/wt.csv" --json --quiet > "$T/wt.jsonl" 2>/dev/null
+"$B/sonard" --replay "$T/water.csv" --json --quiet > "$T/water.jsonl" 2>/dev/null
+check "sonar-sim --transients: the empty pool's false objects a sweep at least three times the plain water's, few lasting" \
+    python3 - "$T/wt.jsonl" "$T/water.jsonl" <<'PY'
+import json, subprocess, sys
+m = [json.loads(subprocess.run([sys.executable, "tools/eval/transients.py", j, "--json"], capture_output=True, text=True,
+                               check=True).stdout) for j in sys.argv[1:]]
+print(f"  with transients {m[0]['detections_a_sweep']:.2f} a sweep, plain water {m[1]['detections_a_sweep']:.2f}; "
+      f"persistent places {m[0]['persistent_places']}")
+assert m[0]["detections_a_sweep"] >= 3 * max(m[1]["detections_a_sweep"], 0.5) and m[0]["persistent_places"] == 0, m
+PY
+"$B/sonar-sim" --scene pool --transients --out "$T/hx.csv" --truth "$T/hx.json" 2> "$T/hx.err"; rc=$?
+check "sonar-sim --transients with a scene of the older echo model: exit 2, named" \
+    sh -c "test $rc -eq 2 && grep -q 'transients needs a scene with the AquaScan pool' '$T/hx.err'"
+
 fa=$(python3 tools/eval/score.py "$T/pool.json" "$T/pool.jsonl" | sed -n 's/.*false alarms\/sweep \([0-9.]*\).*/\1/p')
 check "pool scene, default config: <= 0.1 false alarms a sweep (got $fa)" awk -v f="$fa" 'BEGIN { exit !(f <= 0.1) }'
 

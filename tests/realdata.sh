@@ -177,6 +177,25 @@ sed 's/^/    /' "$T/out"
 check "hybrid: the occupied scene's people on emptied sonar4, nothing else changed, sonard's sweeps the truth's; F1 >= 0.70" \
     sh -c "python3 tests/water_check.py '$T/aq/sonar4.empty.csv' '$T/hy4.csv' '$T/hy4.json' --sweeps-from '$T/hy4.jsonl' && python3 tools/eval/score.py '$T/hy4.json' '$T/hy4.jsonl' --tracks --min-f1 0.70 --label 'hybrid on sonar4: '"
 sed 's/^/    /' "$T/out"
+# The simulator's transients (sonar-sim --transients), calibrated on emptied sonar4: the empty occupied pool's
+# default detections a sweep within 30 % of the emptied recording's, over three seeds (issue 51).
+"$B/sonard" --replay "$T/aq/sonar4.empty.csv" --json --quiet --log-level error > "$T/s4e.default.jsonl"
+for seed in 1 2 3; do
+    "$B/sonar-sim" --scene occupied --empty --transients --seed $seed --out "$T/tr$seed.csv" --truth "$T/tr$seed.json"
+    "$B/sonard" --replay "$T/tr$seed.csv" --json --quiet --log-level error > "$T/tr$seed.jsonl"
+done
+check "sonar-sim --transients: the simulated empty pool's false objects a sweep within 30 % of emptied sonar4's" python3 - "$T" <<'PY'
+import json, subprocess, sys
+T = sys.argv[1]
+def per(j):
+    return json.loads(subprocess.run([sys.executable, "tools/eval/transients.py", j, "--json"], capture_output=True,
+                                     text=True, check=True).stdout)["detections_a_sweep"]
+real = per(f"{T}/s4e.default.jsonl")
+sim = sum(per(f"{T}/tr{s}.jsonl") for s in (1, 2, 3)) / 3
+print(f"false objects a sweep: emptied sonar4 {real:.2f}, simulated with transients {sim:.2f} (ratio {sim / real:.2f})")
+assert abs(sim / real - 1.0) <= 0.3, (sim, real)
+PY
+sed 's/^/    /' "$T/out"
 
 # Live and streaming: sonar4 served by sonar-feed as a Ping360 over TCP (127.0.0.1), driven by
 # sonard --sonar over the same back-and-forth sector: the same detections as the replay.

@@ -33,17 +33,22 @@ import math
 import sys
 
 
-def match(dets, objs, gate):
-    pairs = sorted((math.hypot(d["x_m"] - o["x"], d["y_m"] - o["y"]), i, j)
-                   for i, d in enumerate(dets) for j, o in enumerate(objs))
-    used_d, used_o, errs = set(), set(), []
-    for dist, i, j in pairs:
-        if dist > gate or i in used_d or j in used_o:
+def pairs(a, b, gate):
+    """Greedy closest pairs first between points a and b ((x, y) each) within gate metres: [(i, j, distance)]."""
+    out, used_a, used_b = [], set(), set()
+    for dist, i, j in sorted((math.hypot(p[0] - q[0], p[1] - q[1]), i, j) for i, p in enumerate(a) for j, q in enumerate(b)):
+        if dist > gate or i in used_a or j in used_b:
             continue
-        used_d.add(i)
-        used_o.add(j)
-        errs.append(dist)
-    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs, used_d, used_o
+        used_a.add(i)
+        used_b.add(j)
+        out.append((i, j, dist))
+    return out
+
+
+def match(dets, objs, gate):
+    got = pairs([(d["x_m"], d["y_m"]) for d in dets], [(o["x"], o["y"]) for o in objs], gate)
+    errs = [dist for _, _, dist in got]
+    return len(errs), len(dets) - len(errs), len(objs) - len(errs), errs, {i for i, _, _ in got}, {j for _, j, _ in got}
 
 
 def ignored(dets, used, hidden, gate):

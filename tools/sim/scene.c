@@ -306,6 +306,64 @@ void scene_empty(struct scene *s)
     s->nobj = m;
 }
 
+/*
+ * The emptied sonar4's transients by range band (tools/eval/transients.py on sonard's default detections): born a
+ * sweep (less what the simulated water's speckle already gives there), mean life in sweeps, drift a sweep (m),
+ * radius (m) and rms echo; the echo calibrated so that the detections' median mean intensity is the recording's.
+ */
+static const struct {
+    double lo, hi, born, life, step, r, strength;
+} transient_band[] = {
+    {0.5, 3.0, 0.90, 1.8, 0.6, 0.15, 160.0},  {3.0, 6.0, 1.00, 1.3, 0.8, 0.15, 150.0},
+    {6.0, 9.0, 1.00, 1.3, 0.8, 0.15, 140.0},  {9.0, 12.0, 0.45, 2.6, 0.3, 0.15, 125.0},
+    {12.0, 15.0, 2.00, 1.1, 0.9, 0.15, 140.0},
+};
+
+/* Poisson(mean) by counting uniform products (small means only). */
+static int poisson(struct scene_rng *g, double mean)
+{
+    double l = exp(-mean), p = scene_uniform(g);
+    int k = 0;
+    while (p > l) {
+        p *= scene_uniform(g);
+        k++;
+    }
+    return k;
+}
+
+int scene_transients(struct scene *s, unsigned long long seed)
+{
+    struct scene_rng g = {0x2545F4914F6CDD1Dull ^ (seed * 0x9E3779B97F4A7C15ull)};
+    double lo_th = s->start * PI / 200.0, span = s->start == s->stop ? 2.0 * PI : (s->stop - s->start) * PI / 200.0;
+    int sweep, b, k;
+    if (s->speckle != SCENE_SPECKLE_POOL)
+        return -1;
+    s->npatch = 0;
+    for (sweep = 0; sweep < s->sweeps; sweep++)
+        for (b = 0; b < (int)(sizeof(transient_band) / sizeof(transient_band[0])); b++) {
+            /* Measured over the recording's 200-gradian sector: a scan of another span sees them in proportion. */
+            int n = poisson(&g, transient_band[b].born * span / PI);
+            for (k = 0; k < n && s->npatch < SCENE_MAX_PATCH; k++) {
+                struct scene_patch *p = &s->patch[s->npatch++];
+                double r = transient_band[b].lo + (transient_band[b].hi - transient_band[b].lo) * scene_uniform(&g);
+                double th = lo_th + span * scene_uniform(&g), dir = 2.0 * PI * scene_uniform(&g);
+                double step = transient_band[b].step * (0.5 + scene_uniform(&g));
+                p->x = (float)(r * cos(th));
+                p->y = (float)(r * sin(th));
+                p->vx = (float)(step * cos(dir));
+                p->vy = (float)(step * sin(dir));
+                p->r = (float)transient_band[b].r;
+                p->strength = (float)transient_band[b].strength;
+                p->first = sweep;
+                /* Geometric: each further sweep with probability 1 - 1 / life. */
+                p->life = 1;
+                while (scene_uniform(&g) > 1.0 / transient_band[b].life && p->life < 64)
+                    p->life++;
+            }
+        }
+    return 0;
+}
+
 void scene_vehicle_at(const struct scene *s, double t, double *n, double *e, double *yaw_deg)
 {
     const struct scene_vehicle *v = &s->veh;
@@ -628,6 +686,37 @@ static void pool_objects(const struct scene *s, int sweep, double t, double th, 
     }
 }
 
+/* Adds the water's transients present this sweep (scene_transients) at bearing th, in power: a fresh echo each look. */
+static void pool_transients(const struct scene *s, int sweep, double th, double vn, double ve, double range_m, int n,
+                            struct scene_rng *g, double *pw)
+{
+    double sig_beam = 4.2 * PI / 180.0; /* spread across beams as a person's echo is (pool_objects) */
+    int k, i;
+    for (k = 0; k < s->npatch; k++) {
+        const struct scene_patch *p = &s->patch[k];
+        double x, y, d, delta, alpha, e, gain;
+        if (sweep < p->first || sweep >= p->first + p->life)
+            continue;
+        x = p->x + (sweep - p->first) * p->vx - vn;
+        y = p->y + (sweep - p->first) * p->vy - ve;
+        d = sqrt(x * x + y * y);
+        if (d - p->r > range_m)
+            continue;
+        delta = fabs(remainder(th - atan2(y, x), 2.0 * PI));
+        alpha = asin(fmin(1.0, p->r / d));
+        e = delta > alpha ? delta - alpha : 0.0;
+        if ((gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam))) < 0.02)
+            continue;
+        for (i = 0; i < n; i++) {
+            double r = (i + 0.5) * range_m / n;
+            if (r >= d - p->r && r <= d + p->r) {
+                double a = p->strength * gain * rayleigh_unit(g);
+                pw[i] += a * a;
+            }
+        }
+    }
+}
+
 static void pool_beam(const struct scene *s, int sweep, double t, double th, double vn, double ve, double wall_near,
                       double wall_far, double range_m, int n, struct scene_rng *g, uint8_t *out)
 {
@@ -671,6 +760,7 @@ static void pool_beam(const struct scene *s, int sweep, double t, double th, dou
         }
     }
     pool_objects(s, sweep, t, th, vn, ve, range_m, n, g, pw);
+    pool_transients(s, sweep, th, vn, ve, range_m, n, g, pw);
     for (i = 0; i < n; i++) {
         double v = sqrt(pw[i]) * shadow[i] - floor_c[i];
         out[i] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : floor(v + 0.5));

@@ -74,6 +74,17 @@ enum scene_speckle {
     SCENE_SPECKLE_POOL = 1
 };
 
+/*
+ * A transient echo of the water itself (--transients): a patch of surface, bubbles or wake that lasts a few sweeps
+ * and drifts, its echo a fresh Rayleigh amplitude each look. Present in sweeps first..first + life - 1, at (x, y) +
+ * k (vx, vy) in the k-th of them (metres, the scene's frame; metres a sweep).
+ */
+#define SCENE_MAX_PATCH 4096
+struct scene_patch {
+    float x, y, vx, vy, r, strength;
+    int first, life;
+};
+
 struct scene {
     const char *name;
     int speckle;    /* enum scene_speckle */
@@ -88,6 +99,8 @@ struct scene {
     int nrope;
     int start, stop; /* a sector scanned back and forth, gradians; start == stop: full turns */
     struct scene_vehicle veh;
+    struct scene_patch patch[SCENE_MAX_PATCH]; /* the water's transients (scene_transients), npatch of them */
+    int npatch;
 };
 
 /* The scene as it is with nobody in it (--empty): its walls, ropes and structure objects (a ladder) stay. */
@@ -103,6 +116,14 @@ void scene_to_body(const struct scene *s, double t, double n, double e, double *
 struct scene_rng {
     uint64_t s;
 };
+
+/*
+ * Gives a SCENE_SPECKLE_POOL scene the water's transient echoes, as tools/eval/transients.py measures them on the
+ * emptied AquaScan sonar4 (born a sweep, how long they last, how far they move, their size and brightness, by range
+ * band; docs/results.md section 12), drawn from seed over the scene's sweeps (set them first). Returns 0, or -1 for
+ * a scene of the older echo model (nothing given).
+ */
+int scene_transients(struct scene *s, unsigned long long seed);
 
 /* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far", "still", "faces", "faint", "lanes", "laps" or "near"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);

@@ -19,7 +19,7 @@ struct sim_opts {
     const char *scene, *out, *truth, *pose_out, *water;
     long sweeps;
     unsigned long long seed;
-    int empty;
+    int empty, transients;
 };
 
 static int parse_seed(void *base, const char *v, char *err, size_t n)
@@ -66,6 +66,10 @@ static const struct opt_spec sim_spec[] = {
     {"seed", "S", OPT_CUSTOM, 0, 0, 0, 0, 0, "whole number", "0", "speckle random seed", NULL, parse_seed},
     {"empty", NULL, OPT_FLAG, 0, 0, SO(empty), 0, 0, NULL, NULL,
      "the scene without its objects (walls, ropes, structure and water only): a recording of the empty pool, for\n--background-save",
+     NULL, NULL},
+    {"transients", NULL, OPT_FLAG, 0, 0, SO(transients), 0, 0, NULL, NULL,
+     "the water's transient echoes (surface, bubbles, wakes), as measured on the emptied AquaScan sonar4: born a\n"
+     "sweep by range, lasting and drifting, each a fresh echo (scenes with the AquaScan pool's statistics)",
      NULL, NULL},
     {"water", "FILE", OPT_STR, 0, 0, SO(water), 0, 0, "file", NULL,
      "a hybrid scene: the scene's people (not its walls, ropes or water) drawn into a recording of real water\n"
@@ -238,7 +242,7 @@ static int simulate(struct scene *s, const char *pose_out, FILE *csv, struct sce
 int main(int argc, char **argv)
 {
     const struct opt_schema schema = {sim_spec, sizeof(sim_spec) / sizeof(sim_spec[0]), "sonar_sim", NULL, 0};
-    struct sim_opts o = {"pool", NULL, NULL, NULL, NULL, -1, 0, 0};
+    struct sim_opts o = {"pool", NULL, NULL, NULL, NULL, -1, 0, 0, 0};
     const char *scene_name, *csv_path, *truth_path;
     struct scene s;
     struct scene_rng g = {0x9E3779B97F4A7C15ull};
@@ -251,7 +255,7 @@ int main(int argc, char **argv)
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
         fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|laps|activity|near --out FILE.csv --truth FILE.json "
-                        "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--empty | --water FILE.csv]\n");
+                        "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--transients] [--empty | --water FILE.csv]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
     }
@@ -275,6 +279,11 @@ int main(int argc, char **argv)
     if (o.water != NULL && s.speckle != SCENE_SPECKLE_POOL) {
         fprintf(stderr, "sonar_sim: --water: scene '%s' is not one with the AquaScan pool's statistics (occupied, far, "
                         "still, faint, lanes, laps or activity); its people cannot be drawn on real water\n", s.name);
+        return 2;
+    }
+    if (o.transients && (o.water != NULL || scene_transients(&s, o.seed) != 0)) {
+        fprintf(stderr, "sonar_sim: --transients %s\n", o.water != NULL ? "with --water: the recording's water has its own"
+                        : "needs a scene with the AquaScan pool's statistics (occupied, far, still, faint, lanes, laps or activity)");
         return 2;
     }
     if (o.water != NULL && (o.empty || o.pose_out != NULL)) {
