@@ -148,6 +148,52 @@ check "a corrupt log: the undecodable SONAR_DETECTIONS named and skipped, the ba
 test $rc -eq 1 && grep -q 'SONAR_DETECTIONS: message at log time .* does not decode as sonar.detections_t' '$T/bad.out' &&
 grep -q 'bad sync word 0x58585858 at byte $bad_at' '$T/bad.out' && grep -q 'SONAR_DETECTIONS (undecodable) 1' '$T/bad.out'"
 
+# What only a live sonard publishes, with each status: SONAR_STATUS, the clutter map (SONAR_CLUTTER) and, with a survey
+# in use, the survey's structure (SONAR_SURVEY). A survey recorded off sonar-feed (TCP, 127.0.0.1) at full speed, then
+# loaded by a second run at 20x the device's pace, logged to a file for 2.5 s.
+port=$((32000 + $$ % 20000))
+"$B/sonar-feed" --listen tcp:127.0.0.1:$port --scene pool --pace fast --max-seconds 60 > /dev/null 2>&1 &
+fpid=$!
+sleep 0.3
+timeout -s TERM 30 "$B/sonard" --sonar tcp:127.0.0.1:$port --survey 40 --survey "$T/st.sv" --quiet --log-level warn \
+    --no-lcm > /dev/null 2> "$T/st.err"
+kill $fpid 2> /dev/null; wait $fpid 2> /dev/null
+"$B/sonar-feed" --listen tcp:127.0.0.1:$port --scene pool --pace x20 --max-seconds 60 > /dev/null 2>&1 &
+fpid=$!
+sleep 0.3
+timeout -s TERM 2.5 "$B/sonard" --sonar tcp:127.0.0.1:$port --survey "$T/st.sv" --quiet --log-level warn \
+    --lcm "file://$T/st.lcm?mode=w" > /dev/null 2>> "$T/st.err"
+kill $fpid 2> /dev/null; wait $fpid 2> /dev/null
+$L2M "$T/st.lcm" "$T/st.mcap" > "$T/st.out" 2>&1
+rc=$?
+check "a live run's status channels: SONAR_STATUS, SONAR_CLUTTER and SONAR_SURVEY in the MCAP, each message's fields" \
+    sh -c "test $rc -eq 0 && $PY - '$T/st.lcm' '$T/st.mcap' '$B/lcm/python'" <<'PY'
+import json, sys
+sys.path.insert(0, "tools/data"); sys.path.insert(0, sys.argv[3])
+from lcm_log import events
+from mcap.reader import make_reader
+from sonar import clutter_t, survey_t, status_t
+lcm = {}
+for t, ch, d in events(sys.argv[1]):
+    lcm.setdefault(ch, []).append(d)
+mc = {}
+for sc, ch, m in make_reader(open(sys.argv[2], "rb")).iter_messages():
+    mc.setdefault(ch.topic, []).append((sc.name, json.loads(m.data)))
+for ch, c in (("SONAR_STATUS", status_t), ("SONAR_CLUTTER", clutter_t), ("SONAR_SURVEY", survey_t)):
+    assert lcm.get(ch), (ch, sorted(lcm))
+    assert len(mc.get(ch, [])) == len(lcm[ch]), (ch, len(mc.get(ch, [])), len(lcm[ch]))
+    for raw, (schema, j) in zip(lcm[ch], mc[ch]):
+        a = c.decode(raw)
+        assert schema == "sonar." + c.__name__ and j["utime"] == a.utime, (schema, ch)
+        if c is clutter_t:
+            assert j["cells"] == a.bands * a.sectors == len(j["density"]) and j["looks"] == a.looks
+            assert all(abs(x - y) < 1e-6 for x, y in zip(j["density"], a.density))
+        if c is survey_t:
+            assert j["state"] == a.state and j["sweeps"] == a.sweeps == 40 and len(j["places"]) == a.count
+print({ch: len(v) for ch, v in sorted(lcm.items()) if ch != "SONAR_BEAM"}, "converted, fields equal")
+PY
+sed 's/^/    /' "$T/out"
+
 # Live: a replay publishing on udpm inside a network namespace, recorded as it goes (the recorder asks for a 4 MiB
 # receive buffer: at 40x the beams come in bursts, and the default one lost 11 of 2400 once in CI). The recording
 # ends half a second after the replay does (SIGINT), not at a fixed time: a paused machine stretches the replay.
