@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker clutter activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
+UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages tracker tracker_walls clutter activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
 UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
@@ -446,8 +446,9 @@ $(BUILD)/mcu/sonard-an500-h743.elf: $(BUILD)/mcu/sonard-an500.elf src/mcu/h743.l
 # samples, so that the background (100 KB) and the rest fit its 128 KiB SRAM and 64 KiB CCM (docs/coprocessor.md).
 F405_GRID  = -DSONAR_MAX_ANGLES=200 -DSONAR_MAX_SAMPLES=500
 # 12 tracks and 4 hypotheses (3 alternatives) keep 8 KiB of the CCM spare (32 and 8 would leave under 4 KiB): a pool
-# watcher's sonar rarely has more than 12 people in view, and a sweep rarely more than 3 close calls.
-F405_LIMITS = -DSONAR_MAX_TRACKS=12 -DSONAR_TRK_HYPOTHESES=4
+# watcher's sonar rarely has more than 12 people in view, and a sweep rarely more than 3 close calls. One wall: the
+# co-processor takes no survey, whose lines are the walls (the 16 would cost 240 B of that spare).
+F405_LIMITS = -DSONAR_MAX_TRACKS=12 -DSONAR_TRK_HYPOTHESES=4 -DSONAR_TRK_MAX_WALLS=1
 F405_FLAGS = $(ARM_M4F) $(F405_GRID) $(F405_LIMITS) $(F405_DEFS) -Os -g -ffunction-sections -fdata-sections -Iinclude -Isrc/mcu -Isrc/msg -isystem $(BUILD)/lcm/c -isystem $(BUILD)/mcu/inc
 F405_SRC   = src/mcu/startup.c src/mcu/board_f405.c src/mcu/board_common.c src/mcu/main.c $(MSG_SRC) $(CORE_SRC)
 $(BUILD)/mcu/sonard-f405.elf: $(F405_SRC) src/mcu/f405.ld src/mcu/board.h $(BUILD)/lcm/.stamp $(BUILD)/mcu/inc/lcm/lcm_coretypes.h
@@ -463,7 +464,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker clutter pose obstacle pipeline scan gain structure
+MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker tracker_walls clutter pose obstacle pipeline scan gain structure
 # The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)

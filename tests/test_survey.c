@@ -190,7 +190,7 @@ static int moving_track(float existence)
     int i, r = SONAR_OK;
     sonar_survey_rec_init(&rec);
     assert_int_equal(sonar_tracker_init(&tk, &(struct sonar_tracker_config){0.05f, 0.5f, 0.15f, 1.0f, 2.5f, 9.21f, 2, 3, 2,
-                                                                          60.0f, 1, 1, 0}),
+                                                                          60.0f, 1, 1, 0, 1}),
                      SONAR_OK);
     tk.n = 1;
     tk.t[0].id = 7;

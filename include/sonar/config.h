@@ -108,6 +108,14 @@
 #endif
 
 /*
+ * Walls the tracker turns its predictions at (tracker.h, sonar_tracker_set_walls): the site
+ * survey's lines. RAM: 16 B each in sizeof(struct sonar_tracker), SONAR_TRK_MAX_WALLS * 16 = 256 B.
+ */
+#ifndef SONAR_TRK_MAX_WALLS
+#define SONAR_TRK_MAX_WALLS 16
+#endif
+
+/*
  * Assignment hypotheses the tracker weighs for a sweep until the next look (tracker.h): the one
  * published and up to this - 1 others, each holding two tracks' states. RAM:
  * sizeof(struct sonar_trk_alt) = 384 B each, (SONAR_TRK_HYPOTHESES - 1) * 384 = 2 688 B.

@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, confirmation by M of N hits or by probability of existence; RAM: sizeof(struct sonar_track) = 184 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 10 904 B (the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, confirmation by M of N hits or by probability of existence, predictions turned at the site's walls (tracker_walls.c); RAM: sizeof(struct sonar_track) = 184 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 11 160 B (the walls SONAR_TRK_MAX_WALLS * 16 = 256 B of it, the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -63,6 +63,8 @@ enum sonar_track_state {
 #define SONAR_TRK_LEFT_ONCE 2u /* sonar_track.moved: left its disc on its last hit, not yet on two */
 /* The rest model's position wander, m/s per root second (a floating body bobbing): variance grows REST^2 x dt. */
 #define SONAR_TRK_REST_MPS 0.05f
+/* A swimmer's centre turns this far out from a wall (half a body length; tracker_walls.c), metres. */
+#define SONAR_TRK_WALL_TURN_M 0.5f
 /* Hits before a track that never moved is called structure (enum sonar_track_kind). */
 #define SONAR_TRK_KIND_HITS 4
 
@@ -103,6 +105,7 @@ struct sonar_tracker_config {
                              (IDs may then be revised, each revision said); 0: each sweep's assignment is final */
     uint8_t existence;    /* 1: confirmed and ended by probability of existence (SONAR_TRK_EXIST_*); 0: confirmed
                              by confirm_m of confirm_n hits and ended after max_misses misses (sonard before issue 51) */
+    uint8_t walls;        /* 1: predictions turn at the site's walls (sonar_tracker_set_walls); 0: they never do */
 };
 
 /*
@@ -218,6 +221,8 @@ struct sonar_tracker {
      * (the passes, the alternatives and the next look's decision all read it); known bit k of row d:
      * cost[d][k] holds detection d's cost for track slot k.
      */
+    float wall[SONAR_TRK_MAX_WALLS][4]; /* x0, y0, x1, y1 of each wall, metres in the tracks' frame */
+    uint8_t nwalls;          /* wall[0 .. nwalls) (sonar_tracker_set_walls) */
     const struct sonar_tracker_obs *cache_obs;
     const struct sonar_tracker_sweep *cur_sw; /* the sweep being updated (its clutter map and origin), else NULL */
     uint64_t cache_known[SONAR_MAX_CLUSTERS];
@@ -232,6 +237,18 @@ const char *sonar_tracker_config_check(const struct sonar_tracker_config *cfg);
 
 /* sonard's defaults: 0.05 m/s^2, manoeuvres 0.5 m/s^2, 0.15 m, 1 m/s, gate 9.21, 2 of 3, 3 misses, 120 s, deferred. */
 void sonar_tracker_defaults(struct sonar_tracker_config *cfg);
+
+/*
+ * The site's walls (a survey's lines, say) as n segments x0, y0, x1, y1 (metres, the tracks' frame),
+ * copied; n 0 clears them. A model whose straight prediction would cross a wall, seen from the
+ * sonar's side, also predicts the turn: its path reflected about the wall, its speed kept; each
+ * detection is judged against whichever of the two explains it better, so a wall that is a lane rope
+ * costs a swimmer who dives under it nothing. A track beyond a wall is never turned back in.
+ * Kept by sonar_tracker_tune, emptied by sonar_tracker_init. Returns SONAR_OK; SONAR_ERR_ARG (tk
+ * NULL, seg NULL with n > 0, or a coordinate not finite or beyond SONAR_TRK_COORD_MAX; nothing
+ * changed) or SONAR_ERR_SPACE (n over SONAR_TRK_MAX_WALLS: the first SONAR_TRK_MAX_WALLS kept).
+ */
+SONAR_CHECK int sonar_tracker_set_walls(struct sonar_tracker *tk, const float (*seg)[4], unsigned n);
 
 /* Validates cfg (copied) and empties the tracker; IDs start at 1. Returns SONAR_OK or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_tracker_init(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg);

@@ -106,6 +106,43 @@ static float det_radius(const struct sonar_detection *d)
     return best;
 }
 
+/* The segment between place d's two farthest hull vertices (a wall's line) into seg; 0 when shorter than 0.5 m. */
+static int segment_of(const struct sonar_detection *d, float seg[4])
+{
+    float best = 0.25f;
+    uint8_t a, b;
+    int found = 0;
+    for (a = 0; a < d->hull_count; a++)
+        for (b = (uint8_t)(a + 1u); b < d->hull_count; b++) {
+            float dx = d->hull_x[b] - d->hull_x[a], dy = d->hull_y[b] - d->hull_y[a];
+            if (dx * dx + dy * dy > best) {
+                best = dx * dx + dy * dy;
+                seg[0] = d->hull_x[a];
+                seg[1] = d->hull_y[a];
+                seg[2] = d->hull_x[b];
+                seg[3] = d->hull_y[b];
+                found = 1;
+            }
+        }
+    return found;
+}
+
+/*
+ * The site's walls for the tracker: a survey in use's lines (its places of kind structure, walls and
+ * lane ropes alike: a rope taken for a wall costs nothing, tracker.h), in the body frame only (a
+ * survey is a fixed sonar's); none otherwise, and then the tracker predicts as it always has.
+ */
+static int site_walls(struct sonar_pipeline *p, int world)
+{
+    float seg[SONAR_TRK_MAX_WALLS][4];
+    unsigned n = 0, k;
+    const struct sonar_survey *sv = p->sv;
+    if (!world && sv != NULL && sv->state == SONAR_SURVEY_IN_USE && sv->places != NULL)
+        for (k = 0; k < sv->nplaces && n < SONAR_TRK_MAX_WALLS; k++)
+            n += sv->places[k].kind == SONAR_DET_STRUCTURE && segment_of(&sv->places[k], seg[n]);
+    return sonar_tracker_set_walls(&p->trk, (const float(*)[4])seg, n);
+}
+
 /*
  * Whether a detection is at a first look: in the background's first warm-up sweeps since it
  * (re)started or was loaded, or where it had not learnt the place when the sweep ended: the row of
@@ -239,7 +276,7 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
     sw.origin_x = world ? w->pose.north_m : 0.0f;
     sw.origin_y = world ? w->pose.east_m : 0.0f;
     sw.clutter = have_cover ? p->clutter : NULL; /* detections alone (no beams) say nothing of where they looked */
-    if ((r = sonar_tracker_update(&p->trk, obs, no, &sw)) != SONAR_OK)
+    if ((r = site_walls(p, world)) != SONAR_OK || (r = sonar_tracker_update(&p->trk, obs, no, &sw)) != SONAR_OK)
         return r;
     sonar_tracker_static_start(&p->trk, still, no);
     for (i = 0; i < p->trk.n; i++)

@@ -45,11 +45,13 @@ static void predict_model(const struct sonar_tracker *tk, int j, struct sonar_tr
  * prediction's d^2 (its mean, and the models' covariances and spread about it), the IMM's gate,
  * and in *least the least of the models' own d^2, the gate of a second chance (the combined
  * covariance of a likely model and an unlikely wide one, a turn, cuts the wide one's tail). No
- * logarithm, exponential or copy: most pairs end at the gate.
+ * logarithm, exponential or copy: most pairs end at the gate. Where a model's path would cross one
+ * of the site's walls, its prediction is the straight one or the one turned at the wall
+ * (tracker_walls.c), whichever lies nearer o; turned[j] (NULL: not wanted) says which.
  */
 static float predicted(const struct sonar_tracker *tk, const struct sonar_track *t, const struct sonar_tracker_obs *o,
                        float r2, float dt, int wide, float p[SONAR_TRK_MODELS], float d2[SONAR_TRK_MODELS],
-                       float sj[SONAR_TRK_MODELS], float *least)
+                       float sj[SONAR_TRK_MODELS], float *least, uint8_t turned[SONAR_TRK_MODELS])
 {
     float x[SONAR_TRK_MODELS], y[SONAR_TRK_MODELS], cx = 0.0f, cy = 0.0f, s = 0.0f, ex, ey, dt2 = dt * dt;
     int j;
@@ -65,9 +67,20 @@ static float predicted(const struct sonar_tracker *tk, const struct sonar_track 
             y[j] = m->py;
             sj[j] = m->pa + SONAR_TRK_REST_MPS * SONAR_TRK_REST_MPS * dt + r2;
         } else {
+            float wx = m->px, wy = m->py, wvx = m->vx, wvy = m->vy;
             x[j] = m->px + m->vx * dt;
             y[j] = m->py + m->vy * dt;
             sj[j] = m->pa + 2.0f * m->pb * dt + m->pc * dt2 + model_q(tk, j) * dt2 * dt / 3.0f + r2;
+            if (tk->nwalls > 0 && tk->cfg.walls && sonar_trk_wall_turn(tk, &wx, &wy, &wvx, &wvy, dt)) {
+                float tx = wx + wvx * dt, ty = wy + wvy * dt;
+                float straight = (o->x_m - x[j]) * (o->x_m - x[j]) + (o->y_m - y[j]) * (o->y_m - y[j]);
+                if ((o->x_m - tx) * (o->x_m - tx) + (o->y_m - ty) * (o->y_m - ty) < straight) {
+                    x[j] = tx;
+                    y[j] = ty;
+                    if (turned != NULL)
+                        turned[j] = 1;
+                }
+            }
         }
         ex = o->x_m - x[j];
         ey = o->y_m - y[j];
@@ -107,7 +120,7 @@ float sonar_trk_imm_cost(const struct sonar_tracker *tk, const struct sonar_trac
                          float r2, float dt, int wide)
 {
     float p[SONAR_TRK_MODELS], d2[SONAR_TRK_MODELS], sj[SONAR_TRK_MODELS], w[SONAR_TRK_MODELS], least, comb, sum;
-    comb = predicted(tk, t, o, r2, dt, wide, p, d2, sj, &least);
+    comb = predicted(tk, t, o, r2, dt, wide, p, d2, sj, &least, NULL);
     if ((wide ? least : comb) > tk->cfg.gate)
         return SONAR_TRK_OUTSIDE;
     sum = weights(p, d2, sj, r2, w);
@@ -192,12 +205,15 @@ int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, con
 {
     struct sonar_track_model post[SONAR_TRK_MODELS];
     float p[SONAR_TRK_MODELS], d2[SONAR_TRK_MODELS], sj[SONAR_TRK_MODELS], mu[SONAR_TRK_MODELS], least, sum;
+    uint8_t turned[SONAR_TRK_MODELS] = {0};
     int j;
-    (void)predicted(tk, t, o, r2, dt, t->chance, p, d2, sj, &least);
+    (void)predicted(tk, t, o, r2, dt, t->chance, p, d2, sj, &least, turned);
     sum = weights(p, d2, sj, r2, mu);
     for (j = 0; j < SONAR_TRK_MODELS; j++) {
         struct sonar_track_model *m = &post[j];
         *m = t->m[j];
+        if (turned[j]) /* the turned prediction explained it: the model turned at the wall */
+            (void)sonar_trk_wall_turn(tk, &m->px, &m->py, &m->vx, &m->vy, dt);
         predict_model(tk, j, m, dt);
         float s = m->pa + r2, ka = m->pa / s, kb = m->pb / s, ex = o->x_m - m->px, ey = o->y_m - m->py;
         float a = m->pa, b = m->pb;

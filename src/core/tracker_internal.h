@@ -39,6 +39,14 @@ int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, con
 void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, const struct sonar_tracker_obs *o, float r2);
 
 /*
+ * A model at (*px, *py) moving at (*vx, *vy) m/s whose straight path over dt s would cross one of
+ * tk's walls from the sonar's side (tk->cur_sw's origin; 0, 0 without one): the path turned at it
+ * (and at a second, a corner), given as the start and velocity that predict its end in a straight
+ * line. Returns the walls turned at (0: none, nothing changed). tracker_walls.c.
+ */
+int sonar_trk_wall_turn(const struct sonar_tracker *tk, float *px, float *py, float *vx, float *vy, float dt);
+
+/*
  * One gated assignment of detections left[0 .. nl) to tracks cand[0 .. nc) (cost: scratch, nl
  * rows of SONAR_MAX_TRACKS), each model's own gate when wide (a second chance for a turn), else
  * the combined one; the tracks given one have it in det; returns how many detections are left,

@@ -208,6 +208,8 @@ static const struct opt_spec spec[] = {
      "visible sweeps in a row without a detection that end a confirmed track\n(twice as many without one, in view or not, also do)", NULL, NULL},
     {"track-life", "hits|existence", OPT_CHOICE, 1, 1, T(existence), 0, 0, "hits or existence", "hits",
      "hits: --track-confirm of --track-window confirm a track, --track-misses end\nit; existence: its probability of existence against the site's clutter map\n(learnt as sonard runs) confirms it at 0.9 and ends it below 0.1. Either way\neach track carries its existence, and alarms need 0.97", "hits=0|existence=1", NULL},
+    {"track-walls", "on|off", OPT_CHOICE, 1, 1, T(walls), 0, 0, "on or off", "on",
+     "on: where a survey in use holds walls (its lines), a track's prediction that\nwould cross one also turns there (reflected, its speed kept), and each\ndetection is judged against the likelier of the two; off: never", "off=0|on=1", NULL},
     {"structure-s", "S", OPT_F32, 1, 1, P(structure_s), 0, SONAR_STRUCTURE_S_MAX, "seconds (0 = never)", "0",
      "an echo there from the first look (before the background knew the place)\nthat stays within 1 m for S seconds is structure: learnt into the\nbackground, reported as structure, not tracked. A person motionless from\nthe first ping is the same to it: see docs/configuration.md", NULL, NULL},
     {"still-alarm", "S", OPT_F32, 1, 1, P(still_alarm_s), 0, SONAR_ACT_STILL_ALARM_MAX, "seconds (0 = never)", "0",

@@ -73,6 +73,7 @@ void msg_config(const struct sonar_ping360_config *d, const struct sonar_pipelin
     c->track_imm = (int8_t)p->tracker.imm;
     c->track_defer = (int8_t)p->tracker.defer;
     c->track_existence = (int8_t)p->tracker.existence;
+    c->track_walls = (int8_t)p->tracker.walls;
 }
 
 /* A wire integer into a narrower field; one that does not fit becomes `bad`, which the core's checks refuse by name. */
@@ -155,4 +156,5 @@ void msg_config_in(const sonar_config_t *c, uint32_t baud, struct sonar_ping360_
     p->tracker.imm = to_u8(c->track_imm, 255);
     p->tracker.defer = to_u8(c->track_defer, 255);
     p->tracker.existence = to_u8(c->track_existence, 255);
+    p->tracker.walls = to_u8(c->track_walls, 255);
 }

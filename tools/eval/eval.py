@@ -34,6 +34,7 @@ import eval_structure  # noqa: E402
 import eval_survey  # noqa: E402
 import eval_activity  # noqa: E402
 import eval_clutter  # noqa: E402
+import eval_walls  # noqa: E402
 import figures  # noqa: E402
 import study_pipeline  # noqa: E402
 
@@ -816,6 +817,7 @@ def main():
     L += eval_activity.section(sh, B, W, have_real, presets,
                                (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
     L += eval_clutter.section(sh, run, B, W, have_real)
+    L += eval_walls.section(sh, run, B, W, have_real, cost)
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:

@@ -8,11 +8,9 @@ water (sonar-sim --water). Called by eval.py, or on its own:
 
 which prints the section. Tuned on sonar4 only; sonar11 is held out (run and shown, never tuned on). stdlib only.
 """
-import argparse
 import json
 import os
 import re
-import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -226,27 +224,6 @@ def _hybrid(sh, B, W):
             "F1 | IDF1 |", "|---|---|---:|---:|---:|---:|---:|---:|"] + rows + [""]
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--build", default="build")
-    ap.add_argument("--real", default=os.path.join(HERE, "..", "..", "..", "shared", "data", "real"))
-    ap.add_argument("--work", default="build/eval")
-    a = ap.parse_args()
-    os.makedirs(a.work, exist_ok=True)
-
-    def sh(cmd):
-        return subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-
-    def run(cmd):
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        return r.stdout, r.stderr, r.returncode
-
-    have_real = os.path.isdir(os.path.join(a.real, "aquascan"))
-    if have_real:
-        sh([sys.executable, os.path.join(HERE, "..", "data", "aquascan2csv.py"), os.path.join(a.real, "aquascan"),
-            "--out", f"{a.work}/aq", "--range", "15"])
-    print("\n".join(section(sh, run, a.build, a.work, have_real)))
-
-
 if __name__ == "__main__":
-    main()
+    import standalone
+    standalone.main(__doc__, lambda sh, run, B, W, have_real, cost: section(sh, run, B, W, have_real))

@@ -39,6 +39,9 @@ static double rayleigh(struct scene_rng *g)
  *             with two swaying lane ropes and a ladder (structure, there from the first ping); two
  *             swimmers doing lengths from 10 s and 20 s, and one who swims for 20 s and then rests
  *             (40 passes).
+ *   turns:    the lanes' pool without ropes or ladder, four swimmers doing lengths along it turned at the end
+ *             walls (each centre 0.5 m out): 25 m at 1.0 and 1.5 m/s, and 5 m at 0.3 and 0.6 m/s, one at each end
+ *             (40 passes).
  *   laps:     full turns at 4 gradians, 600 samples over 15 m (6.3 s a turn): the sonar hangs in the
  *             middle of a 16 x 25 m pool, walls all round (its corners beyond the range), two swaying
  *             lane ropes, a ladder (structure); three swimmers doing lengths at 0.6 m/s, one standing
@@ -109,6 +112,31 @@ static int pool_scene(struct scene *s, const char *name)
         s->nrope = 2;
         s->sweeps = 40;
         memcpy(s->obj, o, sizeof(o));
+        s->nobj = (int)(sizeof(o) / sizeof(o[0]));
+    } else if (strcmp(name, "turns") == 0) {
+        /* Lengths turned at the walls, as AquaScan's swimmers do: 25 m at 1.0 and 1.5 m/s, 5 m at 0.3 and 0.6 m/s,
+           each centre turning 0.5 m out from the wall. */
+        static const struct scene_wall w[4] = {{0.1, -12.5, 0.1, 12.5}, {-14.5, -12.5, -14.5, 12.5},
+                                               {0.1, -12.5, -14.5, -12.5}, {0.1, 12.5, -14.5, 12.5}};
+        static const struct scene_object o[] = {
+            {"len25_a", 0, 0, 0.35, 0, 0, 150, 0, 8, {0, 24, 48, 72, 96, 120, 144, 168},
+             {-1, -1, -1, -1, -1, -1, -1, -1}, {-12, 12, -12, 12, -12, 12, -12, 12}, 0, 0},
+            {"len25_b", 0, 0, 0.35, 0, 0, 150, 0, 11, {5, 21, 37, 53, 69, 85, 101, 117, 133, 149, 165},
+             {-8, -8, -8, -8, -8, -8, -8, -8, -8, -8, -8}, {12, -12, 12, -12, 12, -12, 12, -12, 12, -12, 12}, 0, 0},
+            {"len5_a", 0, 0, 0.35, 0, 0, 145, 0, 11, {0, 16.67, 33.33, 50, 66.67, 83.33, 100, 116.67, 133.33, 150, 166.67},
+             {-4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5}, {7, 12, 7, 12, 7, 12, 7, 12, 7, 12, 7}, 0, 0},
+            {"len5_b", 0, 0, 0.35, 0, 0, 150, 0, 19,
+             {10, 18.33, 26.67, 35, 43.33, 51.67, 60, 68.33, 76.67, 85, 93.33, 101.67, 110, 118.33, 126.67, 135, 143.33,
+              151.67, 160},
+             {-4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5, -4.5},
+             {-12, -7, -12, -7, -12, -7, -12, -7, -12, -7, -12, -7, -12, -7, -12, -7, -12, -7, -12}, 0, 0},
+        };
+        static const int acts[] = {SCENE_ACT_MOVING, SCENE_ACT_MOVING, SCENE_ACT_MOVING, SCENE_ACT_MOVING};
+        memcpy(s->wall, w, sizeof(w));
+        s->nwall = 4;
+        s->sweeps = 40;
+        memcpy(s->obj, o, sizeof(o));
+        memcpy(s->act, acts, sizeof(acts));
         s->nobj = (int)(sizeof(o) / sizeof(o[0]));
     } else if (strcmp(name, "laps") == 0 || strcmp(name, "activity") == 0) {
         static const struct scene_wall w[4] = {{-8, -12.5, 8, -12.5}, {8, -12.5, 8, 12.5}, {8, 12.5, -8, 12.5},
@@ -287,7 +315,7 @@ int scene_make(struct scene *s, const char *name)
         s->veh = v;
     } else if (strcmp(name, "occupied") == 0 || strcmp(name, "far") == 0 || strcmp(name, "still") == 0 ||
                strcmp(name, "lanes") == 0 || strcmp(name, "faint") == 0 || strcmp(name, "laps") == 0 ||
-               strcmp(name, "activity") == 0) {
+               strcmp(name, "activity") == 0 || strcmp(name, "turns") == 0) {
         return pool_scene(s, name);
     } else {
         return -1;

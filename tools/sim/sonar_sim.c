@@ -36,7 +36,7 @@ static int parse_seed(void *base, const char *v, char *err, size_t n)
 
 #define SO(field) offsetof(struct sim_opts, field)
 static const struct opt_spec sim_spec[] = {
-    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps, activity or near", "pool",
+    {"scene", "NAME", OPT_STR, 0, 0, SO(scene), 0, 0, "pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, turns, laps, activity or near", "pool",
      "pool: 20 x 12 m walls, two gate posts from sweep 2, a moving buoy from sweep 3 (7 sweeps);\n"
      "open: open water, a post, a moving buoy and a diver from sweep 0 (4 sweeps);\n"
      "moving: 6 targets at 0.05..1.5 m/s crossing, turning, fading, arriving, leaving (14 turns);\n"
@@ -52,6 +52,8 @@ static const struct opt_spec sim_spec[] = {
      "lanes: the same statistics, the sonar on the side wall of a 25 x 14.6 m pool (the sector's\n"
      "edges look along it), two swaying lane ropes, a ladder there from the first ping (structure:\n"
      "not in the truth), two swimmers doing lengths and one who swims and then rests (40 passes);\n"
+     "turns: the lanes' pool without ropes or ladder: four swimmers doing lengths turned at the end walls\n"
+     "(25 m at 1.0 and 1.5 m/s, 5 m at 0.3 and 0.6 m/s), each centre 0.5 m out from the wall (40 passes);\n"
      "laps: the same statistics, full turns at 4 gradians (600 samples over 15 m) from the middle of a\n"
      "16 x 25 m pool: walls all round, two swaying lane ropes, a ladder; three swimmers doing lengths,\n"
      "one standing from the first ping; the truth says their activity (30 turns);\n"
@@ -254,7 +256,7 @@ int main(int argc, char **argv)
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|laps|activity|near --out FILE.csv --truth FILE.json "
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|turns|laps|activity|near --out FILE.csv --truth FILE.json "
                         "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--transients] [--empty | --water FILE.csv]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;
@@ -265,7 +267,7 @@ int main(int argc, char **argv)
     sweeps = (int)o.sweeps;
     g.s ^= o.seed * 0xBF58476D1CE4E5B9ull;
     if (scene_make(&s, scene_name) != 0) {
-        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, laps, activity or near\n", scene_name);
+        fprintf(stderr, "sonar_sim: --scene: '%s' is not pool, open, moving, sector, vehicle, occupied, far, still, faces, faint, lanes, turns, laps, activity or near\n", scene_name);
         return 2;
     }
     if (csv_path == NULL || truth_path == NULL) {
@@ -278,12 +280,12 @@ int main(int argc, char **argv)
         scene_empty(&s);
     if (o.water != NULL && s.speckle != SCENE_SPECKLE_POOL) {
         fprintf(stderr, "sonar_sim: --water: scene '%s' is not one with the AquaScan pool's statistics (occupied, far, "
-                        "still, faint, lanes, laps or activity); its people cannot be drawn on real water\n", s.name);
+                        "still, faint, lanes, turns, laps or activity); its people cannot be drawn on real water\n", s.name);
         return 2;
     }
     if (o.transients && (o.water != NULL || scene_transients(&s, o.seed) != 0)) {
         fprintf(stderr, "sonar_sim: --transients %s\n", o.water != NULL ? "with --water: the recording's water has its own"
-                        : "needs a scene with the AquaScan pool's statistics (occupied, far, still, faint, lanes, laps or activity)");
+                        : "needs a scene with the AquaScan pool's statistics (occupied, far, still, faint, lanes, turns, laps or activity)");
         return 2;
     }
     if (o.water != NULL && (o.empty || o.pose_out != NULL)) {
