@@ -662,22 +662,34 @@ static void pool_water(double r, double *nu, double *mu, double *c)
  * sigma sig_beam beyond its edge); 0 when it is absent (not there yet, gone, faded this sweep) or
  * below 2 % of the axis.
  */
-static double object_gain(const struct scene *s, int k, int sweep, double t, double th, double vn, double ve,
-                          double sig_beam, double *d, double *delta, double *alpha)
+/* A disc of radius r at (x, y) from the beam's origin, seen by the beam at th: its distance d, bearing off the axis delta, half-width alpha, and the pattern's gain beyond its edge (0 below 2 %). */
+static double disc_gain(double x, double y, double r, double th, double sig_beam, double *d, double *delta, double *alpha)
 {
-    const struct scene_object *o = &s->obj[k];
-    double ox, oy, ovx, ovy, e, gain;
-    if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
-        return 0.0;
-    ox -= vn;
-    oy -= ve;
-    *d = sqrt(ox * ox + oy * oy);
-    *delta = fabs(remainder(th - atan2(oy, ox), 2.0 * PI));
-    *alpha = asin(fmin(1.0, o->r / *d));
+    double e, gain;
+    *d = sqrt(x * x + y * y);
+    *delta = fabs(remainder(th - atan2(y, x), 2.0 * PI));
+    *alpha = asin(fmin(1.0, r / *d));
     e = *delta > *alpha ? *delta - *alpha : 0.0;
     gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam));
     return gain < 0.02 ? 0.0 : gain;
 }
+
+static double object_gain(const struct scene *s, int k, int sweep, double t, double th, double vn, double ve,
+                          double sig_beam, double *d, double *delta, double *alpha)
+{
+    const struct scene_object *o = &s->obj[k];
+    double ox, oy, ovx, ovy;
+    if (!scene_object_at(s, k, sweep, t, &ox, &oy, &ovx, &ovy) || (sweep < 64 && (o->fade >> sweep) & 1u))
+        return 0.0;
+    return disc_gain(ox - vn, oy - ve, o->r, th, sig_beam, d, delta, alpha);
+}
+
+/*
+ * The recordings' people spread over about 10 degrees between half-brightness points at every
+ * range (3 to 4 beams of 2.7 degrees, measured on sonar4's labels): the Ping360's 2-degree beam
+ * seen through its intensity scale. So SCENE_SPECKLE_POOL's pattern is a Gaussian of that width.
+ */
+#define POOL_SIG_BEAM (4.2 * PI / 180.0)
 
 /*
  * Adds the objects' echoes at bearing th (radians) from (vn, ve), in power, to pw (n samples over range_m):
@@ -686,16 +698,10 @@ static double object_gain(const struct scene *s, int k, int sweep, double t, dou
 static void pool_objects(const struct scene *s, int sweep, double t, double th, double vn, double ve, double range_m,
                          int n, struct scene_rng *g, double *pw)
 {
-    /*
-     * The recordings' people spread over about 10 degrees between half-brightness points at every
-     * range (3 to 4 beams of 2.7 degrees, measured on sonar4's labels): the Ping360's 2-degree beam
-     * seen through its intensity scale. So the pattern here is a Gaussian of that width.
-     */
-    double sig_beam = 4.2 * PI / 180.0;
     int i, k;
     for (k = 0; k < s->nobj; k++) {
         const struct scene_object *o = &s->obj[k];
-        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, sig_beam, &d, &delta, &alpha);
+        double d, delta, alpha, near, far, gain = object_gain(s, k, sweep, t, th, vn, ve, POOL_SIG_BEAM, &d, &delta, &alpha);
         if (gain == 0.0)
             continue;
         /* A body's echo lasts through it (the labelled people are 0.7-1 m deep); it casts no shadow a sweep shows. */
@@ -718,22 +724,16 @@ static void pool_objects(const struct scene *s, int sweep, double t, double th, 
 static void pool_transients(const struct scene *s, int sweep, double th, double vn, double ve, double range_m, int n,
                             struct scene_rng *g, double *pw)
 {
-    double sig_beam = 4.2 * PI / 180.0; /* spread across beams as a person's echo is (pool_objects) */
     int k, i;
     for (k = 0; k < s->npatch; k++) {
         const struct scene_patch *p = &s->patch[k];
-        double x, y, d, delta, alpha, e, gain;
+        double d, delta, alpha, gain;
         if (sweep < p->first || sweep >= p->first + p->life)
             continue;
-        x = p->x + (sweep - p->first) * p->vx - vn;
-        y = p->y + (sweep - p->first) * p->vy - ve;
-        d = sqrt(x * x + y * y);
-        if (d - p->r > range_m)
-            continue;
-        delta = fabs(remainder(th - atan2(y, x), 2.0 * PI));
-        alpha = asin(fmin(1.0, p->r / d));
-        e = delta > alpha ? delta - alpha : 0.0;
-        if ((gain = exp(-0.5 * (e / sig_beam) * (e / sig_beam))) < 0.02)
+        /* Spread across beams as a person's echo is. */
+        gain = disc_gain(p->x + (sweep - p->first) * p->vx - vn, p->y + (sweep - p->first) * p->vy - ve, p->r, th,
+                         POOL_SIG_BEAM, &d, &delta, &alpha);
+        if (gain == 0.0 || d - p->r > range_m)
             continue;
         for (i = 0; i < n; i++) {
             double r = (i + 0.5) * range_m / n;
