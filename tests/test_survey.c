@@ -1,4 +1,4 @@
-/* test_survey.c -- the site survey: recorded sums to levels and spread (the survey replayed against itself has no foreground), each refusal by name, a surveyed cell judged by its own spread, a misfit found (another setting, a turn estimated, lines it does not hold, another site) and taken back, a learnt model learnt on. */
+/* test_survey.c -- the site survey: recorded sums to levels and spread (the survey replayed against itself has no foreground), each refusal by name, a surveyed cell judged by its own spread, a misfit found (another setting, a turn estimated, lines it does not hold, another site, something wider than a person before its structure; a person there is not) and taken back, a learnt model learnt on. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -318,21 +318,32 @@ static void test_setting_misfit_and_refit(void **state)
     assert_int_equal(sonar_survey_covers(&sv, 120), 0);
 }
 
-/* Sweeps of the site turned by `turn` gradians: each head angle a looks where the survey's a + turn did. */
-static int turned_sweeps(int turn, int sweeps)
+/*
+ * Sweeps of the site turned by `turn` gradians (each head angle a looks where the survey's a + turn did), with
+ * something (an echo of 230 over 4 samples from sample `at`) before the wall at angles from..to (none when from > to).
+ */
+static int sweeps_of(int turn, uint16_t from, uint16_t to, uint16_t at, int sweeps)
 {
     uint8_t beam[N], fg[N];
     int s, gave_up = 0;
-    uint16_t a;
+    uint16_t a, i;
     for (s = 0; s < sweeps && !gave_up; s++) {
         for (a = FROM + 20; a <= TO - 20; a += STEP) {
             site((uint16_t)(a + turn), beam);
+            if (a >= from && a <= to)
+                for (i = at; i < at + 4u; i++)
+                    beam[i] = 230;
             sonar_survey_look(&sv, &bg, a, beam, N);
             (void)sonar_survey_apply(&sv, &bg, a, beam, fg, N);
         }
         gave_up = sonar_survey_sweep(&sv, 0);
     }
     return gave_up;
+}
+
+static int turned_sweeps(int turn, int sweeps)
+{
+    return sweeps_of(turn, 1, 0, 0, sweeps);
 }
 
 /* The site as surveyed fits; turned, it is given up within two sweeps with the turn estimated to the gradian. */
@@ -354,6 +365,21 @@ static void test_turned_mount(void **state)
     assert_int_equal(sv.refit, 0);
     assert_int_equal(turned_sweeps(0, 1), 0);
     assert_int_equal(sv.refit, 1);
+}
+
+/*
+ * A person 1 m out hides most of the wall (14 of 21 angles, 0.4 m across): that says nothing of the survey's fit.
+ * A barge's side 3.5 m out across all of it (2.2 m, wider than SONAR_SURVEY_PERSON_M) is the site changed.
+ */
+static void test_hidden_structure(void **state)
+{
+    (void)state;
+    use(survey_image());
+    assert_int_equal(sweeps_of(0, 120, 146, 40, 6), 0);
+    assert_int_equal(sv.state, SONAR_SURVEY_IN_USE);
+    assert_int_equal(sweeps_of(0, 120, 160, 140, 2), 1);
+    assert_int_equal(sv.state, SONAR_SURVEY_UNFIT);
+    assert_int_equal(sv.why, SONAR_SURVEY_CHANGED);
 }
 
 /* Lines wider than any object in 2 of 3 sweeps: structure the survey does not hold. */
@@ -430,6 +456,7 @@ int main(void)
         cmocka_unit_test(test_jitter_is_not_moving),
         cmocka_unit_test(test_setting_misfit_and_refit),
         cmocka_unit_test(test_turned_mount),
+        cmocka_unit_test(test_hidden_structure),
         cmocka_unit_test(test_new_structure),
         cmocka_unit_test(test_learnt_model),
         cmocka_unit_test(test_damaged_image),

@@ -1,4 +1,4 @@
-/* test_tracker_walls.c -- the tracker at the site's walls: a turn at a straight wall and at a corner keeps one ID (and loses it without the walls), walls not crossed and no walls change nothing, a track beyond a wall is never turned back in, a wall that is a rope costs a swimmer under it nothing, bad walls refused. */
+/* test_tracker_walls.c -- the tracker at the site's walls: a turn at a straight wall, past the end seen of one, and at a corner keeps one ID (and loses it without the walls), walls not crossed and no walls change nothing, a track beyond a wall is never turned back in, a wall that is a rope costs a swimmer under it nothing, bad walls refused. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -75,6 +75,22 @@ static void test_turn_at_a_wall(void **state)
     assert_true(run(&tk, -14.0f, 3.0f, 1.5f, 0.0f, 5, 1) > 1u);
     init(&tk, 2, 0); /* --track-walls off */
     assert_true(run(&tk, -14.0f, 3.0f, 1.5f, 0.0f, 5, 1) > 1u);
+}
+
+/*
+ * A wall seen only part way (a survey sees as far as its beams reach): a swimmer turning 0.4 m past the end seen
+ * keeps one ID (the line runs on SONAR_TRK_WALL_END_M); one 2.4 m past it is in open water, and is not turned.
+ */
+static void test_turn_past_the_end_seen(void **state)
+{
+    static const float part[1][4] = {{10.5f, -20.0f, 10.5f, 2.6f}};
+    (void)state;
+    init(&tk, 0, 1);
+    assert_int_equal(sonar_tracker_set_walls(&tk, part, 1), SONAR_OK);
+    assert_int_equal(run(&tk, -14.0f, 3.0f, 1.5f, 0.0f, 5, 1), 1u);
+    init(&tk, 0, 1);
+    assert_int_equal(sonar_tracker_set_walls(&tk, part, 1), SONAR_OK);
+    assert_true(run(&tk, -14.0f, 5.0f, 1.5f, 0.0f, 5, 1) > 1u);
 }
 
 /* Into the corner: turned at both walls in one step, one ID. */
@@ -163,6 +179,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_turn_at_a_wall),
+        cmocka_unit_test(test_turn_past_the_end_seen),
         cmocka_unit_test(test_turn_at_a_corner),
         cmocka_unit_test(test_no_walls_change_nothing),
         cmocka_unit_test(test_beyond_a_wall_not_turned),

@@ -1,4 +1,4 @@
-/* survey.h -- the empty site recorded once (each cell's level and spread over N sweeps, its structure) and judged against while it fits; RAM: sizeof(struct sonar_survey_rec) = 3 362 648 B to record (host), sizeof(struct sonar_survey) = 2 944 B and a spread block, sizeof(struct sonar_survey_spread) = 480 000 B, to use. */
+/* survey.h -- the empty site recorded once (each cell's level and spread over N sweeps, its structure) and judged against while it fits; RAM: sizeof(struct sonar_survey_rec) = 3 362 648 B to record (host), sizeof(struct sonar_survey) = 2 992 B and a spread block, sizeof(struct sonar_survey_spread) = 480 000 B, to use. */
 #ifndef SONAR_SURVEY_H
 #define SONAR_SURVEY_H
 
@@ -57,8 +57,11 @@
 #define SONAR_SURVEY_SIG_LEVEL 48     /* an angle holds structure when its strongest level is at least this ... */
 #define SONAR_SURVEY_SIG_TIMES 4      /* ... and this many times its median level beyond the ring-down */
 #define SONAR_SURVEY_SIG_M 0.06f      /* a look agrees when its strongest echo is this close to the survey's, metres (at least 2 samples) */
-#define SONAR_SURVEY_MIN_SIG 16       /* angles with structure a sweep needs before it can say the survey fits or not */
+#define SONAR_SURVEY_MIN_SIG 16       /* angles with structure a sweep needs before it can say the survey fits or not ... */
+#define SONAR_SURVEY_MIN_VIEW 4       /* ... of them in view, when the rest are hidden behind people */
 #define SONAR_SURVEY_OCCLUDE_M 0.5f   /* an echo standing out this much nearer than the structure hides it (not counted) */
+#define SONAR_SURVEY_PERSON_M 2.0f    /* ... unless what hides it is wider than this end to end (no person, nor two side by
+                                         side, with the beam's spread): then the site in front of the structure changed */
 #define SONAR_SURVEY_AGREE16 8        /* a sweep fits when this many 16ths of those angles agree ... */
 #define SONAR_SURVEY_STANDOUT1000 250 /* ... and no more than this many thousandths of its cells stand out (a crowd is a tenth) */
 #define SONAR_SURVEY_UNFIT_SWEEPS 2   /* sweeps in a row that do not fit before the survey is given up */
@@ -196,8 +199,9 @@ struct sonar_survey {
     uint16_t obs[SONAR_MAX_ANGLES];          /* this sweep's strongest echo per row looked at, 0xFFFF none */
     uint8_t looked[SONAR_MAX_ANGLES / 8 + 1]; /* rows looked at this sweep */
     uint16_t checked, agreed;                /* this sweep: rows with structure looked at, and those that agree ... */
-    uint16_t occluded;                       /* ... and those hidden behind something nearer (not counted: unless they
-                                                are most: then the site in front of the structure changed) */
+    uint16_t occluded;                       /* ... and those hidden behind something nearer (not counted: unless it is
+                                                wider than a person: then the site in front of the structure changed) */
+    uint8_t hid[SONAR_MAX_ANGLES / 8 + 1];   /* rows hidden this sweep */
     uint32_t cells, standout;                /* this sweep: surveyed cells compared, and those that stood out */
     uint8_t bad_run, good_run;               /* sweeps in a row that did not fit / fit (while unfit) */
     uint8_t lines;                           /* bit k: the sweep k sweeps ago had structure the survey does not hold */

@@ -65,6 +65,9 @@ enum sonar_track_state {
 #define SONAR_TRK_REST_MPS 0.05f
 /* A swimmer's centre turns this far out from a wall (half a body length; tracker_walls.c), metres. */
 #define SONAR_TRK_WALL_TURN_M 0.5f
+/* A wall's line runs on this far past the ends seen of it (metres): a survey sees a wall only as far as its beams
+   reach, and a swimmer turning at its end is a body's width wide. */
+#define SONAR_TRK_WALL_END_M 1.0f
 /* Hits before a track that never moved is called structure (enum sonar_track_kind). */
 #define SONAR_TRK_KIND_HITS 4
 

@@ -74,6 +74,7 @@ static void signature(struct sonar_survey *sv, const struct sonar_background *bg
 static void new_sweep(struct sonar_survey *sv)
 {
     memset(sv->looked, 0, sizeof(sv->looked));
+    memset(sv->hid, 0, sizeof(sv->hid));
     sv->checked = sv->agreed = sv->occluded = 0;
     sv->cells = sv->standout = 0;
 }
@@ -221,6 +222,11 @@ static unsigned gate_at(const struct sonar_survey *sv, const struct sonar_backgr
     return l + (sv->has_spread ? sv->spread->s[src][i] : gate_above(l, 0u, 0, bg->margin));
 }
 
+static int has_bit(const uint8_t *map, unsigned r)
+{
+    return (map[r / 8] >> (r % 8)) & 1u;
+}
+
 /* Samples that make SONAR_SURVEY_OCCLUDE_M at the survey's range. */
 static unsigned occlude_samples(const struct sonar_survey *sv)
 {
@@ -255,6 +261,7 @@ void sonar_survey_look(struct sonar_survey *sv, const struct sonar_background *b
     if (sv->state == SONAR_SURVEY_IN_USE && sv->fixed && (unsigned)at + occlude_samples(sv) < sig &&
         in[at] > gate_at(sv, bg, src, at)) {
         sv->occluded++;
+        sv->hid[row / 8] = (uint8_t)(sv->hid[row / 8] | 1u << (row % 8));
         return;
     }
     sv->checked++;
@@ -336,7 +343,7 @@ static void shifted(const struct sonar_survey *sv, int s, uint16_t tol, unsigned
     for (r = 0; r < SONAR_MAX_ANGLES; r++) {
         unsigned q = (unsigned)(((int)r + s + SONAR_MAX_ANGLES) % SONAR_MAX_ANGLES);
         uint16_t sig = sv->sig[q];
-        if (!(sv->looked[r / 8] & (1u << (r % 8))) || sig == NONE)
+        if (!has_bit(sv->looked, r) || sig == NONE)
             continue;
         (*cnt)++;
         *agree += (sv->obs[r] > sig ? sv->obs[r] - sig : sig - sv->obs[r]) <= tol;
@@ -377,6 +384,56 @@ static int find_turn(const struct sonar_survey *sv, int *best)
 }
 
 /* Bits set in the low three of b: sweeps of the last three with structure the survey does not hold. */
+/* Metres end to end between the strongest echoes at samples a0 of row r0 and a1 of row r1. */
+static float chord_m(const struct sonar_survey *sv, unsigned r0, uint16_t a0, unsigned r1, uint16_t a1)
+{
+    float m = (float)sv->meta.range_mm * 1e-3f / (float)sv->meta.n, p = (float)a0 * m, q = (float)a1 * m;
+    float th = (float)((r1 + SONAR_MAX_ANGLES - r0) % SONAR_MAX_ANGLES) * (float)(2.0 * SONAR_PI / SONAR_MAX_ANGLES);
+    float c2 = p * p + q * q - 2.0f * p * q * cosf(th);
+    return c2 > 0.0f ? sqrtf(c2) : 0.0f;
+}
+
+/*
+ * Rows hidden this sweep behind something wider than SONAR_SURVEY_PERSON_M end to end. A hider is a run of rows
+ * looked at whose strongest echoes are each within a body's depth of the last (a person, a barge's side seen
+ * aslant); its hidden rows are those it holds. People each hide a few gradians however many of them stand before a
+ * wall; a moored boat or a new pontoon hides wider than any of them.
+ */
+static unsigned hidden_by_wide(const struct sonar_survey *sv)
+{
+    unsigned k, r, start, first = 0, last = 0, nrun = 0, wide = 0, depth = occlude_samples(sv);
+    uint16_t a_first = 0, a_last = 0;
+    if (sv->occluded == 0)
+        return 0;
+    /* Walked from a row not hidden, so that a hider across the turn's 0 is one. */
+    for (start = 0; start < SONAR_MAX_ANGLES && !(has_bit(sv->looked, start) && !has_bit(sv->hid, start)); start++)
+        ;
+    if (start == SONAR_MAX_ANGLES)
+        return sv->occluded; /* all of it hidden */
+    for (k = 1; k <= SONAR_MAX_ANGLES; k++) {
+        r = (start + k) % SONAR_MAX_ANGLES;
+        if (!has_bit(sv->looked, r))
+            continue;
+        if (nrun > 0 && (sv->obs[r] > a_last ? (unsigned)sv->obs[r] - a_last : (unsigned)a_last - sv->obs[r]) <= depth) {
+            last = r;
+            a_last = sv->obs[r];
+            nrun += (unsigned)has_bit(sv->hid, r);
+            continue;
+        }
+        if (nrun > 0 && chord_m(sv, first, a_first, last, a_last) > SONAR_SURVEY_PERSON_M)
+            wide += nrun;
+        nrun = 0;
+        if (has_bit(sv->hid, r)) {
+            first = last = r;
+            a_first = a_last = sv->obs[r];
+            nrun = 1;
+        }
+    }
+    if (nrun > 0 && chord_m(sv, first, a_first, last, a_last) > SONAR_SURVEY_PERSON_M)
+        wide += nrun;
+    return wide < sv->occluded ? wide : sv->occluded;
+}
+
 static unsigned last3(uint8_t b)
 {
     return (b & 1u) + ((b >> 1) & 1u) + ((b >> 2) & 1u);
@@ -392,12 +449,15 @@ int sonar_survey_sweep(struct sonar_survey *sv, unsigned structures)
         new_sweep(sv);
         return 0;
     }
-    /* Most of the structure hidden by what stands out in front of it is no person in front of a wall: the site changed. */
-    if (sv->occluded > sv->checked && sv->occluded + sv->checked >= SONAR_SURVEY_MIN_SIG) {
-        sv->checked = (uint16_t)(sv->checked + sv->occluded);
-        sv->occluded = 0;
+    /* Structure hidden by something wider than a person is no person in front of a wall: the site changed there. */
+    {
+        unsigned wide = hidden_by_wide(sv);
+        sv->checked = (uint16_t)(sv->checked + wide);
+        sv->occluded = (uint16_t)(sv->occluded - wide);
     }
-    agree_known = sv->checked >= SONAR_SURVEY_MIN_SIG;
+    /* People hiding most of it say nothing: what is left in view says whether it fits, when a few rows are. */
+    agree_known = sv->checked >= SONAR_SURVEY_MIN_SIG ||
+                  (sv->checked + sv->occluded >= SONAR_SURVEY_MIN_SIG && sv->checked >= SONAR_SURVEY_MIN_VIEW);
     agrees = !agree_known || 16u * sv->agreed >= (unsigned)SONAR_SURVEY_AGREE16 * sv->checked;
     /* Only a spread says how much of the water stands out by chance: by the level alone a fifth of a speckled cell's looks do. */
     quiet = !sv->has_spread || sv->cells == 0 ||

@@ -55,12 +55,12 @@ static int first_crossing(const struct sonar_tracker *tk, float x, float y, floa
                           int skip, float *s, float w_out[4])
 {
     int k, best = -1;
-    const float m = SONAR_TRK_WALL_TURN_M, lx = (dx < 0.0f ? x + dx : x) - m, hx = (dx < 0.0f ? x : x + dx) + m;
+    const float m = SONAR_TRK_WALL_TURN_M + SONAR_TRK_WALL_END_M, lx = (dx < 0.0f ? x + dx : x) - m, hx = (dx < 0.0f ? x : x + dx) + m;
     const float ly = (dy < 0.0f ? y + dy : y) - m, hy = (dy < 0.0f ? y : y + dy) + m;
     *s = 2.0f;
     for (k = 0; k < tk->nwalls; k++) {
         const float *a = tk->wall[k];
-        float w[4], ux, uy, den, so, sp, se, ax, ay, f, r;
+        float w[4], ux, uy, den, so, sp, se, ax, ay, f, r, e;
         /* Most walls are nowhere near the path: their boxes apart, no square root spent. */
         if (k == skip || (a[0] < lx && a[2] < lx) || (a[0] > hx && a[2] > hx) || (a[1] < ly && a[3] < ly) ||
             (a[1] > hy && a[3] > hy) || !turn_line(tk, k, ox, oy, w))
@@ -78,7 +78,8 @@ static int first_crossing(const struct sonar_tracker *tk, float x, float y, floa
         ay = w[1] - y;
         f = (ax * uy - ay * ux) / den;
         r = (ax * dy - ay * dx) / den;
-        if (f >= 0.0f && f <= 1.0f && r >= 0.0f && r <= 1.0f && f < *s) {
+        e = SONAR_TRK_WALL_END_M / sqrtf(ux * ux + uy * uy); /* the line past its ends, as a fraction of it */
+        if (f >= 0.0f && f <= 1.0f && r >= -e && r <= 1.0f + e && f < *s) {
             *s = f;
             best = k;
             memcpy(w_out, w, sizeof(w));
