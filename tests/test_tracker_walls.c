@@ -104,7 +104,17 @@ static void test_turn_at_a_corner(void **state)
     assert_true(run(&tk, -14.0f, -14.0f, 1.5f, 1.5f, 5, 1) > 1u);
 }
 
-/* Walls it never reaches, no walls, and walls set to none: the same tracks, bit for bit. */
+/* Whether two trackers hold the same tracks, bit for bit, but for which walls each found near this update. */
+static void same_tracks(struct sonar_tracker *a, struct sonar_tracker *b)
+{
+    unsigned k;
+    assert_int_equal(a->n, b->n);
+    for (k = 0; k < a->n; k++)
+        a->t[k].near_walls = b->t[k].near_walls = 0;
+    assert_memory_equal(a->t, b->t, sizeof(a->t[0]) * a->n);
+}
+
+/* Walls it never crosses, no walls, and walls set to none: the same tracks, bit for bit. */
 static void test_no_walls_change_nothing(void **state)
 {
     (void)state;
@@ -112,15 +122,13 @@ static void test_no_walls_change_nothing(void **state)
     init(&other, 0, 1);
     (void)run(&tk, -9.0f, -8.0f, 0.4f, 0.3f, 8, 0);
     (void)run(&other, -9.0f, -8.0f, 0.4f, 0.3f, 8, 0);
-    assert_int_equal(tk.n, other.n);
-    assert_memory_equal(tk.t, other.t, sizeof(tk.t[0]) * tk.n);
+    same_tracks(&tk, &other);
     init(&tk, 2, 1);
     assert_int_equal(sonar_tracker_set_walls(&tk, NULL, 0), SONAR_OK);
     (void)run(&tk, -14.0f, 3.0f, 1.5f, 0.0f, 5, 1);
     init(&other, 0, 1);
     (void)run(&other, -14.0f, 3.0f, 1.5f, 0.0f, 5, 1);
-    assert_int_equal(tk.n, other.n);
-    assert_memory_equal(tk.t, other.t, sizeof(tk.t[0]) * tk.n);
+    same_tracks(&tk, &other);
 }
 
 /* Beyond a wall (a reflection, an echo past the pool's edge) coming in through it: never turned back out, as without walls. */

@@ -109,7 +109,8 @@
 
 /*
  * Walls the tracker turns its predictions at (tracker.h, sonar_tracker_set_walls): the site
- * survey's lines. RAM: 16 B each in sizeof(struct sonar_tracker), SONAR_TRK_MAX_WALLS * 16 = 256 B.
+ * survey's lines. RAM: 48 B each in sizeof(struct sonar_tracker) (its ends, its box and this update's line
+ * where a swimmer turns), SONAR_TRK_MAX_WALLS * 48 = 768 B; at most 16 (a track's near_walls is a bit each).
  */
 #ifndef SONAR_TRK_MAX_WALLS
 #define SONAR_TRK_MAX_WALLS 16
@@ -161,6 +162,7 @@ SONAR_STATIC_ASSERT(SONAR_HULL_WORK >= 2 * SONAR_MAX_HULL + 8, hull_work_holds_h
 SONAR_STATIC_ASSERT(SONAR_MAX_TRACKS >= 1 && SONAR_MAX_TRACKS <= 64, tracks_1_64);
 SONAR_STATIC_ASSERT(SONAR_ACT_SLOTS >= 1 && SONAR_ACT_SLOTS <= 64, act_slots_1_64);
 SONAR_STATIC_ASSERT(SONAR_TRK_HYPOTHESES >= 2 && SONAR_TRK_HYPOTHESES <= 16, hypotheses_2_16);
+SONAR_STATIC_ASSERT(SONAR_TRK_MAX_WALLS >= 1 && SONAR_TRK_MAX_WALLS <= 16, walls_fit_a_track_mask); /* sonar_track.near_walls */
 SONAR_STATIC_ASSERT(SONAR_MAX_PLACES >= 1 && SONAR_MAX_PLACES <= 32, places_1_32);
 SONAR_STATIC_ASSERT(SONAR_MAX_POSES >= 2 && SONAR_MAX_POSES <= 65535, poses_2_65535);
 SONAR_STATIC_ASSERT(SONAR_CLUTTER_BANDS >= 1 && SONAR_CLUTTER_BANDS <= 64, clutter_bands_1_64);

@@ -1,4 +1,4 @@
-/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, confirmation by M of N hits or by probability of existence, predictions turned at the site's walls (tracker_walls.c); RAM: sizeof(struct sonar_track) = 184 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 11 160 B (the walls SONAR_TRK_MAX_WALLS * 16 = 256 B of it, the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
+/* tracker.h -- tracks with persistent IDs across sweeps: interacting multiple models (moving, manoeuvring, resting), a Mahalanobis gate, an optimal assignment deferred by a sweep, confirmation by M of N hits or by probability of existence, predictions turned at the site's walls (tracker_walls.c); RAM: sizeof(struct sonar_track) = 184 B a track (SONAR_MAX_TRACKS), sizeof(struct sonar_tracker) = 11 680 B (the walls SONAR_TRK_MAX_WALLS * 48 = 768 B of it, the pair cost cache SONAR_MAX_CLUSTERS * SONAR_MAX_TRACKS * 4 = 2 048 B of it); stack of an update ~3.5 KB. */
 #ifndef SONAR_TRACKER_H
 #define SONAR_TRACKER_H
 
@@ -149,6 +149,7 @@ struct sonar_track {
     int8_t echo_corr;    /* its echo's look-to-look correlation x 100, averaged (activity.h); -128: none */
     uint16_t looks;      /* sweeps it was in view or hit (saturating): its own P_D is hits over these */
     uint8_t exists;      /* 1 once its existence reached SONAR_TRK_EXIST_ALARM, until it falls below SONAR_TRK_EXIST_DOUBT */
+    uint16_t near_walls; /* this update: bit k, wall[k] within its models' reach by the sweep's last detection (tracker_walls.c) */
     float existence;     /* probability it is a real object, 0..1 (SONAR_TRK_EXIST_*) */
     float lik;           /* this sweep's detection's likelihood under its models, per m^2 (0: none) */
     struct sonar_track_model m[SONAR_TRK_MODELS]; /* the IMM, mixed for the next step; px .. pc above combine them */
@@ -226,6 +227,10 @@ struct sonar_tracker {
      */
     float wall[SONAR_TRK_MAX_WALLS][4]; /* x0, y0, x1, y1 of each wall, metres in the tracks' frame */
     uint8_t nwalls;          /* wall[0 .. nwalls) (sonar_tracker_set_walls) */
+    float wall_box[4][SONAR_TRK_MAX_WALLS]; /* each wall's box: least x, most x, least y, most y (a row each: compared
+                                               a track against them all at once) */
+    float turn[SONAR_TRK_MAX_WALLS][4]; /* this update: each wall's line where a swimmer turns (tracker_walls.c) ... */
+    uint32_t turnable;       /* ... bit k: wall k has one (it has a length, and the sonar is off its line) */
     const struct sonar_tracker_obs *cache_obs;
     const struct sonar_tracker_sweep *cur_sw; /* the sweep being updated (its clutter map and origin), else NULL */
     uint64_t cache_known[SONAR_MAX_CLUSTERS];

@@ -14,9 +14,8 @@ int sonar_tracker_init(struct sonar_tracker *tk, const struct sonar_tracker_conf
     if (tk == NULL || cfg == NULL || sonar_tracker_config_check(cfg) != NULL)
         return SONAR_ERR_ARG;
     memset(tk, 0, sizeof(*tk));
-    tk->cfg = *cfg;
     tk->next_id = 1;
-    return SONAR_OK;
+    return sonar_tracker_tune(tk, cfg);
 }
 
 int sonar_tracker_tune(struct sonar_tracker *tk, const struct sonar_tracker_config *cfg)
@@ -292,6 +291,7 @@ int sonar_tracker_update(struct sonar_tracker *tk, const struct sonar_tracker_ob
     /* The last sweep's other hypotheses, read against this sweep's detections. */
     tk->nrev = 0;
     sonar_trk_cache_reset(tk, obs);
+    sonar_trk_walls_near(tk, obs, rows, nr);
     if (tk->cfg.defer)
         sonar_trk_defer_decide(tk, cost, obs, rows, nr, r2, &clipped);
     tk->nalt = 0;

@@ -71,7 +71,7 @@ static float predicted(const struct sonar_tracker *tk, const struct sonar_track 
             x[j] = m->px + m->vx * dt;
             y[j] = m->py + m->vy * dt;
             sj[j] = m->pa + 2.0f * m->pb * dt + m->pc * dt2 + model_q(tk, j) * dt2 * dt / 3.0f + r2;
-            if (tk->nwalls > 0 && tk->cfg.walls && sonar_trk_wall_turn(tk, &wx, &wy, &wvx, &wvy, dt)) {
+            if (t->near_walls != 0 && sonar_trk_wall_turn(tk, t->near_walls, &wx, &wy, &wvx, &wvy, dt)) {
                 float tx = wx + wvx * dt, ty = wy + wvy * dt;
                 float straight = (o->x_m - x[j]) * (o->x_m - x[j]) + (o->y_m - y[j]) * (o->y_m - y[j]);
                 if ((o->x_m - tx) * (o->x_m - tx) + (o->y_m - ty) * (o->y_m - ty) < straight) {
@@ -213,7 +213,7 @@ int sonar_trk_imm_hit(const struct sonar_tracker *tk, struct sonar_track *t, con
         struct sonar_track_model *m = &post[j];
         *m = t->m[j];
         if (turned[j]) /* the turned prediction explained it: the model turned at the wall */
-            (void)sonar_trk_wall_turn(tk, &m->px, &m->py, &m->vx, &m->vy, dt);
+            (void)sonar_trk_wall_turn(tk, t->near_walls, &m->px, &m->py, &m->vx, &m->vy, dt);
         predict_model(tk, j, m, dt);
         float s = m->pa + r2, ka = m->pa / s, kb = m->pb / s, ex = o->x_m - m->px, ey = o->y_m - m->py;
         float a = m->pa, b = m->pb;

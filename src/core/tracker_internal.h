@@ -40,11 +40,19 @@ void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, 
 
 /*
  * A model at (*px, *py) moving at (*vx, *vy) m/s whose straight path over dt s would cross one of
- * tk's walls from the sonar's side (tk->cur_sw's origin; 0, 0 without one): the path turned at it
+ * tk's walls near (a track's near_walls) from the sonar's side (tk->cur_sw's origin; 0, 0 without one): the path turned at it
  * (and at a second, a corner), given as the start and velocity that predict its end in a straight
  * line. Returns the walls turned at (0: none, nothing changed). tracker_walls.c.
  */
-int sonar_trk_wall_turn(const struct sonar_tracker *tk, float *px, float *py, float *vx, float *vy, float dt);
+int sonar_trk_wall_turn(const struct sonar_tracker *tk, uint32_t near, float *px, float *py, float *vx, float *vy, float dt);
+
+/*
+ * Each live and alternative track's near_walls for an update whose usable detections are obs[rows[0 .. nr)]: the
+ * walls whose boxes the box of its models' straight paths to the latest of them reaches (with the turn line's and
+ * the wall end's margins). A path to an earlier detection is a part of that one, so a wall out of reach of the
+ * latest is out of reach of every pair: sonar_trk_wall_turn looks at no other (its corner's second wall aside).
+ */
+void sonar_trk_walls_near(struct sonar_tracker *tk, const struct sonar_tracker_obs *obs, const uint8_t *rows, unsigned nr);
 
 /*
  * One gated assignment of detections left[0 .. nl) to tracks cand[0 .. nc) (cost: scratch, nl

@@ -81,8 +81,9 @@ static void put_num(const char *key, uint64_t v)
     put(buf);
 }
 
-/* The tracker's sweep (tools/bench/tracker_scene.h, as the host bench times it): 32 tracks, 16 detections. */
-static int64_t tracker_us(void)
+/* The tracker's sweep (tools/bench/tracker_scene.h, as the host bench times it): 32 tracks, 16 detections; in a
+   walled site (SONAR_TRK_MAX_WALLS walls about it) when walls. */
+static int64_t tracker_us(int walls)
 {
     static struct sonar_tracker tk;
     struct sonar_tracker_config tc;
@@ -90,7 +91,7 @@ static int64_t tracker_us(void)
     struct sonar_tracker_sweep sw;
     int64_t t0;
     sonar_tracker_defaults(&tc);
-    if (bench_tracker_scene(&tk, &tc, ob, &sw) != 0)
+    if (bench_tracker_scene(&tk, &tc, ob, &sw) != 0 || (walls && bench_tracker_walls(&tk) != 0))
         return -1;
     t0 = board_micros();
     if (sonar_tracker_update(&tk, ob, 16, &sw) != SONAR_OK)
@@ -349,7 +350,7 @@ int main(void)
     struct sonar_background_config bc = {SONAR_BACKGROUND_PER_ANGLE, 2, 1, 8};
     struct sonar_detector_config dc = det_cfg();
     struct typical ty;
-    int64_t worst_us = 0, tu, ta, su, tp, st[4];
+    int64_t worst_us = 0, tu, tw, ta, su, tp, st[4];
     int r;
     board_init();
     b.rng = 42;
@@ -357,9 +358,10 @@ int main(void)
         return 1;
     if ((r = typical_sweeps(&b, &ty)) != 0 || (r = worst_sweep(&b, &worst_us)) != 0)
         return r;
-    if ((tu = tracker_us()) < 0 || (ta = tracker_activity_us()) < 0 || (su = scan_us()) < 0)
+    if ((tu = tracker_us(0)) < 0 || (tw = tracker_us(1)) < 0 || (ta = tracker_activity_us()) < 0 || (su = scan_us()) < 0)
         return 5;
     put_num("insn_tracker_sweep", (uint64_t)tu * INSN_PER_US);
+    put_num("insn_tracker_walls_sweep", (uint64_t)tw * INSN_PER_US);
     put_num("insn_tracker_activity_sweep", (uint64_t)ta * INSN_PER_US);
     put_num("insn_scan_call", (uint64_t)su * INSN_PER_US);
     put_num("beams", BENCH_BEAMS);

@@ -332,22 +332,10 @@ int main(int argc, char **argv)
             printf("tracker_tracks %d\n", (int)tk0.n);
             printf("tracker_alternatives %d %d\n", (int)tk0.nalt, (int)tk.nalt);
             {
-                /* The same sweep in a walled site: SONAR_TRK_MAX_WALLS walls, four of them a box the scene's tracks
-                   swim in, every model of every pair checked against each (tracker_walls.c). */
+                /* The same sweep in a walled site (tracker_scene.h): SONAR_TRK_MAX_WALLS walls about it. */
                 static struct sonar_tracker tkw;
-                float walls[SONAR_TRK_MAX_WALLS][4];
-                int k;
-                for (k = 0; k < SONAR_TRK_MAX_WALLS; k++) {
-                    /* Nested boxes about the scene (x -6 .. 26, y -6 .. 6): left, right, bottom, top. */
-                    float hx = 18.0f + 2.0f * (float)(k / 4), hy = 9.0f + 2.0f * (float)(k / 4);
-                    float x = (k % 4) == 1 ? 10.0f + hx : 10.0f - hx, y = (k % 4) == 3 ? hy : -hy;
-                    walls[k][0] = (k % 4) < 2 ? x : 10.0f - hx;
-                    walls[k][1] = (k % 4) < 2 ? -hy : y;
-                    walls[k][2] = (k % 4) < 2 ? x : 10.0f + hx;
-                    walls[k][3] = (k % 4) < 2 ? hy : y;
-                }
                 memcpy(&tkw, &tk0, sizeof(tkw));
-                if (sonar_tracker_set_walls(&tkw, (const float(*)[4])walls, SONAR_TRK_MAX_WALLS) != SONAR_OK)
+                if (bench_tracker_walls(&tkw) != 0)
                     return 1;
                 for (r = 0; r < REPS; r++) {
                     double t0 = now();

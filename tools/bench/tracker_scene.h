@@ -41,6 +41,26 @@ static int bench_tracker_scene(struct sonar_tracker *tk, const struct sonar_trac
 }
 
 /*
+ * The same scene in a walled site: SONAR_TRK_MAX_WALLS walls, nested boxes about the scene's tracks (x -6 .. 26,
+ * y -6 .. 6; the innermost 2 m beyond its outermost tracks, which reach it), set on tk. Returns 0, or -1 when refused.
+ */
+static int bench_tracker_walls(struct sonar_tracker *tk)
+{
+    float walls[SONAR_TRK_MAX_WALLS][4];
+    int k;
+    for (k = 0; k < SONAR_TRK_MAX_WALLS; k++) {
+        /* Box k / 4, wall k % 4: left, right, bottom, top. */
+        float hx = 18.0f + 2.0f * (float)(k / 4), hy = 9.0f + 2.0f * (float)(k / 4);
+        float x = (k % 4) == 1 ? 10.0f + hx : 10.0f - hx, y = (k % 4) == 3 ? hy : -hy;
+        walls[k][0] = (k % 4) < 2 ? x : 10.0f - hx;
+        walls[k][1] = (k % 4) < 2 ? -hy : y;
+        walls[k][2] = (k % 4) < 2 ? x : 10.0f + hx;
+        walls[k][3] = (k % 4) < 2 ? hy : y;
+    }
+    return sonar_tracker_set_walls(tk, (const float(*)[4])walls, SONAR_TRK_MAX_WALLS) == SONAR_OK ? 0 : -1;
+}
+
+/*
  * The activity's worst look over that scene's tracks (activity.h): each has a slot and both windows
  * full (a turn of 400 beams of 1200 samples over 50 m filled them), so a look correlates all of them.
  * row: 1200 bytes of scratch.

@@ -35,6 +35,7 @@ import eval_survey  # noqa: E402
 import eval_activity  # noqa: E402
 import eval_clutter  # noqa: E402
 import eval_walls  # noqa: E402
+import standalone  # noqa: E402
 import figures  # noqa: E402
 import study_pipeline  # noqa: E402
 
@@ -482,15 +483,7 @@ def main():
     for line in sh([f"{B}/bench", W]).splitlines():
         k, _, v = line.partition(" ")
         cost[k] = v
-    m7 = {}
-    elf = f"{B}/mcu/bench-400x1200.elf"
-    if os.path.exists(elf) and subprocess.run(["sh", "-c", "command -v qemu-system-arm"], capture_output=True).returncode == 0:
-        r = subprocess.run(["timeout", "600", "qemu-system-arm", "-M", "mps2-an500", "-display", "none", "-monitor", "none",
-                            "-icount", "shift=0", "-semihosting-config", "enable=on,target=native", "-kernel", elf,
-                            "-serial", "stdio", "-serial", "null"], capture_output=True, text=True)
-        for line in r.stdout.splitlines():
-            k, _, v = line.partition(" ")
-            m7[k] = v
+    m7 = standalone.m7_figures(B)
 
     # ---------------- 8. steering the head (issue 26): live, sonar-feed at device pace on the wall clock, sweep vs follow
     scan = {}
@@ -817,7 +810,7 @@ def main():
     L += eval_activity.section(sh, B, W, have_real, presets,
                                (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
     L += eval_clutter.section(sh, run, B, W, have_real)
-    L += eval_walls.section(sh, run, B, W, have_real, cost)
+    L += eval_walls.section(sh, run, B, W, have_real, dict(cost, **{"m7_" + k: v for k, v in m7.items()}))
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:

@@ -118,9 +118,15 @@ def section(sh, run, B, W, have_real, cost):
               "no walls there and the figures are those before issue 52:\n"] + rows + [""]
     if cost.get("tracker_walls_sweep_us") and cost.get("tracker_sweep_us"):
         a, b = float(cost["tracker_sweep_us"]), float(cost["tracker_walls_sweep_us"])
+        m7 = ""
+        if cost.get("m7_insn_tracker_walls_sweep") and cost.get("m7_insn_tracker_sweep"):
+            c, d = int(cost["m7_insn_tracker_sweep"]), int(cost["m7_insn_tracker_walls_sweep"])
+            m7 = f"; on the Cortex-M7 (`make mcu-bench`) {c:,} and {d:,} instructions ({d / c:.2f}×)".replace(",", " ")
         L.append(f"Cost (`make bench`, this run): the tracker bench's sweep (32 tracks, 16 detections) {a:.1f} µs without "
-                 f"walls, as before; with {16} walls about it (nested boxes, each pair's models checked against each "
-                 f"wall's box first) {b:.1f} µs ({b / a:.2f}×).\n")
+                 f"walls, as before; with 16 walls about it (`tools/bench/tracker_scene.h`: nested boxes, the innermost "
+                 f"reached by four tracks) {b:.1f} µs ({b / a:.2f}×){m7}. Each track finds the walls within its models' "
+                 f"reach once an update (their boxes against its paths' box); a pair's prediction looks at those "
+                 f"alone.\n")
     return L
 
 

@@ -1,11 +1,24 @@
 """standalone.py -- runs one make-eval section on its own (as eval.py would call it) and prints its lines: the build and
-work directories, the real recordings converted when present, the bench's figures when it is built. stdlib only."""
+work directories, the real recordings converted when present, the bench's figures (host, and the M7's under QEMU) when
+they are built. stdlib only."""
 import argparse
 import os
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def m7_figures(build):
+    """The M7 bench image's figures (make mcu-bench's first image, under QEMU with -icount), when it is built and
+    qemu-system-arm is installed; else {}."""
+    elf = os.path.join(build, "mcu", "bench-400x1200.elf")
+    if not os.path.exists(elf) or subprocess.run(["sh", "-c", "command -v qemu-system-arm"], capture_output=True).returncode:
+        return {}
+    r = subprocess.run(["timeout", "600", "qemu-system-arm", "-M", "mps2-an500", "-display", "none", "-monitor", "none",
+                        "-icount", "shift=0", "-semihosting-config", "enable=on,target=native", "-kernel", elf,
+                        "-serial", "stdio", "-serial", "null"], capture_output=True, text=True)
+    return dict(p for p in (line.split(" ", 1) for line in r.stdout.splitlines()) if len(p) == 2)
 
 
 def main(doc, section):
@@ -32,4 +45,5 @@ def main(doc, section):
     cost = {}
     if os.path.exists(os.path.join(a.build, "bench")):
         cost = dict(p for p in (line.split() for line in sh([os.path.join(a.build, "bench")]).splitlines()) if len(p) == 2)
+    cost.update({"m7_" + k: v for k, v in m7_figures(a.build).items()})
     print("\n".join(section(sh, run, a.build, a.work, have_real, cost)))
