@@ -21,7 +21,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SCORE = (sys.executable, os.path.join(HERE, "score.py"))
 # scene, passes a survey of 20 looks takes (a sector whose step does not divide it looks at each angle every other pass)
 SCENES = (("lanes", 2), ("laps", 1), ("turns", 2))
-WALL_M = 2.0  # a change of track within this of a wall is one at the wall (the older scenes turn 1.5 m out)
+WALL_M = 2.0  # a change of track within this of a wall is one at the wall (the swimmers turn 0.5 m out)
 
 
 def _seg_d(px, py, w):

@@ -44,8 +44,9 @@ static double rayleigh(struct scene_rng *g)
  *             (40 passes).
  *   laps:     full turns at 4 gradians, 600 samples over 15 m (6.3 s a turn): the sonar hangs in the
  *             middle of a 16 x 25 m pool, walls all round (its corners beyond the range), two swaying
- *             lane ropes, a ladder (structure); three swimmers doing lengths at 0.6 m/s, one standing
- *             from the first ping, a steady echo (30 turns); the truth says their activity.
+ *             lane ropes, a ladder (structure); three swimmers doing lengths at 0.5-0.6 m/s turned 0.5 m
+ *             out from the end walls, one standing from the first ping, a steady echo (30 turns); the truth
+ *             says their activity.
  */
 static int pool_scene(struct scene *s, const char *name)
 {
@@ -144,12 +145,12 @@ static int pool_scene(struct scene *s, const char *name)
         static const struct scene_rope r[2] = {{-4.0, -12.5, 12.5, 80, 0.15, 6.0}, {4.0, -12.5, 12.5, 80, 0.15, 7.0}};
         static const struct scene_object o[] = {
             {"ladder", 7.6, 9.0, 0.15, 0, 0, 170, 0, 0, {0}, {0}, {0}, 0, 1},
-            {"swim_a", 0, 0, 0.35, 0, 0, 150, 0, 7, {0, 37, 74, 111, 148, 185, 200}, {-6.0, -6.0, -6.0, -6.0, -6.0, -6.0, -6.0},
-             {-11, 11, -11, 11, -11, 11, 2}, 0, 0},
-            {"swim_b", 0, 0, 0.35, 0, 0, 150, 0, 7, {12, 46, 80, 114, 148, 182, 200}, {2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0},
-             {11, -9, 11, -9, 11, -9, 1.6}, 0, 0},
-            {"swim_c", 0, 0, 0.35, 0, 0, 145, 0, 5, {30, 70, 110, 150, 200}, {6.0, 6.0, 6.0, 6.0, 6.0},
-             {-10, 10, -10, 10, -15}, 0, 0},
+            {"swim_a", 0, 0, 0.35, 0, 0, 150, 0, 7, {0, 40, 80, 120, 160, 200, 212}, {-6.0, -6.0, -6.0, -6.0, -6.0, -6.0, -6.0},
+             {-12, 12, -12, 12, -12, 12, 5}, 0, 0},
+            {"swim_b", 0, 0, 0.35, 0, 0, 150, 0, 7, {12, 52, 92, 132, 172, 212, 222}, {2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0},
+             {12, -12, 12, -12, 12, -12, -6}, 0, 0},
+            {"swim_c", 0, 0, 0.35, 0, 0, 145, 0, 5, {30, 78, 126, 174, 222}, {6.0, 6.0, 6.0, 6.0, 6.0},
+             {-12, 12, -12, 12, -12}, 0, 0},
             {"stand", -2.0, -6.0, 0.35, 0, 0, 150, 0, 0, {0}, {0}, {0}, 0, 0},
         };
         memcpy(s->wall, w, sizeof(w));
