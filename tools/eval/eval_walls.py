@@ -20,7 +20,7 @@ from eval_survey import _tracks
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCORE = (sys.executable, os.path.join(HERE, "score.py"))
 # scene, passes a survey of 20 looks takes (a sector whose step does not divide it looks at each angle every other pass)
-SCENES = (("lanes", 2), ("laps", 1), ("turns", 2))
+SCENES = (("lanes", 2), ("laps", 1), ("turns", 2), ("occupied", 2), ("activity", 1))
 WALL_M = 2.0  # a change of track within this of a wall is one at the wall (the swimmers turn 0.5 m out)
 
 
@@ -125,7 +125,8 @@ def section(sh, run, B, W, have_real, cost):
          "Each moving pool scene with a survey of its empty site (`sonar-sim --empty --seed 5`, 20 and 40 looks an "
          "angle), scored by `score.py --tracks` with the walls (`--track-walls on`, the default) and without: MOTA / "
          "IDF1 (ID switches; of the changes of a person's nearest confirmed track, those within 2 m of a wall). *turns*: four swimmers doing 25 m and 5 m lengths turned "
-         "at the end walls, at 0.3-1.5 m/s, seen by a sector scanned back and forth (a place every 3.9-7.7 s). "
+         "at the end walls, at 0.3-1.5 m/s, seen by a sector scanned back and forth (a place every 3.9-7.7 s); "
+         "*occupied* and *activity*, the other pools with a swimmer, whose lengths end short of their walls. "
          "Without a survey there are no walls and every output is as before (the golden outputs are unchanged).\n",
          "| scene | survey | walls off: MOTA / IDF1 (switches; track changes at a wall, of all) | walls on |", "|---|---:|---|---|"]
     for sc, mult in SCENES:
