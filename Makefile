@@ -179,7 +179,7 @@ $(BUILD)/tests/test_opencv_ref: tests/test_opencv_ref.cpp $(BUILD)/libsonarcore.
 
 ## test: install deps, then unit tests, OpenCV reference checks, parser fuzzing, replay and live end-to-end tests, the golden replays, real-data converters, the brping cross-check, check-noheap; builds the benches so they cannot rot
 test: deps
-	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test survey-test structure-test live passive-test scan-test mavlink mcap view-test cockpit-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
+	@$(MAKE) --no-print-directory unit docs-check opencv-ref fuzz e2e golden bgfile-test survey-test structure-test live passive-test scan-test mavlink mcap view-test cockpit-test ros2-test discover deb-test soak mcu-test realdata crosscheck check-noheap \
 	  $(BUILD)/bench $(BUILD)/bench_opencv
 
 unit: $(UNIT_BIN)
@@ -335,6 +335,16 @@ view: all .venv-view/.done
 view-test: all .venv-view/.done
 	@sh tools/build/deps.sh chromium chromium-driver python3-selenium iproute2
 	@sh tests/view.sh $(BUILD)
+
+## ros2: the ROS 2 bridge's venv (.venv-ros2): ROS 2 Kilted's rclpy and message wheels for CPython 3.11 on x86_64, pinned by hash (tools/requirements-ros2.txt); elsewhere, source your own ROS 2 (docs/ros2.md)
+ros2: .venv-ros2/.done
+.venv-ros2/.done: tools/requirements-ros2.txt
+	@sh tools/build/deps.sh python3-venv iproute2
+	python3 -m venv .venv-ros2 && .venv-ros2/bin/pip install -q --require-hashes -r tools/requirements-ros2.txt && touch $@
+
+## ros2-test: the bridge against sonard's LCM in a network namespace: a marker and a point per detection at its centroid, the tracks' IDs, a struggle alarm as ERROR on /diagnostics, bad input, the latency
+ros2-test: all .venv-ros2/.done
+	@sh tests/ros2.sh $(BUILD)
 
 ## cockpit-test: sonard in Cockpit: discovery as Cockpit codes it, both widgets in headless chromium, the survey's actions (--control) against a simulated Ping360
 cockpit-test: all .venv-view/.done

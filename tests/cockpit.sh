@@ -7,11 +7,7 @@ B=${1:-build}
 T=$(mktemp -d /tmp/sonard-cockpit.XXXXXX)
 trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
-if ! unshare -rn true 2> /dev/null; then
-    ko "cockpit: unshare -rn (a network namespace for a private LCM bus) is not allowed here"
-    echo "cockpit: $pass passed, $fail failed"
-    exit 1
-fi
+need_netns cockpit "a network namespace for a private LCM bus"
 cat > "$T/run.sh" <<EOS
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 3
 /usr/bin/python3 tests/cockpit_check.py --build "$B" --tmp "$T" --lcm 'udpm://239.255.76.67:7667?ttl=0' \\
@@ -23,8 +19,4 @@ cat "$T/check.out"
 sed 's/^/    sonard: /' "$T/sonard.err" 2> /dev/null | grep -i "control\|survey\|error" | head -20
 sed 's/^/    view: /' "$T/view.err" 2> /dev/null | grep -v "^    view: sonar_view: http" | head -10
 test -s "$T/report.json" && cp "$T/report.json" "$B/cockpit.json"
-pass=$(grep -c '^\[  PASS' "$T/check.out")
-fail=$(grep -c '^\[  FAIL' "$T/check.out")
-if [ "$(cat "$T/rc" 2> /dev/null)" != 0 ] && [ "$fail" -eq 0 ]; then fail=1; fi
-echo "cockpit: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+tally cockpit "$T/check.out" "$T/rc"

@@ -12,11 +12,7 @@ B=${1:-build}
 T=$(mktemp -d /tmp/sonard-passive.XXXXXX)
 trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
-if ! unshare -rn true 2> /dev/null; then
-    ko "passive: unshare -rn (a network namespace of its own) is not allowed here"
-    echo "passive: $pass passed, $fail failed"
-    exit 1
-fi
+need_netns passive "a network namespace of its own"
 "$B/sonar-sim" --scene pool --sweeps 7 --out /dev/null --truth "$T/pool.json" > /dev/null 2>&1
 
 # run NAME "FEED OPTIONS" "BRIDGE OPTIONS" "DRIVER OPTIONS" [SECOND DRIVER OPTIONS]: one passive run, its files in $T/NAME.*

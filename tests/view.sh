@@ -7,11 +7,7 @@ B=${1:-build}
 T=$(mktemp -d /tmp/sonard-view.XXXXXX)
 trap 'rm -rf "$T"' EXIT
 . "$(dirname "$0")/lib.sh"
-if ! unshare -rn true 2> /dev/null; then
-    ko "view: unshare -rn (a network namespace for a private LCM bus) is not allowed here"
-    echo "view: $pass passed, $fail failed"
-    exit 1
-fi
+need_netns view "a network namespace for a private LCM bus"
 URL='udpm://239.255.76.67:7667?ttl=0'
 "$B/sonar-sim" --scene pool --out "$T/pool.csv" --truth "$T/pool.json" > /dev/null 2>&1
 cat > "$T/run.sh" <<EOS

@@ -1,0 +1,163 @@
+"""ros2_check.py -- the ROS 2 bridge against the LCM it came from (tests/ros2.sh runs it in a network namespace): sonard
+drives sonar-feed's activity scene (a struggler; eight times the device's pace) and publishes on a udpm bus, tools/ros2/sonard_ros2.py publishes it on ROS 2, and this node subscribes to both. Each
+SONAR_DETECTIONS has its MarkerArray and its PointCloud2 with the same stamp, a marker and a point per detection at its
+centroid (y negated: ROS's y is to port) within 1 mm; each SONAR_TRACKS its MarkerArray with the same track IDs; a struggle
+alarm turns /diagnostics to ERROR; a message that does not decode is counted there. Prints [  PASS  ] / [  FAIL  ] lines.
+Runs on .venv-ros2's python (rclpy) with sonard's generated LCM types and tools/view/lcm_udpm.py.
+"""
+import argparse
+import os
+import select
+import statistics
+import struct
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tools", "view"))
+fails = 0
+
+
+def check(name, ok):
+    global fails
+    print(f"[  {'PASS' if ok else 'FAIL'}  ] {name}", flush=True)
+    fails += not ok
+
+
+def stamp_us(h):
+    return h.stamp.sec * 1000000 + h.stamp.nanosec // 1000
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--build", default="build")
+    ap.add_argument("--lcm", required=True)
+    ap.add_argument("--tmp", required=True)
+    a = ap.parse_args()
+    sys.path.insert(0, os.path.join(a.build, "lcm", "python"))
+    import rclpy
+    from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+    from lcm_udpm import Udpm
+    from rclpy.node import Node
+    from sensor_msgs.msg import PointCloud2
+    from sonar import detections_t, tracks_t
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    bridge_cmd = [sys.executable, os.path.join(HERE, "..", "tools", "ros2", "sonard_ros2.py"), "--lcm", a.lcm,
+                  "--types", os.path.join(a.build, "lcm", "python"), "--ros-args", "-r", "__ns:=/sonar"]
+    # Bad input first: no ROS 2 (the system's python, which has no rclpy), and a frame_id that is not one.
+    r = subprocess.run(["/usr/bin/python3", bridge_cmd[1]] + bridge_cmd[2:], capture_output=True, text=True, timeout=60)
+    check(f"no ROS 2: one line saying how to get it, exit 2 (exit {r.returncode})",
+          r.returncode == 2 and "make ros2" in r.stderr and len(r.stderr.strip().splitlines()) == 1)
+    r = subprocess.run(bridge_cmd + ["-p", "frame_id:=a b"], capture_output=True, text=True, timeout=60)
+    check(f"a frame_id with a space: refused by name at start, exit 2 (exit {r.returncode})",
+          r.returncode == 2 and "parameter frame_id" in r.stderr)
+
+    rclpy.init()
+    node = Node("ros2_check")
+    ros = {"det": {}, "cloud": {}, "trk": {}, "diag": [], "t_det": {}}
+    node.create_subscription(MarkerArray, "/sonar/detections",
+                             lambda m: (ros["det"].__setitem__(stamp_us(m.markers[0].header), m),
+                                        ros["t_det"].__setitem__(stamp_us(m.markers[0].header), time.monotonic())), 100)
+    node.create_subscription(PointCloud2, "/sonar/detections/cloud", lambda m: ros["cloud"].__setitem__(stamp_us(m.header), m), 100)
+    node.create_subscription(MarkerArray, "/sonar/tracks", lambda m: ros["trk"].__setitem__(stamp_us(m.markers[0].header), m), 100)
+    node.create_subscription(DiagnosticArray, "/diagnostics", lambda m: ros["diag"].append(m), 100)
+    lc = Udpm(a.lcm)
+    lcm = {"det": {}, "trk": {}, "t_det": {}}
+
+    def on_det(channel, data):
+        try:
+            m = detections_t.decode(data)
+        except ValueError:  # the garbage this check sends the bridge
+            return
+        lcm["det"][m.utime] = m
+        lcm["t_det"][m.utime] = time.monotonic()
+
+    def on_trk(channel, data):
+        try:
+            m = tracks_t.decode(data)
+        except ValueError:
+            return
+        lcm["trk"][m.utime] = m
+    lc.subscribe("SONAR_DETECTIONS$", on_det)
+    lc.subscribe("SONAR_TRACKS$", on_trk)
+
+    def pump(seconds):
+        t_end = time.monotonic() + seconds
+        while time.monotonic() < t_end:
+            ready, _, _ = select.select([lc.fileno()], [], [], 0.01)
+            while ready:
+                lc.handle()
+                ready, _, _ = select.select([lc.fileno()], [], [], 0)
+            for _ in range(20):  # one callback a call: what came in this round, before the next
+                rclpy.spin_once(node, timeout_sec=0)
+
+    bridge = subprocess.Popen(bridge_cmd, stderr=open(os.path.join(a.tmp, "bridge.err"), "w"))
+    pump(3.0)  # the bridge's node found before anything is published
+    port = 5300 + os.getpid() % 400
+    feed = subprocess.Popen([os.path.join(a.build, "sonar-feed"), "--listen", f"tcp:127.0.0.1:{port}", "--scene", "activity",
+                             "--pace", "x8", "--max-seconds", "120"], stderr=open(os.path.join(a.tmp, "feed.err"), "w"))
+    live = [os.path.join(a.build, "sonard"), "--sonar", f"tcp:127.0.0.1:{port}", "--range", "15", "--samples", "600",
+            "--step", "4", "--lcm", a.lcm, "--quiet"]
+    sonard = subprocess.Popen(live + ["--sweeps", "12"], stderr=open(os.path.join(a.tmp, "sonard.err"), "w"))
+    while sonard.poll() is None:
+        pump(0.2)
+    pump(2.0)
+    lc.publish("SONAR_DETECTIONS", b"\x00garbage")
+    lc.publish("SONAR_STATUS", b"\x00garbage")
+    sonard2 = subprocess.Popen(live + ["--sweeps", "2"], stderr=subprocess.DEVNULL)
+    while sonard2.poll() is None:
+        pump(0.2)
+    feed.terminate()
+    pump(2.0)
+    bridge.terminate()
+    bridge.wait(timeout=10)
+
+    det_ok = cloud_ok = n_det = worst = tracked = 0
+    for ut, m in lcm["det"].items():
+        n_det += 1
+        ma, pc = ros["det"].get(ut), ros["cloud"].get(ut)
+        marks = [k for k in ma.markers if k.action == Marker.ADD] if ma else None
+        if marks is not None and len(marks) == m.count:
+            err = max([abs(k.pose.position.x - d.x_m) + abs(k.pose.position.y + d.y_m) for k, d in zip(marks, m.detections)] + [0])
+            worst = max(worst, err)
+            det_ok += err <= 0.001
+        tm = lcm["trk"].get(ut)
+        ids = {t.detection: t.id for t in tm.tracks if t.detection >= 0} if tm else {}
+        if pc is not None and pc.width == m.count and tm is not None:
+            pts = [struct.unpack_from("<7f", pc.data, 28 * i) for i in range(pc.width)]
+            cloud_ok += all(abs(p[0] - d.x_m) <= 0.001 and abs(p[1] + d.y_m) <= 0.001 and int(p[6]) == ids.get(i, 0)
+                            for i, (p, d) in enumerate(zip(pts, m.detections)))
+            tracked += sum(1 for i in range(pc.width) if ids.get(i, 0) > 0)
+    check(f"detections: {det_ok} of {n_det} SONAR_DETECTIONS have their MarkerArray, a marker each at the centroid "
+          f"within 1 mm (worst {worst * 1000:.3f} mm)", n_det >= 10 and det_ok == n_det)
+    check(f"detections/cloud: {cloud_ok} of {n_det} have their PointCloud2, a point each within 1 mm carrying the ID of "
+          f"the track that used it ({tracked} points with one)", n_det >= 10 and cloud_ok == n_det and tracked > 0)
+    trk_ok = n_trk = 0
+    for ut, m in lcm["trk"].items():
+        n_trk += 1
+        ma = ros["trk"].get(ut)
+        if ma is not None:
+            ids = {k.id // 2 for k in ma.markers if k.action == Marker.ADD}
+            trk_ok += ids == {t.id for t in m.tracks}
+    check(f"tracks: {trk_ok} of {n_trk} SONAR_TRACKS have their MarkerArray with the same track IDs", n_trk >= 10 and trk_ok == n_trk)
+    alarm_at = min([ut for ut, m in lcm["trk"].items() if any(t.alarms & 1 for t in m.tracks)], default=None)
+    errors = [d for d in ros["diag"] if any(s.level == DiagnosticStatus.ERROR and "struggle" in s.message for s in d.status)]
+    check(f"a struggle alarm (from sonard's tracks at {alarm_at}) turns /diagnostics to ERROR ({len(errors)} ERROR of "
+          f"{len(ros['diag'])})", alarm_at is not None and len(errors) > 0)
+    undecoded = [int(v.value) for d in ros["diag"] for s in d.status for v in s.values if v.key == "bridge_undecoded"]
+    check(f"two messages that do not decode: counted on /diagnostics ({max(undecoded, default=0)}), the bridge ran on "
+          f"({len(undecoded)} diagnostics)", max(undecoded, default=0) >= 2 and sonard2.returncode == 0)
+    lat = [ros["t_det"][ut] - lcm["t_det"][ut] for ut in lcm["t_det"] if ut in ros["t_det"]]
+    if lat:
+        print(f"latency LCM -> ROS of a sweep's detections: median {statistics.median(lat) * 1000:.1f} ms, "
+              f"max {max(lat) * 1000:.1f} ms over {len(lat)}")
+    check("every sweep's detections on ROS within 50 ms of their LCM message", bool(lat) and max(lat) <= 0.050)
+    node.destroy_node()
+    rclpy.shutdown()
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,243 @@
+#!/usr/bin/env python3
+"""sonard_ros2.py -- sonard's LCM as ROS 2 topics: detections, tracks and diagnostics for RViz, Foxglove and a ROS robot.
+
+  sonard_ros2.py [--lcm URL] [--prefix P] [--types build/lcm/python] [--ros-args -r __ns:=/sonar -p frame_id:=sonar_link]
+
+It reads sonard's SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with sonard's --channel-prefix P) and publishes,
+under the node's namespace, stamped from sonard's utime, in the frame `frame_id` (a ROS parameter, default sonar_link):
+
+  detections         visualization_msgs/MarkerArray   each detection's hull, a line strip coloured by kind
+  detections/cloud   sensor_msgs/PointCloud2          a point per detection (x, y, z, area, kind, intensity, track)
+  tracks             visualization_msgs/MarkerArray   each track: a sphere, its ID, activity and existence as text;
+                                                      red while it has an alarm
+  /diagnostics       diagnostic_msgs/DiagnosticArray  the link, beams a second, the survey, the alarms standing
+                                                      (ERROR while a struggle alarm stands)
+
+Frames: sonard's body frame has x ahead and y to starboard; ROS's (REP 103) has y to port, so y is negated.
+All three use reliable QoS, depth 10: a subscriber that cannot keep up loses the oldest, never a growing queue.
+The bridge has no control path: nothing it receives reaches sonard or the sonar.
+
+LCM in: udpm:// (LCM's default) through tools/view/lcm_udpm.py, in plain Python; other URLs need LCM's Python binding.
+ROS 2: rclpy from `make ros2` (.venv-ros2, Kilted's wheels) or from a sourced ROS 2 distribution; without it, one line
+saying how to get it and exit 2. An LCM message that does not decode is counted (on the diagnostics) and skipped.
+"""
+import argparse
+import math
+import os
+import select
+import struct
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+KIND_NAMES = ("object", "structure", "static since start")
+KIND_RGB = ((0.1, 0.9, 0.2), (0.5, 0.5, 0.5), (0.2, 0.6, 1.0))  # object green, structure grey, static blue
+ACTIVITY_NAMES = ("unknown", "moving", "standing", "struggling")
+ALARM_STRUGGLE = 1  # SONAR_ALARM_STRUGGLE (include/sonar/activity.h)
+LINK_STATES = ("down", "connecting", "probing", "scanning", "auto-transmit", "stopping", "stopped", "passive")
+LINK_OK = (3, 4, 7)  # enum sonar_ping360_state: beams are coming (scanning, auto-transmit, passive)
+SURVEY_STATES = ("none", "in use", "no longer fits")
+CLOUD_FIELDS = (("x", 7), ("y", 7), ("z", 7), ("area", 7), ("kind", 7), ("intensity", 7), ("track", 7))  # FLOAT32
+DEPTH = 10
+
+
+def stamp_of(utime):
+    """A builtin_interfaces/Time from sonard's utime (us since the epoch)."""
+    from builtin_interfaces.msg import Time
+    return Time(sec=int(utime // 1000000), nanosec=int(utime % 1000000) * 1000)
+
+
+class Bridge:
+    def __init__(self, node, frame_id):
+        from diagnostic_msgs.msg import DiagnosticArray
+        from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy
+        from sensor_msgs.msg import PointCloud2
+        from visualization_msgs.msg import MarkerArray
+        qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
+        self.node, self.frame = node, frame_id
+        self.pub_det = node.create_publisher(MarkerArray, "detections", qos)
+        self.pub_cloud = node.create_publisher(PointCloud2, "detections/cloud", qos)
+        self.pub_trk = node.create_publisher(MarkerArray, "tracks", qos)
+        self.pub_diag = node.create_publisher(DiagnosticArray, "/diagnostics", qos)
+        self.bad = {}             # channel -> messages that did not decode
+        self.published = 0
+        self.track_of = {}        # sweep -> {detection index: track id}, the last few sweeps
+        self.pending = {}         # sweep -> detections_t waiting for its tracks (the cloud carries the track IDs)
+        self.alarms = set()       # track IDs with a struggle alarm standing
+        self.beams = []           # (wall time, status beams) of the last statuses
+
+    def header(self, utime):
+        from std_msgs.msg import Header
+        return Header(stamp=stamp_of(utime), frame_id=self.frame)
+
+    def detections(self, m):
+        from geometry_msgs.msg import Point
+        from visualization_msgs.msg import Marker, MarkerArray
+        arr = MarkerArray()
+        clear = Marker(header=self.header(m.utime), ns="detections", action=Marker.DELETEALL)
+        arr.markers.append(clear)
+        for i, d in enumerate(m.detections):
+            mk = Marker(header=self.header(m.utime), ns="detections", id=i, type=Marker.LINE_STRIP, action=Marker.ADD)
+            mk.pose.position.x, mk.pose.position.y = float(d.x_m), -float(d.y_m)
+            mk.pose.orientation.w = 1.0
+            mk.scale.x = 0.05
+            r, g, b = KIND_RGB[d.kind] if 0 <= d.kind < len(KIND_RGB) else (1.0, 1.0, 1.0)
+            mk.color.r, mk.color.g, mk.color.b, mk.color.a = r, g, b, 1.0
+            pts = [Point(x=float(hx - d.x_m), y=-float(hy - d.y_m), z=0.0) for hx, hy in zip(d.hull_x, d.hull_y)]
+            mk.points = pts + pts[:1]
+            mk.text = KIND_NAMES[d.kind] if 0 <= d.kind < len(KIND_NAMES) else str(d.kind)
+            arr.markers.append(mk)
+        self.pub_det.publish(arr)
+        self.published += 1
+        self.pending[m.sweep] = m
+        self.flush_clouds(m.sweep)
+
+    def flush_clouds(self, newest):
+        """Each sweep's cloud once its tracks are in, or two sweeps on without them (the tracks are off)."""
+        for sweep in sorted(self.pending):
+            if sweep in self.track_of or sweep < newest - 1:
+                self.cloud(self.pending.pop(sweep), self.track_of.get(sweep, {}))
+        for sweep in [s for s in self.track_of if s < newest - 4]:
+            del self.track_of[sweep]
+
+    def cloud(self, m, tracks):
+        from sensor_msgs.msg import PointCloud2, PointField
+        fields = [PointField(name=n, offset=4 * k, datatype=t, count=1) for k, (n, t) in enumerate(CLOUD_FIELDS)]
+        data = b"".join(struct.pack("<7f", d.x_m, -d.y_m, 0.0, d.area_m2, float(d.kind), d.mean_intensity,
+                                    float(tracks.get(i, 0))) for i, d in enumerate(m.detections))
+        msg = PointCloud2(header=self.header(m.utime), height=1, width=len(m.detections), fields=fields,
+                          is_bigendian=False, point_step=28, row_step=28 * len(m.detections), data=data, is_dense=True)
+        self.pub_cloud.publish(msg)
+
+    def tracks(self, m):
+        from visualization_msgs.msg import Marker, MarkerArray
+        arr = MarkerArray()
+        arr.markers.append(Marker(header=self.header(m.utime), ns="tracks", action=Marker.DELETEALL))
+        shown = {}
+        for t in m.tracks:
+            if t.detection >= 0:
+                shown[t.detection] = t.id
+            alarm = bool(t.alarms & ALARM_STRUGGLE)
+            (self.alarms.add if alarm else self.alarms.discard)(t.id)
+            for k, kind in enumerate((Marker.SPHERE, Marker.TEXT_VIEW_FACING)):
+                mk = Marker(header=self.header(m.utime), ns="tracks", id=2 * t.id + k, type=kind, action=Marker.ADD)
+                mk.pose.position.x, mk.pose.position.y = float(t.x_m), -float(t.y_m)
+                mk.pose.position.z = 0.0 if k == 0 else 0.6
+                mk.pose.orientation.w = 1.0
+                mk.scale.x = mk.scale.y = mk.scale.z = 0.4 if k == 0 else 0.3
+                mk.color.r, mk.color.g, mk.color.b, mk.color.a = (1.0, 0.1, 0.1, 1.0) if alarm else (1.0, 0.8, 0.1, 1.0)
+                act = ACTIVITY_NAMES[t.activity] if 0 <= t.activity < len(ACTIVITY_NAMES) else str(t.activity)
+                mk.text = f"{t.id} {act} {t.existence:.2f}" + (" ALARM" if alarm else "")
+                arr.markers.append(mk)
+        ended = self.alarms - {t.id for t in m.tracks}
+        self.alarms -= ended
+        self.pub_trk.publish(arr)
+        self.published += 1
+        self.track_of[m.sweep] = shown
+        self.flush_clouds(m.sweep)
+
+    def status(self, m):
+        from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+        now = time.monotonic()
+        self.beams = [b for b in self.beams if now - b[0] <= 5.0] + [(now, int(m.beams))]
+        rate = (self.beams[-1][1] - self.beams[0][1]) / (self.beams[-1][0] - self.beams[0][0]) if len(self.beams) > 1 and \
+            self.beams[-1][0] > self.beams[0][0] else 0.0
+        st = DiagnosticStatus(name="sonard", hardware_id=m.link or "sonard")
+        if self.alarms:
+            st.level, st.message = DiagnosticStatus.ERROR, f"struggle alarm: track {', '.join(map(str, sorted(self.alarms)))}"
+        elif m.link_state not in LINK_OK:
+            name = LINK_STATES[m.link_state] if 0 <= m.link_state < len(LINK_STATES) else str(m.link_state)
+            st.level, st.message = DiagnosticStatus.WARN, f"the sonar is {name}"
+        else:
+            st.level, st.message = DiagnosticStatus.OK, "running"
+        sv = getattr(m, "survey_state", 0)
+        values = {"link": m.link, "link_state": m.link_state, "beams": m.beams, "beams_per_s": f"{rate:.1f}",
+                  "sweeps": m.sweeps, "tracks": m.tracks, "alarms": ",".join(map(str, sorted(self.alarms))),
+                  "survey": SURVEY_STATES[sv] if 0 <= sv < len(SURVEY_STATES) else str(sv),
+                  "bridge_published": self.published,
+                  "bridge_undecoded": sum(self.bad.values())}
+        st.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
+        self.pub_diag.publish(DiagnosticArray(header=self.header(m.utime), status=[st]))
+
+
+def lcm_setup(url, types, prefix, bridge):
+    sys.path.insert(0, types)
+    from sonar import detections_t, status_t, tracks_t  # noqa: E402 (the generated types, from --types)
+    if url is None or url.startswith("udpm://"):
+        sys.path.insert(0, os.path.join(HERE, "..", "view"))
+        from lcm_udpm import Udpm
+        lc = Udpm(url)
+    else:
+        import lcm
+        lc = lcm.LCM(url)
+
+    def on(name, typ, handle):
+        def handler(channel, data):
+            try:
+                m = typ.decode(data)
+            except Exception:  # a message of another sonard or garbage: counted, skipped
+                bridge.bad[name] = bridge.bad.get(name, 0) + 1
+                return
+            handle(m)
+        lc.subscribe(f"{prefix}{name}$", handler)
+    on("SONAR_DETECTIONS", detections_t, bridge.detections)
+    on("SONAR_TRACKS", tracks_t, bridge.tracks)
+    on("SONAR_STATUS", status_t, bridge.status)
+    return lc
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--lcm", default=os.environ.get("LCM_DEFAULT_URL"), help="LCM URL (default LCM's own)")
+    ap.add_argument("--prefix", default="", help="sonard's --channel-prefix")
+    ap.add_argument("--types", default=os.environ.get("SONARD_LCM_PY", "build/lcm/python"),
+                    help="the directory of sonard's generated LCM Python types")
+    ap.add_argument("--max-seconds", type=float, default=0.0, help="stop after this long (0: run until stopped)")
+    argv = sys.argv[1:]
+    ros_args = argv[argv.index("--ros-args"):] if "--ros-args" in argv else []
+    a = ap.parse_args(argv[:len(argv) - len(ros_args)])
+    try:
+        import rclpy
+        import rclpy.executors
+        from rclpy.node import Node
+    except ImportError:
+        print("sonard_ros2: no ROS 2 found: run `make ros2` and use .venv-ros2/bin/python, or source your ROS 2 "
+              "distribution's setup.bash", file=sys.stderr)
+        return 2
+    if not os.path.isdir(os.path.join(a.types, "sonar")):
+        print(f"sonard_ros2: --types {a.types}: no generated LCM types there (make builds them in build/lcm/python)",
+              file=sys.stderr)
+        return 2
+    rclpy.init(args=["sonard_ros2"] + ros_args)
+    node = Node("sonard_ros2")
+    frame = node.declare_parameter("frame_id", "sonar_link").value
+    if not isinstance(frame, str) or not frame or any(c.isspace() for c in frame):
+        print(f"sonard_ros2: parameter frame_id {frame!r}: a ROS frame name, not empty, no spaces", file=sys.stderr)
+        node.destroy_node()
+        rclpy.shutdown()
+        return 2
+    bridge = Bridge(node, frame)
+    lc = lcm_setup(a.lcm, a.types, a.prefix, bridge)
+    node.get_logger().info(f"sonard_ros2: LCM {a.lcm or 'default'}{' prefix ' + a.prefix if a.prefix else ''} -> "
+                           f"{node.get_namespace()} in frame {frame}")
+    t_end = time.monotonic() + a.max_seconds if a.max_seconds > 0 else math.inf
+    try:
+        while rclpy.ok() and time.monotonic() < t_end:
+            ready, _, _ = select.select([lc.fileno()], [], [], 0.05)
+            while ready and rclpy.ok():  # everything waiting, then ROS's turn
+                lc.handle()
+                ready, _, _ = select.select([lc.fileno()], [], [], 0)
+            if rclpy.ok():
+                rclpy.spin_once(node, timeout_sec=0)
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    except Exception:  # SIGTERM's shutdown between the check and the call: a stop, not a fault
+        if rclpy.ok():
+            raise
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
