@@ -224,7 +224,7 @@ static unsigned gate_at(const struct sonar_survey *sv, const struct sonar_backgr
 
 static int has_bit(const uint8_t *map, unsigned r)
 {
-    return (map[r / 8] >> (r % 8)) & 1u;
+    return (int)(((unsigned)map[r / 8] >> (r % 8)) & 1u);
 }
 
 /* Samples that make SONAR_SURVEY_OCCLUDE_M at the survey's range. */
