@@ -383,7 +383,6 @@ static int find_turn(const struct sonar_survey *sv, int *best)
     return 1;
 }
 
-/* Bits set in the low three of b: sweeps of the last three with structure the survey does not hold. */
 /* Metres end to end between the strongest echoes at samples a0 of row r0 and a1 of row r1. */
 static float chord_m(const struct sonar_survey *sv, unsigned r0, uint16_t a0, unsigned r1, uint16_t a1)
 {
@@ -434,6 +433,7 @@ static unsigned hidden_by_wide(const struct sonar_survey *sv)
     return wide < sv->occluded ? wide : sv->occluded;
 }
 
+/* Bits set in the low three of b: sweeps of the last three with structure the survey does not hold. */
 static unsigned last3(uint8_t b)
 {
     return (b & 1u) + ((b >> 1) & 1u) + ((b >> 2) & 1u);

@@ -40,9 +40,10 @@ void sonar_trk_imm_birth(const struct sonar_tracker *tk, struct sonar_track *t, 
 
 /*
  * A model at (*px, *py) moving at (*vx, *vy) m/s whose straight path over dt s would cross one of
- * tk's walls near (a track's near_walls) from the sonar's side (tk->cur_sw's origin; 0, 0 without one): the path turned at it
- * (and at a second, a corner), given as the start and velocity that predict its end in a straight
- * line. Returns the walls turned at (0: none, nothing changed). tracker_walls.c.
+ * the walls near (a track's near_walls) from the sonar's side (tk->cur_sw's origin; 0, 0 without
+ * one): the path turned at it (and at a second, a corner), given as the start and velocity that
+ * predict its end in a straight line. Returns the walls turned at (0: none, nothing changed).
+ * tracker_walls.c.
  */
 int sonar_trk_wall_turn(const struct sonar_tracker *tk, uint32_t near, float *px, float *py, float *vx, float *vy, float dt);
 
