@@ -50,7 +50,7 @@ static int64_t stalled(struct live_stalls *st, int64_t wall_us, int64_t cpu, int
 }
 
 /* Long: the one event loop (signals, the source, its aux descriptors, status ticks, the stop's deadline, the stall
-   measure around the poll) reads as one poll cycle; issue 36 asks for one loop around every link, which will take
+   measure before the timers) reads as one poll cycle; issue 36 asks for one loop around every link, which will take
    the source and aux parts out. */
 int live_run(struct app *a, const struct live_source *src, const struct live_aux *aux, unsigned naux,
              live_reload_fn reload, void *reload_user, struct live_stalls *stalls)
@@ -61,7 +61,7 @@ int live_run(struct app *a, const struct live_source *src, const struct live_aux
     const struct live_io_ops *io = &src->ops->io;
     sigset_t mask;
     unsigned k;
-    int sigfd, stop = 0, interrupted = 0;
+    int sigfd, stop = 0, interrupted = 0, ms = 0; /* ms: the last poll's timeout */
     int64_t next_status, stop_deadline = INT64_MAX;
     /* Signals arrive as readable bytes on a descriptor, so the loop never runs code in a handler. */
     sigemptyset(&mask);
@@ -85,9 +85,14 @@ int live_run(struct app *a, const struct live_source *src, const struct live_aux
     for (;;) {
         struct pollfd pfd[2 + LIVE_MAX_AUX];
         int slot[2 + LIVE_MAX_AUX]; /* which aux source a descriptor belongs to */
-        int64_t now = now_us(a), wake;
-        int np = 1, ms, src_at = -1, i;
+        int64_t now = now_us(a), wake, cpu = cpu_us();
+        int np = 1, src_at = -1, i;
         short events;
+        /* The stall is measured here, just before the source's timers run at `now`: measured after the poll, a pause
+           while the last reply was handled would reach the timers unseen and time their request out. */
+        held = stalled(&lost, now - iter_at, cpu - iter_cpu, ms, now, held);
+        iter_at = now;
+        iter_cpu = cpu;
         if (!stop && app_done(a)) {
             stop = 1;
             stop_deadline = now + STOP_GRACE_US;
@@ -133,12 +138,6 @@ int live_run(struct app *a, const struct live_source *src, const struct live_aux
         if (poll(pfd, (nfds_t)np, ms) < 0 && errno != EINTR)
             break;
         now = now_us(a);
-        {
-            int64_t cpu = cpu_us();
-            held = stalled(&lost, now - iter_at, cpu - iter_cpu, ms, now, held);
-            iter_at = now;
-            iter_cpu = cpu;
-        }
         if (pfd[0].revents & POLLIN) {
             struct signalfd_siginfo si;
             while (read(sigfd, &si, sizeof(si)) == (ssize_t)sizeof(si)) {
