@@ -2,10 +2,13 @@
 drives sonar-feed's activity scene (a struggler; eight times the device's pace) and publishes on a udpm bus, tools/ros2/sonard_ros2.py publishes it on ROS 2, and this node subscribes to both. Each
 SONAR_DETECTIONS has its MarkerArray and its PointCloud2 with the same stamp, a marker and a point per detection at its
 centroid (y negated: ROS's y is to port) within 1 mm; each SONAR_TRACKS its MarkerArray with the same track IDs; a struggle
-alarm turns /diagnostics to ERROR; a message that does not decode is counted there. Prints [  PASS  ] / [  FAIL  ] lines.
+alarm turns /diagnostics to ERROR; a message that does not decode is counted there; each fan image holds the beam it is
+stamped with along that beam's axis; odometry published here reaches sonard as SONAR_POSE and turns its detections into
+the world frame at that pose, and bad odometry is refused, counted by reason. Prints [  PASS  ] / [  FAIL  ] lines.
 Runs on .venv-ros2's python (rclpy) with sonard's generated LCM types and tools/view/lcm_udpm.py.
 """
 import argparse
+import math
 import os
 import select
 import statistics
@@ -39,13 +42,16 @@ def main():
     import rclpy
     from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
     from lcm_udpm import Udpm
+    from nav_msgs.msg import Odometry
     from rclpy.node import Node
-    from sensor_msgs.msg import PointCloud2
-    from sonar import detections_t, tracks_t
+    from rclpy.qos import qos_profile_sensor_data
+    from sensor_msgs.msg import Image, PointCloud2
+    from sonar import beam_t, detections_t, tracks_t
     from visualization_msgs.msg import Marker, MarkerArray
 
     bridge_cmd = [sys.executable, os.path.join(HERE, "..", "tools", "ros2", "sonard_ros2.py"), "--lcm", a.lcm,
-                  "--types", os.path.join(a.build, "lcm", "python"), "--ros-args", "-r", "__ns:=/sonar"]
+                  "--types", os.path.join(a.build, "lcm", "python"), "--ros-args", "-r", "__ns:=/sonar",
+                  "-p", "odom_topic:=odom"]
     # Bad input first: no ROS 2 (the system's python, which has no rclpy), and a frame_id that is not one.
     r = subprocess.run(["/usr/bin/python3", bridge_cmd[1]] + bridge_cmd[2:], capture_output=True, text=True, timeout=60)
     check(f"no ROS 2: one line saying how to get it, exit 2 (exit {r.returncode})",
@@ -53,6 +59,9 @@ def main():
     r = subprocess.run(bridge_cmd + ["-p", "frame_id:=a b"], capture_output=True, text=True, timeout=60)
     check(f"a frame_id with a space: refused by name at start, exit 2 (exit {r.returncode})",
           r.returncode == 2 and "parameter frame_id" in r.stderr)
+    r = subprocess.run(bridge_cmd + ["-p", "image_size:=9"], capture_output=True, text=True, timeout=60)
+    check(f"an image_size of 9: refused by name with its range, exit 2 (exit {r.returncode})",
+          r.returncode == 2 and "parameter image_size 9: pixels a side, 64..2048" in r.stderr)
 
     rclpy.init()
     node = Node("ros2_check")
@@ -63,8 +72,15 @@ def main():
     node.create_subscription(PointCloud2, "/sonar/detections/cloud", lambda m: ros["cloud"].__setitem__(stamp_us(m.header), m), 100)
     node.create_subscription(MarkerArray, "/sonar/tracks", lambda m: ros["trk"].__setitem__(stamp_us(m.markers[0].header), m), 100)
     node.create_subscription(DiagnosticArray, "/diagnostics", lambda m: ros["diag"].append(m), 100)
+    ros["img"] = []
+    node.create_subscription(Image, "/sonar/image", lambda m: ros["img"].append(m), qos_profile_sensor_data)
+    odom_pub = node.create_publisher(Odometry, "/sonar/odom", 10)
     lc = Udpm(a.lcm)
-    lcm = {"det": {}, "trk": {}, "t_det": {}}
+    lcm = {"det": {}, "trk": {}, "t_det": {}, "beam": {}}
+
+    def on_beam(channel, data):
+        m = beam_t.decode(data)
+        lcm["beam"][m.utime] = m
 
     def on_det(channel, data):
         try:
@@ -82,6 +98,17 @@ def main():
         lcm["trk"][m.utime] = m
     lc.subscribe("SONAR_DETECTIONS$", on_det)
     lc.subscribe("SONAR_TRACKS$", on_trk)
+    lc.subscribe("SONAR_BEAM$", on_beam)
+
+    def odom(frame="odom", x=-2.0, y=5.0, yaw_enu=0.0, t=None):
+        """A still vehicle 5 m north and 2 m west of the origin facing east, in the odometry frame's ENU."""
+        m = Odometry()
+        t = time.time() if t is None else t
+        m.header.stamp.sec, m.header.stamp.nanosec = int(t), int((t % 1) * 1e9)
+        m.header.frame_id, m.child_frame_id = frame, "base_link"
+        m.pose.pose.position.x, m.pose.pose.position.y = x, y
+        m.pose.pose.orientation.z, m.pose.pose.orientation.w = math.sin(yaw_enu / 2), math.cos(yaw_enu / 2)
+        odom_pub.publish(m)
 
     def pump(seconds):
         t_end = time.monotonic() + seconds
@@ -109,6 +136,19 @@ def main():
     sonard2 = subprocess.Popen(live + ["--sweeps", "2"], stderr=subprocess.DEVNULL)
     while sonard2.poll() is None:
         pump(0.2)
+    # Odometry: refused three ways first, then a still pose at 20 Hz while a sonard that reads SONAR_POSE runs.
+    odom(frame="map")
+    odom(x=math.nan)
+    odom(t=time.time() - 60)
+    odom(t=time.time() - 120)  # before the last one taken
+    pump(0.5)
+    n_before = len(lcm["det"])
+    sonard3 = subprocess.Popen(live + ["--sweeps", "3", "--pose-lcm", a.lcm],
+                               stderr=open(os.path.join(a.tmp, "sonard3.err"), "w"))
+    while sonard3.poll() is None:
+        odom()
+        pump(0.05)
+    pump(1.0)
     feed.terminate()
     pump(2.0)
     bridge.terminate()
@@ -149,6 +189,36 @@ def main():
     undecoded = [int(v.value) for d in ros["diag"] for s in d.status for v in s.values if v.key == "bridge_undecoded"]
     check(f"two messages that do not decode: counted on /diagnostics ({max(undecoded, default=0)}), the bridge ran on "
           f"({len(undecoded)} diagnostics)", max(undecoded, default=0) >= 2 and sonard2.returncode == 0)
+    world = [m for ut, m in sorted(lcm["det"].items())][n_before:]
+    placed = [m for m in world if m.world == 1 and abs(m.north_m - 5) < 0.01 and abs(m.east_m + 2) < 0.01
+              and abs(m.yaw_deg - 90) < 0.1]
+    err3 = open(os.path.join(a.tmp, "sonard3.err")).read()
+    check(f"odometry in: sonard's sweeps in the world frame at its pose (north 5, east -2, heading 90): {len(placed)} of "
+          f"{len(world)}; sonard exits 0 ({sonard3.returncode})", len(world) >= 3 and len(placed) == len(world)
+          and sonard3.returncode == 0 and " 0 refused" in err3)
+    odo = {}
+    for d in ros["diag"]:
+        for st in d.status:
+            for v in st.values:
+                if v.key.startswith("odometry_"):
+                    odo[v.key] = max(odo.get(v.key, 0), int(v.value))
+    check(f"bad odometry refused, counted by reason on /diagnostics: {odo}", odo.get("odometry_other_frame") == 1
+          and odo.get("odometry_not_finite") == 1 and odo.get("odometry_stamp_backwards") == 1
+          and odo.get("odometry_taken", 0) >= 10)
+    # The fan: along the axis of the beam an image is stamped with, half way out, that beam's middle samples.
+    img_ok = n_img = 0
+    for im in ros["img"]:
+        b = lcm["beam"].get(stamp_us(im.header))
+        if b is None or im.encoding != "mono8" or im.width != 400 or im.height != 400:
+            continue
+        n_img += 1
+        th, c, r = math.radians(b.angle * 0.9), 199.5, 100.0
+        px = im.data[int(round(c - r * math.cos(th))) * im.step + int(round(c + r * math.sin(th)))]
+        k = b.number_of_samples // 2
+        near = bytes(b.samples)[max(0, k - 4):k + 5]
+        img_ok += min(near) <= px <= max(near)
+    check(f"image: {len(ros['img'])} mono8 fans; {img_ok} of {n_img} stamped with a beam hold it along its axis",
+          n_img >= 5 and img_ok == n_img)
     lat = [ros["t_det"][ut] - lcm["t_det"][ut] for ut in lcm["t_det"] if ut in ros["t_det"]]
     if lat:
         print(f"latency LCM -> ROS of a sweep's detections: median {statistics.median(lat) * 1000:.1f} ms, "

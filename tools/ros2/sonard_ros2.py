@@ -3,9 +3,13 @@
 
   sonard_ros2.py [--lcm URL] [--prefix P] [--types build/lcm/python] [--ros-args -r __ns:=/sonar -p frame_id:=sonar_link]
 
-It reads sonard's SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with sonard's --channel-prefix P) and publishes,
-under the node's namespace, stamped from sonard's utime, in the frame `frame_id` (a ROS parameter, default sonar_link):
+It reads sonard's SONAR_BEAM, SONAR_CONFIG, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with sonard's
+--channel-prefix P) and publishes, under the node's namespace, stamped from sonard's utime, in the frame `frame_id` (a
+ROS parameter, default sonar_link):
 
+  image              sensor_msgs/Image (mono8)        the fan: each raw beam drawn into an image_size square, the sonar
+                                                      at its centre, ahead up, starboard right, the beam's range to the
+                                                      edge; at most image_hz a second (sensor-data QoS)
   detections         visualization_msgs/MarkerArray   each detection's hull, a line strip coloured by kind
   detections/cloud   sensor_msgs/PointCloud2          a point per detection (x, y, z, area, kind, intensity, track)
   tracks             visualization_msgs/MarkerArray   each track: a sphere, its ID, activity and existence as text;
@@ -14,8 +18,16 @@ under the node's namespace, stamped from sonard's utime, in the frame `frame_id`
                                                       (ERROR while a struggle alarm stands)
 
 Frames: sonard's body frame has x ahead and y to starboard; ROS's (REP 103) has y to port, so y is negated.
-All three use reliable QoS, depth 10: a subscriber that cannot keep up loses the oldest, never a growing queue.
-The bridge has no control path: nothing it receives reaches sonard or the sonar.
+Markers, cloud and diagnostics use reliable QoS, depth 10; the image sensor-data QoS (best effort, depth 5): a
+subscriber that cannot keep up loses the oldest, never a growing queue.
+
+Odometry in (parameter odom_topic, default "" for none): each nav_msgs/Odometry becomes a SONAR_POSE (sonar.pose_t) on
+the same LCM, for sonard's --pose-lcm: the world frame's north is the odometry frame's y, east its x (REP 103's ENU), the
+heading its yaw turned clockwise from north. Refused, counted by reason on /diagnostics and said once each: another
+header.frame_id than odom_frame (default "odom"), a stamp not after the last one taken, a NaN or infinity. The pose is
+the odometry's child frame's: a sonar mounted away from it is not corrected for (docs/ros2.md).
+The bridge has no control path: nothing it receives reaches the sonar or changes sonard's settings; a pose only moves
+the frame sonard reports in.
 
 LCM in: udpm:// (LCM's default) through tools/view/lcm_udpm.py, in plain Python; other URLs need LCM's Python binding.
 ROS 2: rclpy from `make ros2` (.venv-ros2, Kilted's wheels) or from a sourced ROS 2 distribution; without it, one line
@@ -47,14 +59,91 @@ def stamp_of(utime):
     return Time(sec=int(utime // 1000000), nanosec=int(utime % 1000000) * 1000)
 
 
-class Bridge:
-    def __init__(self, node, frame_id):
-        from diagnostic_msgs.msg import DiagnosticArray
+class Fan:
+    """The sweep as a top-down mono8 square: the sonar at the centre, ahead up, starboard right, a beam's range at the
+    edge. Each pixel's bearing bin (the nearest gradian) and fraction of the radius are worked out once, so a beam
+    costs only the pixels of its own wedge."""
+
+    def __init__(self, size):
+        import numpy as np
+        self.np, self.size = np, size
+        self.img = np.zeros((size, size), np.uint8)
+        c = (size - 1) / 2.0
+        rows, cols = np.mgrid[0:size, 0:size]
+        ahead, stbd = c - rows, cols - c
+        frac = np.hypot(ahead, stbd) / (size / 2.0)
+        inside = np.flatnonzero(frac < 1.0)
+        gbin = (np.floor((np.degrees(np.arctan2(stbd, ahead)) % 360.0) / 0.9 + 0.5).astype(np.int64) % 400).ravel()[inside]
+        order = np.argsort(gbin, kind="stable")
+        self.pix, self.frac = inside[order], frac.ravel()[inside][order]
+        self.start = np.searchsorted(gbin[order], np.arange(401))
+        self.last_deg = None
+
+    def draw(self, deg, samples, n):
+        """One beam at `deg` (clockwise from ahead) across the gap to the last one drawn (1 to 20 gradians wide)."""
+        np = self.np
+        if n <= 0:
+            return
+        s = np.frombuffer(bytes(samples), np.uint8)[:n]
+        gap = 0.9 if self.last_deg is None else abs((deg - self.last_deg + 180.0) % 360.0 - 180.0)
+        gap = gap if 0.9 <= gap <= 18.0 else 0.9
+        self.last_deg = deg
+        lo, hi = int(np.floor((deg - gap / 2) / 0.9 + 0.5)), int(np.floor((deg + gap / 2) / 0.9 + 0.5))
+        for b in range(lo, max(hi, lo + 1)):
+            a, z = self.start[b % 400], self.start[b % 400 + 1]
+            self.img.flat[self.pix[a:z]] = s[np.minimum((self.frac[a:z] * n).astype(np.int64), n - 1)]
+
+
+class Odom:
+    """nav_msgs/Odometry in, SONAR_POSE out (see the module's comment); refusals counted by reason."""
+
+    def __init__(self, node, topic, frame, lc, channel, pose_t):
+        from nav_msgs.msg import Odometry
         from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy
-        from sensor_msgs.msg import PointCloud2
+        self.node, self.frame, self.lc, self.channel, self.pose_t = node, frame, lc, channel, pose_t
+        self.counts = {"taken": 0, "other_frame": 0, "stamp_backwards": 0, "not_finite": 0}
+        self.last_us, self.said = None, set()
+        qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
+        node.create_subscription(Odometry, topic, self.on, qos)
+
+    def refuse(self, reason, text):
+        self.counts[reason] += 1
+        if reason not in self.said:
+            self.said.add(reason)
+            self.node.get_logger().warning(f"odometry refused: {text} (said once; each counted on /diagnostics)")
+
+    def on(self, m):
+        p, q = m.pose.pose.position, m.pose.pose.orientation
+        us = m.header.stamp.sec * 1000000 + m.header.stamp.nanosec // 1000
+        if m.header.frame_id != self.frame:
+            return self.refuse("other_frame", f"header.frame_id {m.header.frame_id!r} is not odom_frame {self.frame!r}")
+        if not all(math.isfinite(v) for v in (p.x, p.y, q.x, q.y, q.z, q.w)):
+            return self.refuse("not_finite", f"a NaN or infinity in the pose at stamp {us} us")
+        if self.last_us is not None and us < self.last_us:
+            return self.refuse("stamp_backwards", f"stamp {us} us is before the last one taken, {self.last_us} us")
+        self.last_us = us
+        yaw_enu = math.degrees(math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z)))
+        pt = self.pose_t()
+        pt.utime, pt.north_m, pt.east_m, pt.yaw_deg = us, float(p.y), float(p.x), (90.0 - yaw_enu) % 360.0
+        self.lc.publish(self.channel, pt.encode())
+        self.counts["taken"] += 1
+
+
+class Bridge:
+    def __init__(self, node, params):
+        from diagnostic_msgs.msg import DiagnosticArray
+        from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy, qos_profile_sensor_data
+        from sensor_msgs.msg import Image, PointCloud2
         from visualization_msgs.msg import MarkerArray
         qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-        self.node, self.frame = node, frame_id
+        self.node, self.frame = node, params["frame_id"]
+        self.fan = Fan(params["image_size"])
+        self.image_us = int(1e6 / params["image_hz"])
+        self.image_at = None      # utime of the last image published
+        self.angle_offset = 0.0   # SONAR_CONFIG's, degrees
+        self.images = self.images_skipped = 0
+        self.pub_img = node.create_publisher(Image, "image", qos_profile_sensor_data)
+        self.odom = None          # an Odom once lcm_setup has the bus
         self.pub_det = node.create_publisher(MarkerArray, "detections", qos)
         self.pub_cloud = node.create_publisher(PointCloud2, "detections/cloud", qos)
         self.pub_trk = node.create_publisher(MarkerArray, "tracks", qos)
@@ -69,6 +158,22 @@ class Bridge:
     def header(self, utime):
         from std_msgs.msg import Header
         return Header(stamp=stamp_of(utime), frame_id=self.frame)
+
+    def config(self, m):
+        self.angle_offset = float(m.angle_offset)
+
+    def beam(self, m):
+        """A raw beam into the fan; the fan out when image_hz allows (the beams between are drawn, not sent)."""
+        from sensor_msgs.msg import Image
+        self.fan.draw(m.angle * 0.9 + self.angle_offset, m.samples, m.number_of_samples)
+        if self.image_at is not None and 0 <= m.utime - self.image_at < self.image_us:
+            self.images_skipped += 1
+            return
+        self.image_at = m.utime
+        n = self.fan.size
+        self.pub_img.publish(Image(header=self.header(m.utime), height=n, width=n, encoding="mono8", is_bigendian=0,
+                                   step=n, data=self.fan.img.tobytes()))
+        self.images += 1
 
     def detections(self, m):
         from geometry_msgs.msg import Point
@@ -154,15 +259,18 @@ class Bridge:
         values = {"link": m.link, "link_state": m.link_state, "beams": m.beams, "beams_per_s": f"{rate:.1f}",
                   "sweeps": m.sweeps, "tracks": m.tracks, "alarms": ",".join(map(str, sorted(self.alarms))),
                   "survey": SURVEY_STATES[sv] if 0 <= sv < len(SURVEY_STATES) else str(sv),
-                  "bridge_published": self.published,
+                  "bridge_published": self.published, "bridge_images": self.images,
+                  "bridge_images_skipped": self.images_skipped,
                   "bridge_undecoded": sum(self.bad.values())}
+        if self.odom is not None:
+            values.update({f"odometry_{k}": v for k, v in self.odom.counts.items()})
         st.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
         self.pub_diag.publish(DiagnosticArray(header=self.header(m.utime), status=[st]))
 
 
-def lcm_setup(url, types, prefix, bridge):
+def lcm_setup(url, types, prefix, bridge, params):
     sys.path.insert(0, types)
-    from sonar import detections_t, status_t, tracks_t  # noqa: E402 (the generated types, from --types)
+    from sonar import beam_t, config_t, detections_t, pose_t, status_t, tracks_t  # noqa: E402 (from --types)
     if url is None or url.startswith("udpm://"):
         sys.path.insert(0, os.path.join(HERE, "..", "view"))
         from lcm_udpm import Udpm
@@ -180,10 +288,27 @@ def lcm_setup(url, types, prefix, bridge):
                 return
             handle(m)
         lc.subscribe(f"{prefix}{name}$", handler)
+    on("SONAR_BEAM", beam_t, bridge.beam)
+    on("SONAR_CONFIG", config_t, bridge.config)
     on("SONAR_DETECTIONS", detections_t, bridge.detections)
     on("SONAR_TRACKS", tracks_t, bridge.tracks)
     on("SONAR_STATUS", status_t, bridge.status)
+    if params["odom_topic"]:
+        bridge.odom = Odom(bridge.node, params["odom_topic"], params["odom_frame"], lc, f"{prefix}SONAR_POSE", pose_t)
     return lc
+
+
+# name: (default, check, what it must be); refused by name at start, as sonard's options are
+PARAMS = {
+    "frame_id": ("sonar_link", lambda v: isinstance(v, str) and v and not any(c.isspace() for c in v),
+                 "a ROS frame name, not empty, no spaces"),
+    "image_size": (400, lambda v: isinstance(v, int) and 64 <= v <= 2048, "pixels a side, 64..2048"),
+    "image_hz": (5.0, lambda v: isinstance(v, (int, float)) and 0.1 <= v <= 50, "images a second at most, 0.1..50 (a float: 10.0)"),
+    "odom_topic": ("", lambda v: isinstance(v, str) and not any(c.isspace() for c in v),
+                   "a topic name (empty: no odometry in), no spaces"),
+    "odom_frame": ("odom", lambda v: isinstance(v, str) and v and not any(c.isspace() for c in v),
+                   "the odometry's header.frame_id, not empty, no spaces"),
+}
 
 
 def main():
@@ -210,16 +335,23 @@ def main():
         return 2
     rclpy.init(args=["sonard_ros2"] + ros_args)
     node = Node("sonard_ros2")
-    frame = node.declare_parameter("frame_id", "sonar_link").value
-    if not isinstance(frame, str) or not frame or any(c.isspace() for c in frame):
-        print(f"sonard_ros2: parameter frame_id {frame!r}: a ROS frame name, not empty, no spaces", file=sys.stderr)
-        node.destroy_node()
-        rclpy.shutdown()
-        return 2
-    bridge = Bridge(node, frame)
-    lc = lcm_setup(a.lcm, a.types, a.prefix, bridge)
+    params = {}
+    for name, (default, ok, what) in PARAMS.items():
+        try:
+            v = node.declare_parameter(name, default).value
+        except Exception as e:  # a value of another type than the default's
+            v, what = None, f"{what} ({e.__class__.__name__})"
+        if not ok(v):
+            print(f"sonard_ros2: parameter {name} {v!r}: {what}", file=sys.stderr)
+            node.destroy_node()
+            rclpy.shutdown()
+            return 2
+        params[name] = v
+    bridge = Bridge(node, params)
+    lc = lcm_setup(a.lcm, a.types, a.prefix, bridge, params)
     node.get_logger().info(f"sonard_ros2: LCM {a.lcm or 'default'}{' prefix ' + a.prefix if a.prefix else ''} -> "
-                           f"{node.get_namespace()} in frame {frame}")
+                           f"{node.get_namespace()} in frame {params['frame_id']}"
+                           + (f"; odometry {params['odom_topic']} -> SONAR_POSE" if params["odom_topic"] else ""))
     t_end = time.monotonic() + a.max_seconds if a.max_seconds > 0 else math.inf
     try:
         while rclpy.ok() and time.monotonic() < t_end:
