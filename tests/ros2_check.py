@@ -3,7 +3,7 @@ drives sonar-feed's activity scene (a struggler; eight times the device's pace) 
 SONAR_DETECTIONS has its MarkerArray and its PointCloud2 with the same stamp, a marker and a point per detection at its
 centroid (y negated: ROS's y is to port) within 1 mm; each SONAR_TRACKS its MarkerArray with the same track IDs; a struggle
 alarm turns /diagnostics to ERROR; a message that does not decode is counted there; each fan image holds the beam it is
-stamped with along that beam's axis; odometry published here reaches sonard as SONAR_POSE and turns its detections into
+stamped with along that beam's axis; each SONAR_OBSTACLES has its LaserScan, sector by sector; odometry published here reaches sonard as SONAR_POSE and turns its detections into
 the world frame at that pose, and bad odometry is refused, counted by reason. Prints [  PASS  ] / [  FAIL  ] lines.
 Runs on .venv-ros2's python (rclpy) with sonard's generated LCM types and tools/view/lcm_udpm.py.
 """
@@ -45,8 +45,8 @@ def main():
     from nav_msgs.msg import Odometry
     from rclpy.node import Node
     from rclpy.qos import qos_profile_sensor_data
-    from sensor_msgs.msg import Image, PointCloud2
-    from sonar import beam_t, detections_t, tracks_t
+    from sensor_msgs.msg import Image, LaserScan, PointCloud2
+    from sonar import beam_t, detections_t, obstacles_t, tracks_t
     from visualization_msgs.msg import Marker, MarkerArray
 
     bridge_cmd = [sys.executable, os.path.join(HERE, "..", "tools", "ros2", "sonard_ros2.py"), "--lcm", a.lcm,
@@ -74,9 +74,16 @@ def main():
     node.create_subscription(DiagnosticArray, "/diagnostics", lambda m: ros["diag"].append(m), 100)
     ros["img"] = []
     node.create_subscription(Image, "/sonar/image", lambda m: ros["img"].append(m), qos_profile_sensor_data)
+    ros["scan"] = {}
+    node.create_subscription(LaserScan, "/sonar/scan", lambda m: ros["scan"].__setitem__(stamp_us(m.header), m),
+                             qos_profile_sensor_data)
     odom_pub = node.create_publisher(Odometry, "/sonar/odom", 10)
     lc = Udpm(a.lcm)
-    lcm = {"det": {}, "trk": {}, "t_det": {}, "beam": {}}
+    lcm = {"det": {}, "trk": {}, "t_det": {}, "beam": {}, "obs": {}}
+
+    def on_obs(channel, data):
+        m = obstacles_t.decode(data)
+        lcm["obs"][m.utime] = m
 
     def on_beam(channel, data):
         m = beam_t.decode(data)
@@ -99,6 +106,7 @@ def main():
     lc.subscribe("SONAR_DETECTIONS$", on_det)
     lc.subscribe("SONAR_TRACKS$", on_trk)
     lc.subscribe("SONAR_BEAM$", on_beam)
+    lc.subscribe("SONAR_OBSTACLES$", on_obs)
 
     def odom(frame="odom", x=-2.0, y=5.0, yaw_enu=0.0, t=None):
         """A still vehicle 5 m north and 2 m west of the origin facing east, in the odometry frame's ENU."""
@@ -205,6 +213,29 @@ def main():
     check(f"bad odometry refused, counted by reason on /diagnostics: {odo}", odo.get("odometry_other_frame") == 1
           and odo.get("odometry_not_finite") == 1 and odo.get("odometry_stamp_backwards") == 1
           and odo.get("odometry_taken", 0) >= 10)
+    # The scan: each SONAR_OBSTACLES sector at its ROS angle (counterclockwise: sector k, k x 5 degrees clockwise,
+    # is entry (72 - k) % 72), within 1 cm; unknown NaN, clear +inf.
+    scan_ok = n_scan = echoes = 0
+    for ut, m in lcm["obs"].items():
+        sc = ros["scan"].get(ut)
+        if sc is None:
+            continue
+        n_scan += 1
+        good = len(sc.ranges) == m.count and abs(sc.angle_increment - math.radians(5)) < 1e-6 and \
+            abs(sc.range_max - m.max_cm / 100) < 0.01
+        for k in range(m.count):
+            d, r = m.distance_cm[k], sc.ranges[(m.count - k) % m.count]
+            if d == 65535:
+                good &= math.isnan(r)
+            elif d > m.max_cm:
+                good &= math.isinf(r) and r > 0
+            else:
+                good &= abs(r - d / 100) <= 0.01
+                echoes += 1
+        scan_ok += good
+    check(f"scan: {scan_ok} of {n_scan} LaserScans (of {len(lcm['obs'])} SONAR_OBSTACLES) hold its sectors within 1 cm, "
+          f"NaN unknown, +inf clear ({echoes} echoes)", n_scan >= 0.9 * len(lcm["obs"]) and n_scan >= 20
+          and scan_ok == n_scan and echoes > 0)
     # The fan: along the axis of the beam an image is stamped with, half way out, that beam's middle samples.
     img_ok = n_img = 0
     for im in ros["img"]:

@@ -454,6 +454,56 @@ static void test_ignored_arcs(void **state)
     }
 }
 
+/* The map handed out after a beam (sonard's SONAR_OBSTACLES). */
+static struct obsmap_read handed;
+static int n_handed;
+static int64_t min_gap_us;
+
+static void hand(void *user, const struct obsmap_read *r)
+{
+    (void)user;
+    if (n_handed > 0 && r->utime - handed.utime < min_gap_us)
+        min_gap_us = r->utime - handed.utime;
+    handed = *r;
+    n_handed++;
+}
+
+/*
+ * SONAR_OBSTACLES carries OBSTACLE_DISTANCE's figures: the map handed out after a beam, read at that
+ * beam's time, is the message's at that time, entry j being sector j - 4 (the faces), with its masked arc
+ * unknown; and it is handed out at most every OBSMAP_OUT_US of beam time.
+ */
+static void test_obstacles_out_equal_od(void **state)
+{
+    struct mav_config mc;
+    mavlink_obstacle_distance_t od;
+    int a, j, echoes = 0;
+    (void)state;
+    default_cfg(&mc);
+    mc.n_ignore = 1;
+    mc.ignore[0][0] = 170.0f;
+    mc.ignore[0][1] = 190.0f;
+    setup_cfg(&mc);
+    n_handed = 0;
+    min_gap_us = INT64_MAX;
+    obsmap_on_read(&m.map, hand, NULL);
+    for (a = 0; a < 800; a++) { /* two turns, 10 ms a beam; echoes 3.9 m out in the second */
+        beam_at(wall + (int64_t)a * 10000, (uint16_t)(a % 400), a >= 400);
+    }
+    /* About one each 100 ms of the 8 s (the masked arc's beams hand nothing out), never closer. */
+    assert_true(n_handed >= 70 && n_handed <= 80);
+    assert_true(min_gap_us >= OBSMAP_OUT_US);
+    od_at(handed.utime, &od);
+    for (j = 0; j < SONAR_OBS_SECTORS; j++) {
+        assert_int_equal(od.distances[j], handed.dist_cm[(j - 4 + SONAR_OBS_SECTORS) % SONAR_OBS_SECTORS]);
+        echoes += od.distances[j] == 390;
+    }
+    assert_true(echoes > 60);
+    assert_int_equal(handed.dist_cm[36], SONAR_OBS_UNKNOWN); /* 180 degrees: the masked arc */
+    assert_int_equal(od.min_distance, handed.min_cm);
+    assert_int_equal(od.max_distance, handed.max_cm);
+}
+
 /* A reload's angle-offset and min-range reach the obstacle map through the pipeline (the detections turn by them too); a min-range too far is refused. */
 static void test_retune(void **state)
 {
@@ -465,9 +515,9 @@ static void test_retune(void **state)
     (void)state;
     default_cfg(&mc);
     setup_cfg(&mc);
-    assert_int_equal(mav_check_min_range(150.0f, err, sizeof(err)), HOST_ERR_CONFIG);
+    assert_int_equal(obsmap_check_min_range(150.0f, err, sizeof(err)), HOST_ERR_CONFIG);
     assert_string_equal(err, "--min-range 150: too far for the obstacle map (0..100 m)");
-    assert_int_equal(mav_check_min_range(100.0f, err, sizeof(err)), HOST_OK);
+    assert_int_equal(obsmap_check_min_range(100.0f, err, sizeof(err)), HOST_OK);
     sonar_pipeline_defaults(&pc);
     pc.detector.angle_offset = 100.0f; /* 100 gradians: 90 degrees */
     pc.detector.min_range_m = 1.0f;
@@ -529,6 +579,7 @@ int main(void)
         cmocka_unit_test(test_fail_closed),
         cmocka_unit_test(test_pose_held),
         cmocka_unit_test(test_ignored_arcs),
+        cmocka_unit_test(test_obstacles_out_equal_od),
         cmocka_unit_test(test_retune),
         cmocka_unit_test(test_3d_ids),
     };

@@ -1,4 +1,4 @@
-/* test_sinks.c -- each sink maps a record once: LCM through a capturing transmit function (decoded back with the generated types), CSV rows, JSON lines; failures reported. */
+/* test_sinks.c -- each sink maps a record once: LCM (the obstacle map too) through a capturing transmit function (decoded back with the generated types), CSV rows, JSON lines; failures reported. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -8,9 +8,11 @@
 
 /* The generated types include stdlib.h: before cmocka.h, which redefines malloc under UNIT_TESTING. */
 #include "csv.h"
+#include "obsmap.h"
 #include "sinks.h"
 #include "sonar_beam_t.h"
 #include "sonar_detections_t.h"
+#include "sonar_obstacles_t.h"
 #include "sonar_status_t.h"
 #include "sonar_tracks_t.h"
 
@@ -89,6 +91,39 @@ static void test_lcm_beam_round_trip(void **state)
     sonar_beam_t_decode_cleanup(&m);
     out.fail = 1;
     assert_int_equal(s.sink.beam(s.sink.self, &b), HOST_ERR_PUBLISH);
+}
+
+/* The obstacle map as SONAR_OBSTACLES: every sector, unknown and clear as they are, on the prefixed channel; a failed send counted. */
+static void test_lcm_obstacles(void **state)
+{
+    static struct sink_lcm s;
+    static struct sent out;
+    struct obsmap_read r;
+    sonar_obstacles_t m;
+    int k;
+    (void)state;
+    memset(&out, 0, sizeof(out));
+    sink_lcm_init(&s, capture_tx, &out, "PORT_", 0);
+    r.utime = 1700000000123456;
+    r.min_cm = 75;
+    r.max_cm = 1200;
+    for (k = 0; k < SONAR_OBS_SECTORS; k++)
+        r.dist_cm[k] = (uint16_t)(k % 3 == 0 ? (int)SONAR_OBS_UNKNOWN : k % 3 == 1 ? 1201 : 75 + 10 * k);
+    sink_lcm_obstacles(&s, &r);
+    assert_int_equal(out.n, 1);
+    assert_string_equal(out.channel[0], "PORT_SONAR_OBSTACLES");
+    assert_true(sonar_obstacles_t_decode(out.buf[0], 0, (int)out.len[0], &m) > 0);
+    assert_true(m.utime == 1700000000123456);
+    assert_true(m.sector_deg == 5.0f);
+    assert_int_equal(m.min_cm, 75);
+    assert_int_equal(m.max_cm, 1200);
+    assert_int_equal(m.count, SONAR_OBS_SECTORS);
+    for (k = 0; k < SONAR_OBS_SECTORS; k++)
+        assert_int_equal(m.distance_cm[k], r.dist_cm[k]);
+    sonar_obstacles_t_decode_cleanup(&m);
+    out.fail = 1;
+    sink_lcm_obstacles(&s, &r);
+    assert_int_equal(s.sink.errors, 1);
 }
 
 static void test_lcm_detections_and_status(void **state)
@@ -325,6 +360,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lcm_beam_round_trip),
         cmocka_unit_test(test_lcm_detections_and_status),
+        cmocka_unit_test(test_lcm_obstacles),
         cmocka_unit_test(test_csv_sink_writes_a_row_that_reads_back),
         cmocka_unit_test(test_sinks_world_view),
         cmocka_unit_test(test_report_sink_json_line),

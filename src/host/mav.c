@@ -61,39 +61,7 @@ int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errl
         return HOST_ERR_CONFIG;
     }
     snprintf(m->desc, sizeof(m->desc), "%s", cfg->url);
-    {
-        struct sonar_obstacle_config oc;
-        sonar_obstacle_defaults(&oc);
-        oc.min_range_m = SONAR_PIPE_NEAR_M; /* the pipeline's comes with mav_attach */
-        if (sonar_obstacle_init(&m->obs, &oc) != SONAR_OK) {
-            snprintf(err, errlen, "the obstacle map's defaults: invalid");
-            return HOST_ERR_CONFIG;
-        }
-        m->min_range_m = 0.0f;
-    }
-    return HOST_OK;
-}
-
-int mav_check_min_range(float min_range_m, char *err, size_t errlen)
-{
-    if (min_range_m >= 0.0f && min_range_m <= SONAR_OBSTACLE_MAX_RANGE_M)
-        return HOST_OK;
-    snprintf(err, errlen, "--min-range %g: too far for the obstacle map (0..%g m)", (double)min_range_m,
-             (double)SONAR_OBSTACLE_MAX_RANGE_M);
-    return HOST_ERR_CONFIG;
-}
-
-/* The map's min range follows the pipeline's (a reload's takes over with its sweep); never nearer than the ring-down. */
-int mav_follow_frame(struct mav *m, float *angle_offset)
-{
-    float min_range_m;
-    app_frame(m->app, angle_offset, &min_range_m);
-    if (min_range_m != m->min_range_m) {
-        if (sonar_obstacle_set_min_range(&m->obs, min_range_m > SONAR_PIPE_NEAR_M ? min_range_m : SONAR_PIPE_NEAR_M) != SONAR_OK)
-            return HOST_ERR_CONFIG;
-        m->min_range_m = min_range_m;
-    }
-    return HOST_OK;
+    return obsmap_init(&m->map, (const float (*)[2])cfg->ignore, cfg->n_ignore, err, errlen);
 }
 
 static void fill(const void *self, struct sonar_status *s)
@@ -111,11 +79,8 @@ int mav_attach(struct mav *m, struct app *a)
     m->sink.beam = mav_sink_beam;
     m->sink.detections = mav_sink_detections;
     m->sink.fill = fill;
-    {
-        float off;
-        if (mav_follow_frame(m, &off) != HOST_OK)
-            return HOST_ERR_CONFIG;
-    }
+    if (obsmap_bind(&m->map, a) != HOST_OK)
+        return HOST_ERR_CONFIG;
     return app_add_sink(a, &m->sink);
 }
 

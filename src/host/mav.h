@@ -1,4 +1,4 @@
-/* mav.h -- the autopilot's MAVLink endpoint: its HEARTBEAT, ATTITUDE and LOCAL_POSITION_NED in (the pose asked for at a rate), OBSTACLE_DISTANCE (fail-closed, ArduPilot's faces contiguous), OBSTACLE_DISTANCE_3D and HEARTBEAT out; sizeof(struct mav) = 28 488 B, most of it the obstacle map (obstacle.h). */
+/* mav.h -- the autopilot's MAVLink endpoint: its HEARTBEAT, ATTITUDE and LOCAL_POSITION_NED in (the pose asked for at a rate), OBSTACLE_DISTANCE (fail-closed, ArduPilot's faces contiguous), OBSTACLE_DISTANCE_3D and HEARTBEAT out; sizeof(struct mav) = 28 672 B, most of it the obstacle map (obsmap.h). */
 #ifndef SONARD_MAV_H
 #define SONARD_MAV_H
 
@@ -9,12 +9,12 @@
 #include "app.h"
 #include "link.h"
 #include "live.h"
-#include "sonar/obstacle.h"
+#include "obsmap.h"
 
 #define MAV_PEERS 4                 /* udpin: the senders answered, each for MAV_PEER_US after it was last heard */
 #define MAV_PEER_US 10000000
 #define MAV_POSITION_STALE_US 1000000 /* without LOCAL_POSITION_NED for this long: heading only, at the last position */
-#define MAV_MAX_IGNORE 8              /* --ignore-deg arcs */
+#define MAV_MAX_IGNORE OBSMAP_MAX_IGNORE /* --ignore-deg arcs */
 #define MAV_BEAM_STALE_US 950000      /* fail closed: no OBSTACLE_DISTANCE once the newest beam is this old (1 s, less the last message's way) */
 #define MAV_POSE_HOLD_US 5000000      /* a stale pose still places the map's remembered echoes for this long */
 #define MAV_INTERVAL_RETRY_US 5000000 /* SET_MESSAGE_INTERVAL again this often until the pose comes at the rate */
@@ -69,8 +69,7 @@ struct mav {
         uint64_t align;
         unsigned char b[1024];
     } rx, tx;
-    struct sonar_obstacle obs;
-    float min_range_m;          /* the pipeline's --min-range the map holds now (app_frame) */
+    struct obsmap map;          /* the obstacle map, fed by the sink below */
     struct app_sink sink;       /* filtered beams into the map; tracks out as OBSTACLE_DISTANCE_3D */
     int64_t t0_us;              /* monotonic start, for time_boot_ms */
     int64_t next_hb, next_od;
@@ -101,15 +100,9 @@ struct mav {
 HOST_CHECK int mav_init(struct mav *m, const struct mav_config *cfg, char *err, size_t errlen);
 
 /*
- * Whether the obstacle map can take a --min-range of min_range_m metres (0..100 m): HOST_OK, or
- * HOST_ERR_CONFIG with err naming the value. sonard asks it before a reload's settings are taken.
- */
-HOST_CHECK int mav_check_min_range(float min_range_m, char *err, size_t errlen);
-
-/*
  * Binds the app: adds the sink. The map takes the pipeline's output frame (angle offset, min
  * range) from the app at each beam (app_frame), so it turns with the detections when a reload
- * takes over. Returns HOST_OK, HOST_ERR_CONFIG (the app's min range too far: mav_check_min_range
+ * takes over. Returns HOST_OK, HOST_ERR_CONFIG (the app's min range too far: obsmap_check_min_range
  * says why) or HOST_ERR_FULL. Open with the live loop (mav_live).
  */
 HOST_CHECK int mav_attach(struct mav *m, struct app *a);

@@ -43,8 +43,6 @@ void mav_rx_timers(struct mav *m, int64_t now_mono);
 
 /* mav_tx.c: the sink's callbacks (filtered beams into the map; confirmed tracks out). */
 int mav_sink_beam(void *self, const struct sonar_record *b);
-/* The pipeline's output frame into the map: *angle_offset (gradians) out, the min range set when it changed. HOST_OK or HOST_ERR_CONFIG. */
-int mav_follow_frame(struct mav *m, float *angle_offset);
 int mav_sink_detections(void *self, const struct sonar_detections *d, const struct sonar_tracker *tk,
                         const struct msg_view *v);
 

@@ -81,26 +81,6 @@ void mav_ask_pose(struct mav *m, int64_t now_mono)
     m->next_interval = now_mono + MAV_INTERVAL_RETRY_US;
 }
 
-/* How old a sector may be: a little over one sweep (the last one's time; 40 s, the slowest, before any). */
-static int64_t max_age(const struct mav *m)
-{
-    double s = m->app != NULL && app_last_sweep_s(m->app) > 0.0f ? (double)app_last_sweep_s(m->app) : 40.0;
-    return (int64_t)(s * 1.2e6);
-}
-
-/* Whether a body bearing (degrees clockwise from forward) lies in an --ignore-deg arc. */
-static int ignored(const struct mav *m, float deg)
-{
-    unsigned i;
-    float b = (float)fmod(fmod((double)deg, 360.0) + 360.0, 360.0);
-    for (i = 0; i < m->cfg.n_ignore; i++) {
-        float from = m->cfg.ignore[i][0], to = m->cfg.ignore[i][1];
-        if (from <= to ? (b >= from && b <= to) : (b >= from || b <= to)) /* an arc may cross forward */
-            return 1;
-    }
-    return 0;
-}
-
 /*
  * The vehicle's pose for the map's world points now: the app's, else the last one pushed for
  * MAV_POSE_HOLD_US after it (said once, counted) so the map's memory is not dropped the moment the
@@ -128,30 +108,21 @@ static const struct sonar_pose *pose_now(struct mav *m, int64_t now_wall, struct
 
 /*
  * The whole map as one OBSTACLE_DISTANCE: body FRD, cm, in the body frame at the vehicle's pose
- * now when there is one; entries reordered for the faces (above), masked arcs unknown, nothing 0.
+ * now when there is one (obsmap_read: masked arcs unknown, nothing 0); entries reordered for the faces (above).
  */
 static void pack_od(struct mav *m, mavlink_message_t *msg, int64_t now_wall, int64_t now_mono)
 {
-    uint16_t dist[SONAR_OBS_SECTORS], out[SONAR_OBS_SECTORS], mn, mx;
+    uint16_t out[SONAR_OBS_SECTORS];
+    struct obsmap_read r;
     struct sonar_pose q;
-    const struct sonar_pose *p = pose_now(m, now_wall, &q);
     int j;
-    sonar_obstacle_map(&m->obs, now_wall, max_age(m), p, dist, &mn, &mx);
-    if (mn == 0)
-        mn = 1; /* ArduPilot takes 0 for "invalid": every distance below is raised to min_distance */
-    for (j = 0; j < SONAR_OBS_SECTORS; j++) {
-        int k = (j - FACE_SECTORS / 2 + SONAR_OBS_SECTORS) % SONAR_OBS_SECTORS; /* our sector k: centred on 5 k degrees */
-        uint16_t d = dist[k];
-        if (ignored(m, (float)(k * SONAR_OBS_SECTOR_DEG)))
-            d = UINT16_MAX;
-        else if (d < mn)
-            d = mn;
-        out[j] = d;
-    }
+    obsmap_read(&m->map, now_wall, pose_now(m, now_wall, &q), &r);
+    for (j = 0; j < SONAR_OBS_SECTORS; j++)
+        out[j] = r.dist_cm[(j - FACE_SECTORS / 2 + SONAR_OBS_SECTORS) % SONAR_OBS_SECTORS]; /* sector k: centred on 5 k degrees */
     mavlink_msg_obstacle_distance_pack_status(mav_sysid(m), m->cfg.compid, mav_txs(m), msg,
                                               (uint64_t)(now_mono - m->t0_us), MAV_DISTANCE_SENSOR_ULTRASOUND, out,
-                                              SONAR_OBS_SECTOR_DEG, mn, mx, (float)SONAR_OBS_SECTOR_DEG, OD_ANGLE_OFFSET,
-                                              MAV_FRAME_BODY_FRD);
+                                              SONAR_OBS_SECTOR_DEG, r.min_cm, r.max_cm, (float)SONAR_OBS_SECTOR_DEG,
+                                              OD_ANGLE_OFFSET, MAV_FRAME_BODY_FRD);
 }
 
 size_t mav_obstacle_distance(struct mav *m, uint8_t *buf, int64_t now_wall_us, int64_t now_mono_us)
@@ -171,7 +142,7 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
     mavlink_message_t msg;
     int64_t wall = app_wall_us(m->app);
     int stale = m->last_beam_us == 0 || wall - m->last_beam_us > MAV_BEAM_STALE_US;
-    if (sonar_obstacle_beams(&m->obs) == 0 && !m->withholding)
+    if (obsmap_beams(&m->map) == 0 && !m->withholding)
         return; /* nothing scanned yet: every sector would be unknown */
     if (m->cfg.fail_closed && stale) {
         if (!m->withholding)
@@ -199,20 +170,10 @@ void mav_send_obstacles(struct mav *m, int64_t now_mono)
 int mav_sink_beam(void *self, const struct sonar_record *b)
 {
     struct mav *m = self;
-    float bearing, angle_offset;
-    struct sonar_pose q;
-    if (mav_follow_frame(m, &angle_offset) != HOST_OK)
-        return HOST_ERR_CONFIG; /* a min range the map cannot take: refused before a reload, so not reached */
-    bearing = ((float)b->angle + angle_offset) * (float)SONAR_DEG_PER_GRAD;
+    int r;
     m->last_beam_us = app_wall_us(m->app);
-    if (ignored(m, bearing))
-        return HOST_OK; /* the vehicle's own echoes never enter the map */
-    q.utime = b->utime;
-    q.north_m = b->north_m;
-    q.east_m = b->east_m;
-    q.yaw_deg = b->yaw_deg;
-    if (sonar_obstacle_beam(&m->obs, b->utime, bearing, b->has_pose ? &q : NULL, b->samples, b->n, b->range_m) != SONAR_OK)
-        return HOST_ERR_IO;
+    if ((r = obsmap_beam(&m->map, b)) != HOST_OK)
+        return r;
     if (m->unsent_us == 0)
         m->unsent_us = m->last_beam_us;
     return HOST_OK;
@@ -229,11 +190,11 @@ int mav_sink_detections(void *self, const struct sonar_detections *d, const stru
     struct mav *m = self;
     int64_t now = app_mono_us(m->app);
     uint32_t t = boot_ms(m, now);
-    uint16_t mn, mx, dist[SONAR_OBS_SECTORS];
+    struct obsmap_read r;
     uint8_t i;
     if (tk == NULL || !m->cfg.send_3d)
         return HOST_OK;
-    sonar_obstacle_map(&m->obs, d->utime, max_age(m), NULL, dist, &mn, &mx); /* only its min and max */
+    obsmap_read(&m->map, d->utime, NULL, &r); /* only its min and max */
     for (i = 0; i < sonar_tracker_count(tk); i++) {
         const struct sonar_track *k = sonar_tracker_track(tk, i);
         mavlink_message_t msg;
@@ -250,7 +211,7 @@ int mav_sink_detections(void *self, const struct sonar_detections *d, const stru
         mavlink_msg_obstacle_distance_3d_pack_status(mav_sysid(m), m->cfg.compid, mav_txs(m), &msg, t,
                                                      MAV_DISTANCE_SENSOR_ULTRASOUND, MAV_FRAME_BODY_FRD,
                                                      (uint16_t)(1u + (k->id - 1u) % 65534u), x, y, 0.0f,
-                                                     (float)mn / 100.0f, (float)mx / 100.0f);
+                                                     (float)r.min_cm / 100.0f, (float)r.max_cm / 100.0f);
         mav_send(m, &msg, now);
         m->n.obstacle_3d++;
     }

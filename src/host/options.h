@@ -14,7 +14,7 @@
 
 #define OPTIONS_MAX_CONFIGS 8
 
-#define SONARD_MAX_IGNORE 8 /* --ignore-deg arcs (mav.h MAV_MAX_IGNORE) */
+#define SONARD_MAX_IGNORE 8 /* --ignore-deg arcs (obsmap.h OBSMAP_MAX_IGNORE) */
 
 struct sonard_options {
     const char *replay;         /* CSV file, "-" for stdin */

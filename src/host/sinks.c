@@ -6,10 +6,12 @@
 
 #include "csv.h"
 #include "msg.h"
+#include "obsmap.h"
 #include "report.h"
 #include "sonar_beam_t.h"
 #include "sonar_clutter_t.h"
 #include "sonar_detections_t.h"
+#include "sonar_obstacles_t.h"
 #include "sonar_status_t.h"
 #include "sonar_survey_t.h"
 #include "sonar_tracks_t.h"
@@ -69,6 +71,16 @@ static int lcm_status(void *self, const struct sonar_status *st)
     return lcm_send(s, s->survey, sonar_survey_t_encode(s->buf, 0, (int)sizeof(s->buf), &sv));
 }
 
+void sink_lcm_obstacles(void *self, const struct obsmap_read *r)
+{
+    struct sink_lcm *s = self;
+    sonar_obstacles_t m;
+    int32_t cells[SONAR_OBS_SECTORS];
+    msg_obstacles(r->utime, r->dist_cm, r->min_cm, r->max_cm, cells, &m);
+    if (lcm_send(s, s->obstacles, sonar_obstacles_t_encode(s->buf, 0, (int)sizeof(s->buf), &m)) != HOST_OK)
+        s->sink.errors++;
+}
+
 void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered)
 {
     memset(s, 0, sizeof(*s));
@@ -81,6 +93,7 @@ void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *p
     snprintf(s->tracks, sizeof(s->tracks), "%.30sSONAR_TRACKS", prefix);
     snprintf(s->survey, sizeof(s->survey), "%.30sSONAR_SURVEY", prefix);
     snprintf(s->clutter, sizeof(s->clutter), "%.30sSONAR_CLUTTER", prefix);
+    snprintf(s->obstacles, sizeof(s->obstacles), "%.30sSONAR_OBSTACLES", prefix);
     s->sink.name = "lcm";
     s->sink.self = s;
     s->sink.stages = (uint8_t)(1u << SONAR_STAGE_RAW | (filtered ? 1u << SONAR_STAGE_FOREGROUND : 0u));

@@ -1,10 +1,12 @@
-/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 16 944 B), no heap per message. */
+/* sinks.h -- sonard's outputs, each an app_sink: LCM (behind a transmit function), CSV recording, JSON/text lines; every message is encoded into the sink's own buffer (sizeof(struct sink_lcm) = 17 008 B), no heap per message. */
 #ifndef SONARD_SINKS_H
 #define SONARD_SINKS_H
 
 #include <stdio.h>
 
 #include "app.h"
+
+struct obsmap_read;
 
 /* Sends one encoded message; returns 0 or < 0. lcm_publish in sonard, a capture in tests. */
 typedef int (*sink_lcm_tx)(void *user, const char *channel, const uint8_t *buf, size_t len);
@@ -14,7 +16,7 @@ struct sink_lcm {
     void *lcm;                 /* lcm_t when opened by sink_lcm_open */
     sink_lcm_tx tx;
     void *tx_user;
-    char beam[64], filtered[64], detections[64], status[64], tracks[64], survey[64], clutter[64];
+    char beam[64], filtered[64], detections[64], status[64], tracks[64], survey[64], clutter[64], obstacles[64];
     uint8_t buf[16384];
 };
 
@@ -24,6 +26,12 @@ struct sink_lcm {
  * (SONAR_SURVEY), on prefix + channel, through tx(user, ...). prefix: at most 30 characters.
  */
 void sink_lcm_init(struct sink_lcm *s, sink_lcm_tx tx, void *user, const char *prefix, int filtered);
+
+/*
+ * The obstacle map as SONAR_OBSTACLES (sonar.obstacles_t), an obsmap_out_fn with self the sink; a
+ * failed send is counted in the sink's errors.
+ */
+void sink_lcm_obstacles(void *self, const struct obsmap_read *r);
 
 /* The same over liblcm: url NULL for LCM's default. Returns HOST_OK or HOST_ERR_IO with err set. */
 HOST_CHECK int sink_lcm_open(struct sink_lcm *s, const char *url, const char *prefix, int filtered, char *err, size_t errlen);

@@ -41,10 +41,11 @@ struct sonard {
     struct source_replay replay;
     struct posefile pose;
     struct mav mav;
+    struct obsmap obs;        /* the obstacle map for SONAR_OBSTACLES without --mavlink (with it, the endpoint's) */
     struct source_pose_lcm plcm;
     struct live_aux aux[2];
     unsigned naux;
-    int have_mav, have_plcm;
+    int have_mav, have_plcm, have_obs;
     FILE *csv_out;
     int have_lcm;
     char sonar_url[160]; /* --sonar blueos...: the URL the ping service named (or its fallback) */
@@ -124,7 +125,8 @@ static int reload(void *user)
     }
     /* The obstacle map takes angle-offset and min-range from the pipeline beam by beam (app_frame), so both turn
        together with the sweep the new settings take over at; a min range the map cannot take refuses the reload. */
-    if (s->have_mav && mav_check_min_range(s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK) {
+    if ((s->have_mav || s->have_obs) &&
+        obsmap_check_min_range(s->reload.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK) {
         fprintf(stderr, "sonard: SIGHUP: %s; the running settings stay\n", err);
         return HOST_ERR_CONFIG;
     }
@@ -400,13 +402,24 @@ int main(int argc, char **argv)
         mc.send_3d = s.opt.mav_3d;
         mc.n_ignore = s.opt.n_ignore;
         memcpy(mc.ignore, s.opt.ignore, sizeof(mc.ignore));
-        if (mav_check_min_range(s.opt.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK ||
+        if (obsmap_check_min_range(s.opt.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK ||
             mav_init(&s.mav, &mc, err, sizeof(err)) != HOST_OK || mav_attach(&s.mav, s.app) != HOST_OK) {
             fprintf(stderr, "sonard: %s\n", err);
             return 2;
         }
         mav_live(&s.mav, &s.aux[s.naux++]);
         s.have_mav = 1;
+    }
+    /* SONAR_OBSTACLES: the autopilot's map when there is one (the same figures), else a map of its own. */
+    if (s.have_lcm) {
+        if (!s.have_mav && (obsmap_check_min_range(s.opt.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK ||
+                            obsmap_init(&s.obs, (const float (*)[2])s.opt.ignore, s.opt.n_ignore, err, sizeof(err)) != HOST_OK ||
+                            obsmap_attach(&s.obs, s.app) != HOST_OK)) {
+            fprintf(stderr, "sonard: %s\n", err);
+            return 2;
+        }
+        s.have_obs = !s.have_mav;
+        obsmap_on_read(s.have_mav ? &s.mav.map : &s.obs, sink_lcm_obstacles, &s.lcm);
     }
     /* Poses over LCM (SONAR_POSE): on sonard's own LCM, or on --pose-lcm URL. */
     if (s.opt.replay == NULL && (s.have_lcm || s.opt.pose_lcm != NULL)) {

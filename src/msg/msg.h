@@ -4,6 +4,7 @@
 
 #include "sonar/detector.h"
 #include "sonar/device.h"
+#include "sonar/obstacle.h"
 #include "sonar/ping360.h"
 #include "sonar/pose.h"
 #include "sonar/pipeline.h"
@@ -14,6 +15,7 @@
 #include "sonar_clutter_t.h"
 #include "sonar_config_t.h"
 #include "sonar_detections_t.h"
+#include "sonar_obstacles_t.h"
 #include "sonar_pose_t.h"
 #include "sonar_status_t.h"
 #include "sonar_survey_t.h"
@@ -64,6 +66,14 @@ void msg_survey(const struct sonar_status *s, sonar_detection_t *det, sonar_surv
  * SONAR_CLUTTER_SECTORS entries, the caller's) holds the cells. Returns 0 when the record has no map (nothing to send).
  */
 int msg_clutter(const struct sonar_status *s, float *density, sonar_clutter_t *m);
+
+/*
+ * The obstacle map read at utime (us since the epoch) -> sonar.obstacles_t (SONAR_OBSTACLES): dist_cm
+ * (SONAR_OBS_SECTORS entries, sector k centred on k * SONAR_OBS_SECTOR_DEG degrees clockwise from ahead,
+ * cm) as obstacle.h gives them; cells (SONAR_OBS_SECTORS entries, the caller's) holds the message's copy.
+ */
+void msg_obstacles(int64_t utime, const uint16_t *dist_cm, uint16_t min_cm, uint16_t max_cm, int32_t *cells,
+                   sonar_obstacles_t *m);
 
 /* A pose <-> sonar.pose_t (SONAR_POSE). */
 void msg_pose(const struct sonar_pose *p, sonar_pose_t *m);

@@ -1,4 +1,4 @@
-/* msg_device.c -- beam records, status records and poses <-> their LCM messages, field by field, both ways; O(fields) per call, no heap (messages point into the caller's structs). */
+/* msg_device.c -- beam records, status records, poses and the obstacle map <-> their LCM messages, field by field, both ways; O(fields) per call, no heap (messages point into the caller's structs). */
 #include "msg.h"
 
 #include <string.h>
@@ -327,4 +327,18 @@ void msg_pose_in(const sonar_pose_t *m, struct sonar_pose *p)
     p->north_m = m->north_m;
     p->east_m = m->east_m;
     p->yaw_deg = m->yaw_deg;
+}
+
+void msg_obstacles(int64_t utime, const uint16_t *dist_cm, uint16_t min_cm, uint16_t max_cm, int32_t *cells,
+                   sonar_obstacles_t *m)
+{
+    int k;
+    m->utime = utime;
+    m->sector_deg = (float)SONAR_OBS_SECTOR_DEG;
+    m->min_cm = min_cm;
+    m->max_cm = max_cm;
+    m->count = SONAR_OBS_SECTORS;
+    for (k = 0; k < SONAR_OBS_SECTORS; k++)
+        cells[k] = dist_cm[k];
+    m->distance_cm = cells;
 }

@@ -3,10 +3,14 @@
 
   sonard_ros2.py [--lcm URL] [--prefix P] [--types build/lcm/python] [--ros-args -r __ns:=/sonar -p frame_id:=sonar_link]
 
-It reads sonard's SONAR_BEAM, SONAR_CONFIG, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with sonard's
---channel-prefix P) and publishes, under the node's namespace, stamped from sonard's utime, in the frame `frame_id` (a
-ROS parameter, default sonar_link):
+It reads sonard's SONAR_OBSTACLES, SONAR_BEAM, SONAR_CONFIG, SONAR_DETECTIONS, SONAR_TRACKS and SONAR_STATUS (with
+sonard's --channel-prefix P) and publishes, under the node's namespace, stamped from sonard's utime, in the frame
+`frame_id` (a ROS parameter, default sonar_link):
 
+  scan               sensor_msgs/LaserScan            the obstacle map: the nearest echo in each 5-degree sector, the
+                                                      figures of MAVLink's OBSTACLE_DISTANCE; counterclockwise from
+                                                      ahead, NaN unknown, +inf scanned and clear (REP 117)
+                                                      (sensor-data QoS)
   image              sensor_msgs/Image (mono8)        the fan: each raw beam drawn into an image_size square, the sonar
                                                       at its centre, ahead up, starboard right, the beam's range to the
                                                       edge; at most image_hz a second (sensor-data QoS)
@@ -18,7 +22,7 @@ ROS parameter, default sonar_link):
                                                       (ERROR while a struggle alarm stands)
 
 Frames: sonard's body frame has x ahead and y to starboard; ROS's (REP 103) has y to port, so y is negated.
-Markers, cloud and diagnostics use reliable QoS, depth 10; the image sensor-data QoS (best effort, depth 5): a
+Markers, cloud and diagnostics use reliable QoS, depth 10; scan and image sensor-data QoS (best effort, depth 5): a
 subscriber that cannot keep up loses the oldest, never a growing queue.
 
 Odometry in (parameter odom_topic, default "" for none): each nav_msgs/Odometry becomes a SONAR_POSE (sonar.pose_t) on
@@ -51,6 +55,7 @@ LINK_OK = (3, 4, 7)  # enum sonar_ping360_state: beams are coming (scanning, aut
 SURVEY_STATES = ("none", "in use", "no longer fits")
 CLOUD_FIELDS = (("x", 7), ("y", 7), ("z", 7), ("area", 7), ("kind", 7), ("intensity", 7), ("track", 7))  # FLOAT32
 DEPTH = 10
+OBS_UNKNOWN = 65535  # SONAR_OBS_UNKNOWN (include/sonar/obstacle.h): not scanned within a sweep, or a masked arc
 
 
 def stamp_of(utime):
@@ -133,7 +138,7 @@ class Bridge:
     def __init__(self, node, params):
         from diagnostic_msgs.msg import DiagnosticArray
         from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy, qos_profile_sensor_data
-        from sensor_msgs.msg import Image, PointCloud2
+        from sensor_msgs.msg import Image, LaserScan, PointCloud2
         from visualization_msgs.msg import MarkerArray
         qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
         self.node, self.frame = node, params["frame_id"]
@@ -141,8 +146,9 @@ class Bridge:
         self.image_us = int(1e6 / params["image_hz"])
         self.image_at = None      # utime of the last image published
         self.angle_offset = 0.0   # SONAR_CONFIG's, degrees
-        self.images = self.images_skipped = 0
+        self.images = self.images_skipped = self.scans = 0
         self.pub_img = node.create_publisher(Image, "image", qos_profile_sensor_data)
+        self.pub_scan = node.create_publisher(LaserScan, "scan", qos_profile_sensor_data)
         self.odom = None          # an Odom once lcm_setup has the bus
         self.pub_det = node.create_publisher(MarkerArray, "detections", qos)
         self.pub_cloud = node.create_publisher(PointCloud2, "detections/cloud", qos)
@@ -158,6 +164,23 @@ class Bridge:
     def header(self, utime):
         from std_msgs.msg import Header
         return Header(stamp=stamp_of(utime), frame_id=self.frame)
+
+    def obstacles(self, m):
+        """SONAR_OBSTACLES as a LaserScan: sector k (k x sector_deg clockwise from ahead) is ROS's -k x sector_deg, so
+        the ranges run counterclockwise from ahead through the sectors k = 0, n - 1, n - 2, ..."""
+        from sensor_msgs.msg import LaserScan
+        n = m.count
+        if n <= 0:
+            return
+        inc = math.radians(m.sector_deg)
+        ranges = []
+        for j in range(n):
+            d = m.distance_cm[(n - j) % n]
+            ranges.append(math.nan if d == OBS_UNKNOWN else math.inf if d > m.max_cm else d / 100.0)
+        self.pub_scan.publish(LaserScan(header=self.header(m.utime), angle_min=0.0, angle_max=inc * (n - 1),
+                                        angle_increment=inc, time_increment=0.0, scan_time=0.0,
+                                        range_min=m.min_cm / 100.0, range_max=m.max_cm / 100.0, ranges=ranges))
+        self.scans += 1
 
     def config(self, m):
         self.angle_offset = float(m.angle_offset)
@@ -259,7 +282,7 @@ class Bridge:
         values = {"link": m.link, "link_state": m.link_state, "beams": m.beams, "beams_per_s": f"{rate:.1f}",
                   "sweeps": m.sweeps, "tracks": m.tracks, "alarms": ",".join(map(str, sorted(self.alarms))),
                   "survey": SURVEY_STATES[sv] if 0 <= sv < len(SURVEY_STATES) else str(sv),
-                  "bridge_published": self.published, "bridge_images": self.images,
+                  "bridge_published": self.published, "bridge_images": self.images, "bridge_scans": self.scans,
                   "bridge_images_skipped": self.images_skipped,
                   "bridge_undecoded": sum(self.bad.values())}
         if self.odom is not None:
@@ -270,7 +293,7 @@ class Bridge:
 
 def lcm_setup(url, types, prefix, bridge, params):
     sys.path.insert(0, types)
-    from sonar import beam_t, config_t, detections_t, pose_t, status_t, tracks_t  # noqa: E402 (from --types)
+    from sonar import beam_t, config_t, detections_t, obstacles_t, pose_t, status_t, tracks_t  # noqa: E402
     if url is None or url.startswith("udpm://"):
         sys.path.insert(0, os.path.join(HERE, "..", "view"))
         from lcm_udpm import Udpm
@@ -288,6 +311,7 @@ def lcm_setup(url, types, prefix, bridge, params):
                 return
             handle(m)
         lc.subscribe(f"{prefix}{name}$", handler)
+    on("SONAR_OBSTACLES", obstacles_t, bridge.obstacles)
     on("SONAR_BEAM", beam_t, bridge.beam)
     on("SONAR_CONFIG", config_t, bridge.config)
     on("SONAR_DETECTIONS", detections_t, bridge.detections)
