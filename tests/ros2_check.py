@@ -4,7 +4,8 @@ SONAR_DETECTIONS has its MarkerArray and its PointCloud2 with the same stamp, a 
 centroid (y negated: ROS's y is to port) within 1 mm; each SONAR_TRACKS its MarkerArray with the same track IDs; a struggle
 alarm turns /diagnostics to ERROR; a message that does not decode is counted there; each fan image holds the beam it is
 stamped with along that beam's axis; each SONAR_OBSTACLES has its LaserScan, sector by sector; odometry published here reaches sonard as SONAR_POSE and turns its detections into
-the world frame at that pose, and bad odometry is refused, counted by reason. Prints [  PASS  ] / [  FAIL  ] lines.
+the world frame at that pose, and bad odometry is refused, counted by reason; a replay's LCM log made a ROS 2 bag by
+lcm2mcap --ros2 reads back as the log says. Prints [  PASS  ] / [  FAIL  ] lines.
 Runs on .venv-ros2's python (rclpy) with sonard's generated LCM types and tools/view/lcm_udpm.py.
 """
 import argparse
@@ -30,6 +31,82 @@ def check(name, ok):
 
 def stamp_us(h):
     return h.stamp.sec * 1000000 + h.stamp.nanosec // 1000
+
+
+def scan_matches(m, ranges, inc, range_max):
+    """A LaserScan's ranges against the SONAR_OBSTACLES it came from: sector k (k x 5 degrees clockwise) is entry
+    (72 - k) % 72, within 1 cm; unknown NaN, clear +inf. Returns (all agree, echoes compared)."""
+    good = len(ranges) == m.count and abs(inc - math.radians(5)) < 1e-6 and abs(range_max - m.max_cm / 100) < 0.01
+    echoes = 0
+    for k in range(m.count if good else 0):
+        d, r = m.distance_cm[k], ranges[(m.count - k) % m.count]
+        if d == 65535:
+            good &= math.isnan(r)
+        elif d > m.max_cm:
+            good &= math.isinf(r) and r > 0
+        else:
+            good &= abs(r - d / 100) <= 0.01
+            echoes += 1
+    return good, echoes
+
+
+def bag_checks(a):
+    """lcm2mcap --ros2 on a replay's LCM log: every message decodes back (mcap-ros2-support's decoder, from the
+    bag's own definitions, and rclpy from the bytes alone, as ros2 bag play reads them) to what the log says."""
+    import importlib
+    import importlib.machinery
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    from rclpy.serialization import deserialize_message
+    from sonar import detections_t, obstacles_t, tracks_t
+    t = a.tmp
+    subprocess.run([os.path.join(a.build, "sonar-sim"), "--scene", "activity", "--out", f"{t}/bag.csv", "--truth",
+                    f"{t}/bag.json", "--sweeps", "6"], check=True, capture_output=True)
+    subprocess.run([os.path.join(a.build, "sonard"), "--replay", f"{t}/bag.csv", "--lcm", f"file://{t}/bag.lcm?mode=w",
+                    "--quiet"], check=True, capture_output=True)
+    tool = os.path.join(HERE, "..", "tools", "data", "lcm2mcap")
+    r = subprocess.run([sys.executable, tool, "--ros2", f"{t}/bag.lcm", f"{t}/bag.mcap", "--types",
+                        os.path.join(a.build, "lcm", "python")], capture_output=True, text=True, timeout=120)
+    print("    " + r.stderr.strip().replace("\n", "\n    "))
+    check(f"lcm2mcap --ros2 writes the replay's bag (exit {r.returncode})", r.returncode == 0)
+    lm = importlib.machinery.SourceFileLoader("lcm2mcap_mod", tool).load_module()
+    log = {"SONAR_OBSTACLES": [], "SONAR_DETECTIONS": [], "SONAR_TRACKS": []}
+    typ = {"SONAR_OBSTACLES": obstacles_t, "SONAR_DETECTIONS": detections_t, "SONAR_TRACKS": tracks_t}
+    with open(f"{t}/bag.lcm", "rb") as f:
+        for _ut, ch, data in lm.read_events(f):
+            if ch in log:
+                log[ch].append(typ[ch].decode(data))
+    got, raw_ok, n = {}, 0, 0
+    decoders = DecoderFactory()
+    with open(f"{t}/bag.mcap", "rb") as f:
+        rd = make_reader(f)
+        profile = rd.get_header().profile
+        for schema, channel, msg in rd.iter_messages():
+            n += 1
+            dec = decoders.decoder_for(channel.message_encoding, schema)(msg.data)
+            pkg, _, name = schema.name.split("/")
+            cls = getattr(importlib.import_module(f"{pkg}.msg"), name)
+            raw_ok += type(deserialize_message(msg.data, cls)).__name__ == name and channel.message_encoding == "cdr"
+            got.setdefault(channel.topic, []).append((msg.log_time, dec))
+    counts = {k: len(v) for k, v in got.items()}
+    check(f"the bag: profile ros2, {n} messages: {counts}; as many scans, marker arrays and clouds as the log's "
+          f"SONAR_OBSTACLES ({len(log['SONAR_OBSTACLES'])}), SONAR_DETECTIONS ({len(log['SONAR_DETECTIONS'])}) and "
+          f"SONAR_TRACKS ({len(log['SONAR_TRACKS'])}); every message read back by rclpy from its bytes ({raw_ok})",
+          profile == "ros2" and n == raw_ok and counts.get("/sonar/scan", 0) == len(log["SONAR_OBSTACLES"]) > 0
+          and counts.get("/sonar/detections", 0) == len(log["SONAR_DETECTIONS"]) > 0
+          and counts.get("/sonar/detections/cloud", 0) == len(log["SONAR_DETECTIONS"])
+          and counts.get("/sonar/tracks", 0) == len(log["SONAR_TRACKS"]) and counts.get("/sonar/image", 0) > 0)
+    scans = all(scan_matches(m, list(d.ranges), d.angle_increment, d.range_max)[0] and lt == m.utime * 1000
+                for m, (lt, d) in zip(log["SONAR_OBSTACLES"], got.get("/sonar/scan", [])))
+    dets = all(len([k for k in d.markers if k.action == 0]) == m.count and
+               all(abs(k.pose.position.x - x.x_m) <= 0.001 and abs(k.pose.position.y + x.y_m) <= 0.001
+                   for k, x in zip([k for k in d.markers if k.action == 0], m.detections))
+               for m, (lt, d) in zip(log["SONAR_DETECTIONS"], got.get("/sonar/detections", [])))
+    trks = all({k.id // 2 for k in d.markers if k.action == 0} == {x.id for x in m.tracks}
+               for m, (lt, d) in zip(log["SONAR_TRACKS"], got.get("/sonar/tracks", [])))
+    check(f"decoded from the bag's own definitions: each scan's sectors, each detection's marker (1 mm) and each "
+          f"sweep's track IDs as the log has them, at its utime (scans {scans}, detections {dets}, tracks {trks})",
+          scans and dets and trks and got.get("/sonar/scan"))
 
 
 def main():
@@ -221,18 +298,9 @@ def main():
         if sc is None:
             continue
         n_scan += 1
-        good = len(sc.ranges) == m.count and abs(sc.angle_increment - math.radians(5)) < 1e-6 and \
-            abs(sc.range_max - m.max_cm / 100) < 0.01
-        for k in range(m.count):
-            d, r = m.distance_cm[k], sc.ranges[(m.count - k) % m.count]
-            if d == 65535:
-                good &= math.isnan(r)
-            elif d > m.max_cm:
-                good &= math.isinf(r) and r > 0
-            else:
-                good &= abs(r - d / 100) <= 0.01
-                echoes += 1
+        good, e = scan_matches(m, sc.ranges, sc.angle_increment, sc.range_max)
         scan_ok += good
+        echoes += e
     check(f"scan: {scan_ok} of {n_scan} LaserScans (of {len(lcm['obs'])} SONAR_OBSTACLES) hold its sectors within 1 cm, "
           f"NaN unknown, +inf clear ({echoes} echoes)", n_scan >= 0.9 * len(lcm["obs"]) and n_scan >= 20
           and scan_ok == n_scan and echoes > 0)
@@ -257,6 +325,7 @@ def main():
     check("every sweep's detections on ROS within 50 ms of their LCM message", bool(lat) and max(lat) <= 0.050)
     node.destroy_node()
     rclpy.shutdown()
+    bag_checks(a)
     return 1 if fails else 0
 
 

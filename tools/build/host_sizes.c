@@ -4,6 +4,7 @@
 #include "control.h"
 #include "link.h"
 #include "mav.h"
+#include "obsmap.h"
 #include "options.h"
 #include "sinks.h"
 #include "source_coproc.h"
@@ -16,6 +17,7 @@ SIZE(app, app_storage)
 SIZE(options, sonard_options)
 SIZE(link, link)
 SIZE(mav, mav)
+SIZE(obsmap, obsmap)
 SIZE(source_link, source_link)
 SIZE(source_coproc, source_coproc)
 SIZE(sinks, sink_lcm)

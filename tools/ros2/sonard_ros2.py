@@ -40,6 +40,7 @@ saying how to get it and exit 2. An LCM message that does not decode is counted 
 import argparse
 import math
 import os
+import re
 import select
 import struct
 import sys
@@ -135,13 +136,16 @@ class Odom:
 
 
 class Bridge:
+    """sonard's messages to ROS messages, published through `node` (an rclpy Node, or anything with
+    create_publisher(type, topic, qos): lcm2mcap --ros2 writes them into a bag)."""
+
     def __init__(self, node, params):
         from diagnostic_msgs.msg import DiagnosticArray
         from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy, qos_profile_sensor_data
         from sensor_msgs.msg import Image, LaserScan, PointCloud2
         from visualization_msgs.msg import MarkerArray
         qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-        self.node, self.frame = node, params["frame_id"]
+        self.frame = params["frame_id"]
         self.fan = Fan(params["image_size"])
         self.image_us = int(1e6 / params["image_hz"])
         self.image_at = None      # utime of the last image published
@@ -159,7 +163,7 @@ class Bridge:
         self.track_of = {}        # sweep -> {detection index: track id}, the last few sweeps
         self.pending = {}         # sweep -> detections_t waiting for its tracks (the cloud carries the track IDs)
         self.alarms = set()       # track IDs with a struggle alarm standing
-        self.beams = []           # (wall time, status beams) of the last statuses
+        self.beams = []           # (status utime in s, status beams) of the last statuses
 
     def header(self, utime):
         from std_msgs.msg import Header
@@ -266,7 +270,7 @@ class Bridge:
 
     def status(self, m):
         from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-        now = time.monotonic()
+        now = m.utime * 1e-6  # sonard's clock: the same figure live and from a log
         self.beams = [b for b in self.beams if now - b[0] <= 5.0] + [(now, int(m.beams))]
         rate = (self.beams[-1][1] - self.beams[0][1]) / (self.beams[-1][0] - self.beams[0][0]) if len(self.beams) > 1 and \
             self.beams[-1][0] > self.beams[0][0] else 0.0
@@ -291,16 +295,11 @@ class Bridge:
         self.pub_diag.publish(DiagnosticArray(header=self.header(m.utime), status=[st]))
 
 
-def lcm_setup(url, types, prefix, bridge, params):
+def handlers(types, prefix, bridge):
+    """{channel: handler(channel, data)}: each of sonard's channels the bridge reads, decoded and handed to the
+    bridge; a message that does not decode is counted and skipped. The live bus and lcm2mcap --ros2 share it."""
     sys.path.insert(0, types)
-    from sonar import beam_t, config_t, detections_t, obstacles_t, pose_t, status_t, tracks_t  # noqa: E402
-    if url is None or url.startswith("udpm://"):
-        sys.path.insert(0, os.path.join(HERE, "..", "view"))
-        from lcm_udpm import Udpm
-        lc = Udpm(url)
-    else:
-        import lcm
-        lc = lcm.LCM(url)
+    from sonar import beam_t, config_t, detections_t, obstacles_t, status_t, tracks_t  # noqa: E402 (from --types)
 
     def on(name, typ, handle):
         def handler(channel, data):
@@ -310,15 +309,26 @@ def lcm_setup(url, types, prefix, bridge, params):
                 bridge.bad[name] = bridge.bad.get(name, 0) + 1
                 return
             handle(m)
-        lc.subscribe(f"{prefix}{name}$", handler)
-    on("SONAR_OBSTACLES", obstacles_t, bridge.obstacles)
-    on("SONAR_BEAM", beam_t, bridge.beam)
-    on("SONAR_CONFIG", config_t, bridge.config)
-    on("SONAR_DETECTIONS", detections_t, bridge.detections)
-    on("SONAR_TRACKS", tracks_t, bridge.tracks)
-    on("SONAR_STATUS", status_t, bridge.status)
+        return prefix + name, handler
+    return dict(on(*h) for h in (("SONAR_OBSTACLES", obstacles_t, bridge.obstacles), ("SONAR_BEAM", beam_t, bridge.beam),
+                                 ("SONAR_CONFIG", config_t, bridge.config),
+                                 ("SONAR_DETECTIONS", detections_t, bridge.detections),
+                                 ("SONAR_TRACKS", tracks_t, bridge.tracks), ("SONAR_STATUS", status_t, bridge.status)))
+
+
+def lcm_setup(url, types, prefix, bridge, params, node):
+    if url is None or url.startswith("udpm://"):
+        sys.path.insert(0, os.path.join(HERE, "..", "view"))
+        from lcm_udpm import Udpm
+        lc = Udpm(url)
+    else:
+        import lcm
+        lc = lcm.LCM(url)
+    for channel, handler in handlers(types, prefix, bridge).items():
+        lc.subscribe(re.escape(channel) + "$", handler)
     if params["odom_topic"]:
-        bridge.odom = Odom(bridge.node, params["odom_topic"], params["odom_frame"], lc, f"{prefix}SONAR_POSE", pose_t)
+        from sonar import pose_t  # noqa: E402
+        bridge.odom = Odom(node, params["odom_topic"], params["odom_frame"], lc, f"{prefix}SONAR_POSE", pose_t)
     return lc
 
 
@@ -372,7 +382,7 @@ def main():
             return 2
         params[name] = v
     bridge = Bridge(node, params)
-    lc = lcm_setup(a.lcm, a.types, a.prefix, bridge, params)
+    lc = lcm_setup(a.lcm, a.types, a.prefix, bridge, params, node)
     node.get_logger().info(f"sonard_ros2: LCM {a.lcm or 'default'}{' prefix ' + a.prefix if a.prefix else ''} -> "
                            f"{node.get_namespace()} in frame {params['frame_id']}"
                            + (f"; odometry {params['odom_topic']} -> SONAR_POSE" if params["odom_topic"] else ""))
