@@ -41,7 +41,7 @@ UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)
 
-.PHONY: mcu-property test-stalls test-under-load view-cost cockpit-test fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
+.PHONY: mcu-property test-stalls test-under-load view-cost ros2-cost cockpit-test fresh-check passive-test blueos blueos-test pi-cost test-arm structure-test survey-test bgfile-test scan-test golden golden-update view view-test mcap deb deb-test discover mcu-demo mcu-unit mcu-bench mcu-test firmware fuzz-coverage fuzz-random soak docs docs-check all deps test unit fuzz check-noheap e2e live realdata crosscheck mavlink spy eval figures opencv-ref asan bench demo cross size clean help venv
 
 # ARCH=armhf|arm64: the host programs cross-built for a Raspberry Pi's Debian into build-ARCH/, against the
 # target's LCM and cmocka unpacked into build-ARCH/sysroot (tools/build/arm_sysroot.sh, run when it is missing or
@@ -270,6 +270,11 @@ pi-cost: all
 view-cost: all .venv-view/.done
 	@command -v valgrind > /dev/null && command -v curl > /dev/null || sh tools/build/deps.sh valgrind curl iproute2
 	@sh tools/bench/view_cost.sh $(BUILD)
+
+## ros2-cost: the ROS 2 bridge's share of a Pi 4 core at 50 beams/s against sonard's own (callgrind), and flat out: every LCM message received or counted lost, its RSS flat (~4 min)
+ros2-cost: all .venv-ros2/.done
+	@command -v valgrind > /dev/null || sh tools/build/deps.sh valgrind iproute2
+	@sh tools/bench/ros2_cost.sh $(BUILD)
 
 ## test-arm: sonard and its tests cross-built for armhf and arm64 (Raspberry Pi; ARCH=armhf|arm64 builds into build-ARCH/), run under qemu-user: unit tests pass, golden replays byte-identical
 test-arm: all

@@ -47,6 +47,19 @@ test -f /usr/share/doc/sonard/README.md && test -f /usr/share/doc/sonard/configu
 test -f /usr/share/sonard/lcm_types/sonar_beam_t.lcm && test -f /lib/systemd/system/sonard.service &&
 test -f /lib/systemd/system/sonard@.service && test -f /lib/systemd/system/sonar-view.service &&
 zcat /usr/share/man/man1/sonard.1.gz | grep -q -- --discover && zcat /usr/share/man/man1/sonar-view.1.gz | grep -q -- --listen"
+check "sonar-ros2 without ROS 2: one line saying how to get it, exit 2; its manual page" sh -c "
+cd / && /usr/bin/sonar-ros2 2> '$T/ros2.err'; test \$? -eq 2 && test \$(wc -l < '$T/ros2.err') -eq 1 &&
+grep -q 'source your ROS 2' '$T/ros2.err' && zcat /usr/share/man/man1/sonar-ros2.1.gz | grep -q -- --prefix"
+if [ -x .venv-ros2/bin/python ] && unshare -n true 2> /dev/null; then
+    # The installed bridge on an rclpy found on PATH (as a sourced distribution's is), with the installed LCM types;
+    # in a network namespace, as its bus and DDS must not leave the machine.
+    check "sonar-ros2 with an rclpy on PATH: the installed bridge starts on the installed types and stops at --max-seconds" \
+        unshare -n sh -c "ip link set lo up && ip route add 224.0.0.0/4 dev lo &&
+        PATH='$PWD/.venv-ros2/bin':\$PATH timeout 60 /usr/bin/sonar-ros2 --lcm 'udpm://239.255.76.67:7667?ttl=0' --max-seconds 2 \
+            2> '$T/ros2run.err' && grep -q 'in frame sonar_link' '$T/ros2run.err'"
+else
+    echo "deb: sonar-ros2 not run with ROS 2: no .venv-ros2 (make ros2) or no network namespace"
+fi
 
 # The site survey as sonard.service's header says to record it: as the sonard user, with the shipped config (its
 # survey = /var/lib/sonard/site.survey), from a Ping360 serving the empty site; then loaded by that config at start.

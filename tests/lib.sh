@@ -6,10 +6,14 @@ ok() { pass=$((pass + 1)); echo "[  PASS  ] $1"; }
 ko() { fail=$((fail + 1)); echo "[  FAIL  ] $1"; }
 # check "what" command...: runs the command, PASS on exit 0, else FAIL with its output indented
 check() { what=$1; shift; if "$@" > "$T/out" 2>&1; then ok "$what"; else ko "$what"; sed 's/^/    /' "$T/out"; fi; }
-# need_netns SUITE WHAT: ends the suite, failed, when unshare -rn (a network namespace of its own, for WHAT) is not allowed
+# NETNS: the command that runs a command in a network namespace of its own: unshare -n as root (a user namespace
+# cannot be made inside a chroot, as make fresh-check's is), unshare -rn otherwise.
+if [ "$(id -u)" -eq 0 ] && unshare -n true 2> /dev/null; then NETNS="unshare -n"; else NETNS="unshare -rn"; fi
+# need_netns SUITE WHAT: ends the suite, failed, when $NETNS (a network namespace of its own, for WHAT) is not allowed;
+# the suites that run in a chroot (ros2.sh, in make fresh-check) use $NETNS, the others unshare -rn
 need_netns() {
-    unshare -rn true 2> /dev/null && return 0
-    ko "$1: unshare -rn ($2) is not allowed here"
+    $NETNS true 2> /dev/null && return 0
+    ko "$1: $NETNS ($2) is not allowed here"
     echo "$1: $pass passed, $fail failed"
     exit 1
 }

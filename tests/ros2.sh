@@ -15,7 +15,7 @@ ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST timeout 300 .venv-ros2/bin/python tests/
     --lcm 'udpm://239.255.76.67:7667?ttl=0' --tmp "$T" > "$T/check.out" 2>&1
 echo \$? > "$T/rc"
 EOS
-unshare -rn sh "$T/run.sh"
+$NETNS sh "$T/run.sh"
 cat "$T/check.out"
 sed 's/^/    bridge: /' "$T/bridge.err" 2> /dev/null | head -10
 tally ros2 "$T/check.out" "$T/rc"

@@ -104,6 +104,13 @@ def bag_checks(a):
                for m, (lt, d) in zip(log["SONAR_DETECTIONS"], got.get("/sonar/detections", [])))
     trks = all({k.id // 2 for k in d.markers if k.action == 0} == {x.id for x in m.tracks}
                for m, (lt, d) in zip(log["SONAR_TRACKS"], got.get("/sonar/tracks", [])))
+    # The Foxglove layout shipped in docs names only topics the bridge publishes.
+    import json
+    import re as _re
+    layout = json.load(open(os.path.join(HERE, "..", "docs", "foxglove-ros2.json")))
+    named = set(_re.findall(r'"(/[a-z_/]+?)(?:[.]|")', json.dumps(layout["configById"])))
+    check(f"docs/foxglove-ros2.json: its panels name {sorted(named)}, each a topic in the bag or /diagnostics",
+          named and named <= set(got) | {"/diagnostics"})
     check(f"decoded from the bag's own definitions: each scan's sectors, each detection's marker (1 mm) and each "
           f"sweep's track IDs as the log has them, at its utime (scans {scans}, detections {dets}, tracks {trks})",
           scans and dets and trks and got.get("/sonar/scan"))

@@ -64,3 +64,5 @@ echo
 python3 tools/bench/bench_live.py "$B"
 echo
 sh tools/bench/bench_mavlink.sh "$B"
+echo
+if [ -x .venv-ros2/bin/python ]; then sh tools/bench/ros2_cost.sh "$B"; else echo "bench: the ROS 2 bridge not measured: no .venv-ros2 (make ros2, then make ros2-cost)"; fi

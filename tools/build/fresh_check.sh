@@ -3,7 +3,8 @@
 # with debootstrap (cached in build/fresh/base-KEY.tar, made again when this recipe changes) with a clean clone of HEAD
 # copied in and nothing else installed: apt-get install make (the README's first line), make demo, the first of make
 # test's targets, make (all), make ARCH=armhf and ARCH=arm64 with a replay under qemu-user byte-equal to amd64's, make
-# deb with the package installed (apt-get install ./...deb) and one replay by /usr/bin/sonard. Every README command
+# deb with the package installed (apt-get install ./...deb) and one replay by /usr/bin/sonard, make ros2 and make
+# ros2-test (pip's downloads kept in build/fresh/pip). Every README command
 # line that starts with make is run here or listed below as not run, with the reason. Downloaded packages are kept in
 # build/fresh/apt (as a mirror would be); everything is installed afresh each time. Needs root (debootstrap, chroot).
 # Usage: sh tools/build/fresh_check.sh [BUILD]. Ends with "fresh-check: N passed, N failed" and the time it took.
@@ -41,7 +42,7 @@ if [ ! -e "$base" ]; then
 fi
 R=$F/root
 umount_all() {
-    for m in var/cache/apt/archives dev/pts dev sys proc; do
+    for m in root/.cache/pip var/cache/apt/archives dev/pts dev sys proc; do
         mountpoint -q "$R/$m" 2> /dev/null && umount -l "$R/$m"
     done
     return 0
@@ -55,6 +56,8 @@ mount -t proc proc "$R/proc"
 mount --rbind /sys "$R/sys"
 mount --rbind /dev "$R/dev"
 mount --bind "$F/apt" "$R/var/cache/apt/archives"
+mkdir -p "$F/pip" "$R/root/.cache/pip"
+mount --bind "$F/pip" "$R/root/.cache/pip"
 cp /etc/resolv.conf "$R/etc/resolv.conf" 2> /dev/null || true
 # The network's trust, which is the machine's and not a package's: a proxy's CA (kept when ca-certificates is
 # installed and rebuilds the bundle) and pip's settings, as any machine on this network has them.
@@ -137,8 +140,14 @@ inside "make deb && apt-get install -y -qq ./build/sonard_*_amd64.deb > /dev/nul
 t4=$(date +%s)
 check "make deb on the fresh system, apt-get install of the package, a replay by /usr/bin/sonard equal to the build's ($((t4 - t2)) s)" \
     sh -c "test $rc -eq 0 || { tail -8 '$F/deb.log'; exit 1; }"
-# 4. Every README command line that starts with make: run above, or listed as not run with its reason.
-RUN="make demo|make|make ARCH=armhf|make ARCH=arm64|make deb|make deps unit docs-check"
+# 4. ROS 2: make ros2 (its venv from the pinned wheels; pip's downloads kept in build/fresh/pip as apt's are), then
+# make ros2-test, whole: the bridge against sonard in a network namespace, and a bag from lcm2mcap --ros2.
+inside "make ros2 && make ros2-test" > "$F/ros2.log" 2>&1; rc=$?
+t5=$(date +%s)
+check "make ros2 and make ros2-test on the fresh system, every check run and passed ($((t5 - t4)) s)" \
+    sh -c "test $rc -eq 0 && grep -qE '^ros2: [1-9][0-9]* passed, 0 failed' '$F/ros2.log' || { grep -E 'FAIL|SKIP|rror' '$F/ros2.log' | head -8; tail -5 '$F/ros2.log'; exit 1; }"
+# 5. Every README command line that starts with make: run above, or listed as not run with its reason.
+RUN="make demo|make|make ARCH=armhf|make ARCH=arm64|make deb|make deps unit docs-check|make ros2|make ros2-test"
 awk '/^```/ { f = !f; next } f && /^make( |$)/ { sub(/[ \t]*#.*/, ""); print }' README.md | sort -u > "$F/readme.make"
 missing=""
 while IFS= read -r cmd; do

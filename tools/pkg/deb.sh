@@ -24,6 +24,12 @@ install -m 0644 tools/pkg/systemd/sonard.service tools/pkg/systemd/sonard@.servi
 sh tools/pkg/vendor_view.sh "$R/usr/share/sonard/view" build/vendor
 printf '#!/bin/sh\n# sonar-view -- the live view of sonard in a browser (see sonar-view --help)\nexec python3 /usr/share/sonard/view/sonar_view.py --types /usr/lib/python3/dist-packages "$@"\n' > "$R/usr/bin/sonar-view"
 chmod 0755 "$R/usr/bin/sonar-view"
+# The ROS 2 bridge (Python; ROS 2 itself is the user's: a sourced distribution's rclpy) beside the view, whose
+# lcm_udpm.py it reads the bus with.
+mkdir -p "$R/usr/share/sonard/ros2"
+install -m 0644 tools/ros2/sonard_ros2.py tools/ros2/ros2_bag.py tools/data/fan.py "$R/usr/share/sonard/ros2/"
+printf '#!/bin/sh\n# sonar-ros2 -- sonard on ROS 2 topics; source your ROS 2 distribution first (see sonar-ros2 --help)\nexec python3 /usr/share/sonard/ros2/sonard_ros2.py --types /usr/lib/python3/dist-packages "$@"\n' > "$R/usr/bin/sonar-ros2"
+chmod 0755 "$R/usr/bin/sonar-ros2"
 install -m 0644 docs/sonard.conf.example "$R/etc/sonard/sonard.conf"
 install -m 0644 docs/sonard.conf.example "$R/usr/share/doc/sonard/examples/sonard.conf"
 install -m 0644 lcm_types/*.lcm "$R/usr/share/sonard/lcm_types/"
@@ -32,7 +38,7 @@ cp -r "$B/lcm/python/sonar" "$R/usr/lib/python3/dist-packages/sonar"
 find "$R/usr/lib/python3" -name '__pycache__' -prune -exec rm -rf {} +
 find "$R/usr/lib/python3" -type f -exec chmod 0644 {} +
 install -m 0644 README.md "$R/usr/share/doc/sonard/README.md"
-for f in docs/*.md; do install -m 0644 "$f" "$R/usr/share/doc/sonard/"; done
+for f in docs/*.md docs/foxglove-ros2.json; do install -m 0644 "$f" "$R/usr/share/doc/sonard/"; done
 mkdir -p "$R/usr/share/doc/sonard/presets"
 for f in docs/presets/*.conf; do install -m 0644 "$f" "$R/usr/share/doc/sonard/presets/"; done
 install -m 0644 tools/pkg/deb/copyright "$R/usr/share/doc/sonard/copyright"
@@ -47,12 +53,17 @@ for p in sonard:"Ping360 sonar to live object detections over LCM and MAVLink" \
          sonar-sim:"simulated Ping360 recordings with their truth" \
          sonar-pvbin2csv:"Ping Viewer .bin logs to the study's CSV" \
          sonar-wallfit:"fits a recording's world grid to known walls" \
-         sonar-view:"the live view of sonard in a browser"; do
+         sonar-view:"the live view of sonard in a browser" \
+         sonar-ros2:"sonard on ROS 2 topics: scan, fan image, detections, tracks, diagnostics; odometry in"; do
     name=${p%%:*}; what=${p#*:}
     { printf '.TH %s 1 "%s" "sonard %s" "User Commands"\n.SH NAME\n%s \\- %s\n.SH SYNOPSIS AND OPTIONS\n.nf\n' \
           "$(echo "$name" | tr a-z A-Z)" "$(date -u -d @"${SOURCE_DATE_EPOCH:-$(git log -1 --format=%ct 2> /dev/null || date +%s)}" +%Y-%m-%d)" \
           "$V" "$name" "$what"
-      if [ "$name" = sonar-view ]; then python3 "$R/usr/share/sonard/view/sonar_view.py" --help; else "$R/usr/bin/$name" --help; fi 2>&1 | sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"
+      case $name in
+          sonar-view) python3 "$R/usr/share/sonard/view/sonar_view.py" --help ;;
+          sonar-ros2) python3 "$R/usr/share/sonard/ros2/sonard_ros2.py" --help ;;
+          *) "$R/usr/bin/$name" --help ;;
+      esac 2>&1 | sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"
       printf '.fi\n.SH SEE ALSO\n/usr/share/doc/sonard/README.md, /usr/share/doc/sonard/configuration.md\n'
     } | gzip -9n > "$R/usr/share/man/man1/$name.1.gz"
 done

@@ -47,6 +47,7 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "data"))  # fan.py (installed beside this file)
 KIND_NAMES = ("object", "structure", "static since start")
 KIND_RGB = ((0.1, 0.9, 0.2), (0.5, 0.5, 0.5), (0.2, 0.6, 1.0))  # object green, structure grey, static blue
 ACTIVITY_NAMES = ("unknown", "moving", "standing", "struggling")
@@ -63,41 +64,6 @@ def stamp_of(utime):
     """A builtin_interfaces/Time from sonard's utime (us since the epoch)."""
     from builtin_interfaces.msg import Time
     return Time(sec=int(utime // 1000000), nanosec=int(utime % 1000000) * 1000)
-
-
-class Fan:
-    """The sweep as a top-down mono8 square: the sonar at the centre, ahead up, starboard right, a beam's range at the
-    edge. Each pixel's bearing bin (the nearest gradian) and fraction of the radius are worked out once, so a beam
-    costs only the pixels of its own wedge."""
-
-    def __init__(self, size):
-        import numpy as np
-        self.np, self.size = np, size
-        self.img = np.zeros((size, size), np.uint8)
-        c = (size - 1) / 2.0
-        rows, cols = np.mgrid[0:size, 0:size]
-        ahead, stbd = c - rows, cols - c
-        frac = np.hypot(ahead, stbd) / (size / 2.0)
-        inside = np.flatnonzero(frac < 1.0)
-        gbin = (np.floor((np.degrees(np.arctan2(stbd, ahead)) % 360.0) / 0.9 + 0.5).astype(np.int64) % 400).ravel()[inside]
-        order = np.argsort(gbin, kind="stable")
-        self.pix, self.frac = inside[order], frac.ravel()[inside][order]
-        self.start = np.searchsorted(gbin[order], np.arange(401))
-        self.last_deg = None
-
-    def draw(self, deg, samples, n):
-        """One beam at `deg` (clockwise from ahead) across the gap to the last one drawn (1 to 20 gradians wide)."""
-        np = self.np
-        if n <= 0:
-            return
-        s = np.frombuffer(bytes(samples), np.uint8)[:n]
-        gap = 0.9 if self.last_deg is None else abs((deg - self.last_deg + 180.0) % 360.0 - 180.0)
-        gap = gap if 0.9 <= gap <= 18.0 else 0.9
-        self.last_deg = deg
-        lo, hi = int(np.floor((deg - gap / 2) / 0.9 + 0.5)), int(np.floor((deg + gap / 2) / 0.9 + 0.5))
-        for b in range(lo, max(hi, lo + 1)):
-            a, z = self.start[b % 400], self.start[b % 400 + 1]
-            self.img.flat[self.pix[a:z]] = s[np.minimum((self.frac[a:z] * n).astype(np.int64), n - 1)]
 
 
 class Odom:
@@ -139,16 +105,20 @@ class Bridge:
     """sonard's messages to ROS messages, published through `node` (an rclpy Node, or anything with
     create_publisher(type, topic, qos): lcm2mcap --ros2 writes them into a bag)."""
 
-    def __init__(self, node, params):
+    def __init__(self, node, params, clock=None):
+        """clock: seconds, monotonic, when live (images are then also limited to image_hz of it); None for a log."""
         from diagnostic_msgs.msg import DiagnosticArray
         from rclpy.qos import QoSProfile, ReliabilityPolicy, HistoryPolicy, qos_profile_sensor_data
         from sensor_msgs.msg import Image, LaserScan, PointCloud2
         from visualization_msgs.msg import MarkerArray
         qos = QoSProfile(depth=DEPTH, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
         self.frame = params["frame_id"]
+        from fan import Fan
         self.fan = Fan(params["image_size"])
         self.image_us = int(1e6 / params["image_hz"])
         self.image_at = None      # utime of the last image published
+        self.clock, self.image_wall = clock, -math.inf
+        self.lost = lambda: 0     # LCM messages lost on the way (the bus's count, once lcm_setup has it)
         self.angle_offset = 0.0   # SONAR_CONFIG's, degrees
         self.images = self.images_skipped = self.scans = 0
         self.pub_img = node.create_publisher(Image, "image", qos_profile_sensor_data)
@@ -159,11 +129,19 @@ class Bridge:
         self.pub_trk = node.create_publisher(MarkerArray, "tracks", qos)
         self.pub_diag = node.create_publisher(DiagnosticArray, "/diagnostics", qos)
         self.bad = {}             # channel -> messages that did not decode
+        self.received = {}        # channel -> messages received
         self.published = 0
         self.track_of = {}        # sweep -> {detection index: track id}, the last few sweeps
         self.pending = {}         # sweep -> detections_t waiting for its tracks (the cloud carries the track IDs)
         self.alarms = set()       # track IDs with a struggle alarm standing
         self.beams = []           # (status utime in s, status beams) of the last statuses
+
+    def summary(self):
+        """One line of what came in and went out, for the log at exit."""
+        got = ", ".join(f"{k} {v}" for k, v in sorted(self.received.items())) or "none"
+        return (f"sonard_ros2: LCM in: {got}; {self.lost()} lost on the way, {sum(self.bad.values())} did not decode; "
+                f"ROS out: {self.scans} scans, {self.images} images ({self.images_skipped} beams drawn, not sent), "
+                f"{self.published} marker arrays")
 
     def header(self, utime):
         from std_msgs.msg import Header
@@ -193,10 +171,14 @@ class Bridge:
         """A raw beam into the fan; the fan out when image_hz allows (the beams between are drawn, not sent)."""
         from sensor_msgs.msg import Image
         self.fan.draw(m.angle * 0.9 + self.angle_offset, m.samples, m.number_of_samples)
-        if self.image_at is not None and 0 <= m.utime - self.image_at < self.image_us:
+        wall = self.clock() if self.clock is not None else None  # a log: beam time alone
+        if (self.image_at is not None and 0 <= m.utime - self.image_at < self.image_us) or \
+                (wall is not None and wall - self.image_wall < self.image_us * 1e-6):  # a fast replay: both clocks
             self.images_skipped += 1
             return
         self.image_at = m.utime
+        if wall is not None:
+            self.image_wall = wall
         n = self.fan.size
         self.pub_img.publish(Image(header=self.header(m.utime), height=n, width=n, encoding="mono8", is_bigendian=0,
                                    step=n, data=self.fan.img.tobytes()))
@@ -288,7 +270,7 @@ class Bridge:
                   "survey": SURVEY_STATES[sv] if 0 <= sv < len(SURVEY_STATES) else str(sv),
                   "bridge_published": self.published, "bridge_images": self.images, "bridge_scans": self.scans,
                   "bridge_images_skipped": self.images_skipped,
-                  "bridge_undecoded": sum(self.bad.values())}
+                  "bridge_undecoded": sum(self.bad.values()), "bridge_lcm_lost": self.lost()}
         if self.odom is not None:
             values.update({f"odometry_{k}": v for k, v in self.odom.counts.items()})
         st.values = [KeyValue(key=k, value=str(v)) for k, v in values.items()]
@@ -303,6 +285,7 @@ def handlers(types, prefix, bridge):
 
     def on(name, typ, handle):
         def handler(channel, data):
+            bridge.received[name] = bridge.received.get(name, 0) + 1
             try:
                 m = typ.decode(data)
             except Exception:  # a message of another sonard or garbage: counted, skipped
@@ -326,6 +309,7 @@ def lcm_setup(url, types, prefix, bridge, params, node):
         lc = lcm.LCM(url)
     for channel, handler in handlers(types, prefix, bridge).items():
         lc.subscribe(re.escape(channel) + "$", handler)
+    bridge.lost = lambda: getattr(lc, "lost", 0)  # udpm's count; LCM's own binding does not say
     if params["odom_topic"]:
         from sonar import pose_t  # noqa: E402
         bridge.odom = Odom(node, params["odom_topic"], params["odom_frame"], lc, f"{prefix}SONAR_POSE", pose_t)
@@ -381,7 +365,7 @@ def main():
             rclpy.shutdown()
             return 2
         params[name] = v
-    bridge = Bridge(node, params)
+    bridge = Bridge(node, params, clock=time.monotonic)
     lc = lcm_setup(a.lcm, a.types, a.prefix, bridge, params, node)
     node.get_logger().info(f"sonard_ros2: LCM {a.lcm or 'default'}{' prefix ' + a.prefix if a.prefix else ''} -> "
                            f"{node.get_namespace()} in frame {params['frame_id']}"
@@ -400,6 +384,7 @@ def main():
     except Exception:  # SIGTERM's shutdown between the check and the call: a stop, not a fault
         if rclpy.ok():
             raise
+    print(bridge.summary(), file=sys.stderr, flush=True)
     node.destroy_node()
     rclpy.try_shutdown()
     return 0

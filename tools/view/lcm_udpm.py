@@ -9,7 +9,9 @@ LCM's multicast wire format is small (lcm/lcm_udpm.c and LCM's UDP multicast pro
                    u16 fragment number, u16 fragments; fragment 0: channel NUL, then payload bytes
 
 all big-endian. One message is reassembled per sender at a time (a new sequence number drops an unfinished one,
-as LCM does), bounded at MAX_MESSAGE bytes; anything malformed is counted in `bad` and skipped.
+as LCM does), bounded at MAX_MESSAGE bytes; anything malformed is counted in `bad` and skipped. A sender numbers
+its messages one by one, so a gap in a sender's numbers is messages lost on the way (a full socket buffer: a reader
+that fell behind): counted in `lost`, for the last MAX_SENDERS senders heard.
 The object offers the part of lcm.LCM the view uses: subscribe(regex, handler(channel, data)), fileno(), handle(),
 publish(channel, data) (short messages only: a command is a few dozen bytes).
 """
@@ -20,6 +22,7 @@ from urllib.parse import urlparse, parse_qs
 
 DEFAULT_URL = "udpm://239.255.76.67:7667?ttl=0"  # LCM's own default
 MAX_MESSAGE = 1 << 20
+MAX_SENDERS = 64  # senders whose last sequence number is kept (a publisher that opens a socket per message is many)
 SHORT = 0x4C433032
 FRAGMENT = 0x4C433033
 
@@ -31,7 +34,8 @@ class Udpm:
             raise ValueError(f"{url}: only udpm:// is received without LCM's binding")
         group, port = u.hostname or "239.255.76.67", u.port or 7667
         opts = parse_qs(u.query)
-        self.bad = 0
+        self.bad = self.lost = 0
+        self.last_seq = {}  # sender -> the sequence number of its last message begun
         self.subs = []
         self.partial = {}  # sender -> [sequence, channel, buffer, fragments left]
         s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
@@ -83,12 +87,24 @@ class Udpm:
         except UnicodeDecodeError:
             return None, None
 
+    def _sequence(self, sender, seq):
+        last = self.last_seq.pop(sender, None)
+        if last is not None:
+            gap = (seq - last - 1) & 0xFFFFFFFF
+            if 0 < gap < 1 << 20:  # a sender that restarted numbers anew is not a loss
+                self.lost += gap
+        self.last_seq[sender] = seq
+        if len(self.last_seq) > MAX_SENDERS:
+            del self.last_seq[next(iter(self.last_seq))]
+
     def feed(self, buf, sender):
         """One datagram as LCM sends it; returns nothing, counts what it cannot use."""
         if len(buf) < 8:
             self.bad += 1
             return
         magic, seq = struct.unpack_from(">II", buf, 0)
+        if magic == SHORT or (magic == FRAGMENT and len(buf) >= 20 and struct.unpack_from(">H", buf, 16)[0] == 0):
+            self._sequence(sender, seq)
         if magic == SHORT:
             channel, at = self._channel(buf, 8)
             if channel is None:
