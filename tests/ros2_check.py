@@ -102,7 +102,7 @@ def bag_checks(a):
                all(abs(k.pose.position.x - x.x_m) <= 0.001 and abs(k.pose.position.y + x.y_m) <= 0.001
                    for k, x in zip([k for k in d.markers if k.action == 0], m.detections))
                for m, (lt, d) in zip(log["SONAR_DETECTIONS"], got.get("/sonar/detections", [])))
-    trks = all({k.id // 2 for k in d.markers if k.action == 0} == {x.id for x in m.tracks}
+    trks = all({k.id // 2 for k in d.markers if k.action == 0 and k.ns == "tracks"} == {x.id for x in m.tracks}
                for m, (lt, d) in zip(log["SONAR_TRACKS"], got.get("/sonar/tracks", [])))
     # The Foxglove layout shipped in docs names only topics the bridge publishes.
     import json
@@ -266,14 +266,20 @@ def main():
           f"within 1 mm (worst {worst * 1000:.3f} mm)", n_det >= 10 and det_ok == n_det)
     check(f"detections/cloud: {cloud_ok} of {n_det} have their PointCloud2, a point each within 1 mm carrying the ID of "
           f"the track that used it ({tracked} points with one)", n_det >= 10 and cloud_ok == n_det and tracked > 0)
-    trk_ok = n_trk = 0
+    trk_ok = n_trk = n_trails = 0
     for ut, m in lcm["trk"].items():
         n_trk += 1
         ma = ros["trk"].get(ut)
         if ma is not None:
-            ids = {k.id // 2 for k in ma.markers if k.action == Marker.ADD}
-            trk_ok += ids == {t.id for t in m.tracks}
-    check(f"tracks: {trk_ok} of {n_trk} SONAR_TRACKS have their MarkerArray with the same track IDs", n_trk >= 10 and trk_ok == n_trk)
+            ids = {k.id // 2 for k in ma.markers if k.action == Marker.ADD and k.ns == "tracks"}
+            pos = {t.id: (t.x_m, -t.y_m) for t in m.tracks}
+            trails = [k for k in ma.markers if k.ns == "tracks/trail"]
+            trk_ok += ids == {t.id for t in m.tracks} and all(
+                k.id in pos and 2 <= len(k.points) <= 10 and abs(k.points[-1].x - pos[k.id][0]) <= 0.001
+                and abs(k.points[-1].y - pos[k.id][1]) <= 0.001 for k in trails)
+            n_trails += len(trails)
+    check(f"tracks: {trk_ok} of {n_trk} SONAR_TRACKS have their MarkerArray with the same track IDs, and each of "
+          f"{n_trails} trails ends at its track", n_trk >= 10 and trk_ok == n_trk and n_trails > 0)
     alarm_at = min([ut for ut, m in lcm["trk"].items() if any(t.alarms & 1 for t in m.tracks)], default=None)
     errors = [d for d in ros["diag"] if any(s.level == DiagnosticStatus.ERROR and "struggle" in s.message for s in d.status)]
     check(f"a struggle alarm (from sonard's tracks at {alarm_at}) turns /diagnostics to ERROR ({len(errors)} ERROR of "

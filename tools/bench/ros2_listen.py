@@ -12,6 +12,7 @@ def main():
     ap.add_argument("--ns", default="/sonar")
     a = ap.parse_args()
     import rclpy
+    import rclpy.executors
     from diagnostic_msgs.msg import DiagnosticArray
     from rclpy.node import Node
     from rclpy.qos import qos_profile_sensor_data
@@ -29,11 +30,14 @@ def main():
         full = topic if topic.startswith("/") else f"{a.ns}/{topic}"
         node.create_subscription(typ, full, count(full), qos)
     t_end = time.monotonic() + a.seconds
-    while time.monotonic() < t_end:
-        rclpy.spin_once(node, timeout_sec=0.05)
-    print(json.dumps(got))
+    try:
+        while time.monotonic() < t_end:
+            rclpy.spin_once(node, timeout_sec=0.05)
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass  # SIGTERM: what came so far
+    print(json.dumps(got), flush=True)
     node.destroy_node()
-    rclpy.shutdown()
+    rclpy.try_shutdown()
     return 0
 
 

@@ -16,8 +16,8 @@ sonard's --channel-prefix P) and publishes, under the node's namespace, stamped 
                                                       edge; at most image_hz a second (sensor-data QoS)
   detections         visualization_msgs/MarkerArray   each detection's hull, a line strip coloured by kind
   detections/cloud   sensor_msgs/PointCloud2          a point per detection (x, y, z, area, kind, intensity, track)
-  tracks             visualization_msgs/MarkerArray   each track: a sphere, its ID, activity and existence as text;
-                                                      red while it has an alarm
+  tracks             visualization_msgs/MarkerArray   each track: a sphere, its ID, activity and existence as text,
+                                                      red while it has an alarm; a trail of its last 10 sweeps
   /diagnostics       diagnostic_msgs/DiagnosticArray  the link, beams a second, the survey, the alarms standing
                                                       (ERROR while a struggle alarm stands)
 
@@ -38,6 +38,7 @@ ROS 2: rclpy from `make ros2` (.venv-ros2, Kilted's wheels) or from a sourced RO
 saying how to get it and exit 2. An LCM message that does not decode is counted (on the diagnostics) and skipped.
 """
 import argparse
+import array
 import math
 import os
 import re
@@ -57,6 +58,7 @@ LINK_OK = (3, 4, 7)  # enum sonar_ping360_state: beams are coming (scanning, aut
 SURVEY_STATES = ("none", "in use", "no longer fits")
 CLOUD_FIELDS = (("x", 7), ("y", 7), ("z", 7), ("area", 7), ("kind", 7), ("intensity", 7), ("track", 7))  # FLOAT32
 DEPTH = 10
+TRAIL = 10  # sweeps a track's trail shows
 OBS_UNKNOWN = 65535  # SONAR_OBS_UNKNOWN (include/sonar/obstacle.h): not scanned within a sweep, or a masked arc
 
 
@@ -134,6 +136,8 @@ class Bridge:
         self.track_of = {}        # sweep -> {detection index: track id}, the last few sweeps
         self.pending = {}         # sweep -> detections_t waiting for its tracks (the cloud carries the track IDs)
         self.alarms = set()       # track IDs with a struggle alarm standing
+        self.trails = {}          # track ID -> its last TRAIL positions (north, east in the world; else x, y)
+        self.yaw_of = {}          # sweep -> the heading its detections were placed at (0 in the body frame)
         self.beams = []           # (status utime in s, status beams) of the last statuses
 
     def summary(self):
@@ -161,7 +165,8 @@ class Bridge:
             ranges.append(math.nan if d == OBS_UNKNOWN else math.inf if d > m.max_cm else d / 100.0)
         self.pub_scan.publish(LaserScan(header=self.header(m.utime), angle_min=0.0, angle_max=inc * (n - 1),
                                         angle_increment=inc, time_increment=0.0, scan_time=0.0,
-                                        range_min=m.min_cm / 100.0, range_max=m.max_cm / 100.0, ranges=ranges))
+                                        range_min=m.min_cm / 100.0, range_max=m.max_cm / 100.0,
+                                        ranges=array.array("f", ranges)))
         self.scans += 1
 
     def config(self, m):
@@ -181,7 +186,7 @@ class Bridge:
             self.image_wall = wall
         n = self.fan.size
         self.pub_img.publish(Image(header=self.header(m.utime), height=n, width=n, encoding="mono8", is_bigendian=0,
-                                   step=n, data=self.fan.img.tobytes()))
+                                   step=n, data=array.array("B", self.fan.img.tobytes())))
         self.images += 1
 
     def detections(self, m):
@@ -204,6 +209,8 @@ class Bridge:
         self.pub_det.publish(arr)
         self.published += 1
         self.pending[m.sweep] = m
+        self.yaw_of = {k: v for k, v in self.yaw_of.items() if k >= m.sweep - 4}
+        self.yaw_of[m.sweep] = float(m.yaw_deg) if m.world else 0.0  # the body frame's heading, for the trails
         self.flush_clouds(m.sweep)
 
     def flush_clouds(self, newest):
@@ -220,7 +227,8 @@ class Bridge:
         data = b"".join(struct.pack("<7f", d.x_m, -d.y_m, 0.0, d.area_m2, float(d.kind), d.mean_intensity,
                                     float(tracks.get(i, 0))) for i, d in enumerate(m.detections))
         msg = PointCloud2(header=self.header(m.utime), height=1, width=len(m.detections), fields=fields,
-                          is_bigendian=False, point_step=28, row_step=28 * len(m.detections), data=data, is_dense=True)
+                          is_bigendian=False, point_step=28, row_step=28 * len(m.detections), data=array.array("B", data),
+                          is_dense=True)
         self.pub_cloud.publish(msg)
 
     def tracks(self, m):
@@ -243,12 +251,41 @@ class Bridge:
                 act = ACTIVITY_NAMES[t.activity] if 0 <= t.activity < len(ACTIVITY_NAMES) else str(t.activity)
                 mk.text = f"{t.id} {act} {t.existence:.2f}" + (" ALARM" if alarm else "")
                 arr.markers.append(mk)
+            arr.markers.extend(self.trail(t, m))
         ended = self.alarms - {t.id for t in m.tracks}
         self.alarms -= ended
+        for gone in set(self.trails) - {t.id for t in m.tracks}:
+            del self.trails[gone]
         self.pub_trk.publish(arr)
         self.published += 1
         self.track_of[m.sweep] = shown
         self.flush_clouds(m.sweep)
+
+    def trail(self, t, m):
+        """The track's last TRAIL positions as a line strip (ns tracks/trail, id the track's) in the body frame now:
+        kept in the world when the track is (north, east), turned by the sweep's heading into the body frame at
+        the track's position now, so a trail seen from a moving vehicle stays where the track went."""
+        from geometry_msgs.msg import Point
+        from visualization_msgs.msg import Marker
+        pts = self.trails.setdefault(t.id, [])
+        pts.append((t.north_m, t.east_m) if t.world else (t.x_m, t.y_m))
+        del pts[:-TRAIL]
+        yaw = self.yaw_of.get(m.sweep)
+        if len(pts) < 2 or (t.world and yaw is None):
+            return []
+        mk = Marker(header=self.header(m.utime), ns="tracks/trail", id=t.id, type=Marker.LINE_STRIP, action=Marker.ADD)
+        mk.pose.orientation.w = 1.0
+        mk.scale.x = 0.05
+        mk.color.r, mk.color.g, mk.color.b, mk.color.a = 1.0, 0.8, 0.1, 0.6
+        for a, b in pts:
+            if t.world:
+                c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+                dn, de = a - t.north_m, b - t.east_m
+                x, y = t.x_m + c * dn + s * de, t.y_m - s * dn + c * de
+            else:
+                x, y = a, b
+            mk.points.append(Point(x=float(x), y=-float(y), z=0.0))
+        return [mk]
 
     def status(self, m):
         from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
