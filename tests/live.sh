@@ -178,6 +178,21 @@ for l in open('$T/plcm.jsonl'):
         n += 1
 assert n > 0"
 
+# SONAR_OBSTACLES: the obstacle map on LCM by default (a replay's, into a log), none with --obstacles off.
+for o in on off; do
+    "$B/sonard" --replay "$T/pool5.csv" --quiet --log-level warn --obstacles $o --lcm "file://$T/obs-$o.lcm?mode=w"
+done
+check "SONAR_OBSTACLES: the map after a beam, at most every 100 ms of beam time, by default; none with --obstacles off" python3 -c "
+import importlib.machinery, sys
+sys.path.insert(0, '$types')
+from sonar import obstacles_t
+m = importlib.machinery.SourceFileLoader('l', 'tools/data/lcm2mcap').load_module()
+def obs(f):
+    return [obstacles_t.decode(d) for ut, ch, d in m.read_events(open(f, 'rb')) if ch == 'SONAR_OBSTACLES']
+on, off = obs('$T/obs-on.lcm'), obs('$T/obs-off.lcm')
+gaps = [b.utime - a.utime for a, b in zip(on, on[1:])]
+assert len(on) > 10 and not off and min(gaps) >= 100000 and all(o.count == 72 for o in on), (len(on), len(off), min(gaps))"
+
 # A paused machine: sonard and the sonar stand-in frozen together (SIGSTOP, as a VM's pause freezes every process),
 # 200 ms at a time, 8 times while requests are awaited at device pace. sonard must see each stall and wait it out:
 # no request declared timed out (the stand-in answers as soon as it runs again).

@@ -53,6 +53,8 @@ static const struct opt_spec spec[] = {
      "prepended to SONAR_BEAM, SONAR_DETECTIONS, SONAR_STATUS (several sonars)", NULL, NULL},
     {"publish-filtered", NULL, OPT_FLAG, 1, 0, F(publish_filtered), 0, 0, NULL, "off",
      "also publish foreground beams on SONAR_BEAM_FILTERED", NULL, NULL},
+    {"obstacles", "on|off", OPT_CHOICE, 1, 0, F(obstacles), 0, 0, "on or off", "on",
+     "publish the obstacle map on SONAR_OBSTACLES (the ROS 2 scan); without\n--mavlink it is sonard's own map, about as costly as the rest of sonard", "off=0|on=1", NULL},
     {"control", NULL, OPT_FLAG, 1, 0, F(control), 0, 0, NULL, "off",
      "take commands on SONAR_CONTROL (record the site's survey, cancel it),\nanswered on SONAR_STATUS: anyone on the LCM bus may send them", NULL, NULL},
     {"no-lcm", NULL, OPT_FLAG, 1, 0, F(no_lcm), 0, 0, NULL, "off", "publish nothing (JSON / CSV only)", NULL, NULL},
@@ -253,6 +255,7 @@ static void defaults(struct sonard_options *o)
     o->log_level = APP_INFO;
     o->mav_pose_rate = 10.0f;
     o->mav_fail_closed = 1;
+    o->obstacles = 1;
     o->stage = SONAR_STAGE_FOREGROUND;
     o->device.gain = 0;
     o->scan.revisit_s = 1.5f;

@@ -55,6 +55,7 @@ struct sonard_options {
     int passive;                /* --passive: copied into device.passive by the whole-options check */
     uint8_t log_level;          /* enum app_level: diagnostics at or below it go to stderr */
     int publish_filtered;
+    uint8_t obstacles;          /* SONAR_OBSTACLES on LCM */
     int no_lcm;
     int control;                /* --control: SONAR_CONTROL commands taken (control.h) */
     struct sonar_ping360_config device;

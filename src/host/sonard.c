@@ -411,7 +411,7 @@ int main(int argc, char **argv)
         s.have_mav = 1;
     }
     /* SONAR_OBSTACLES: the autopilot's map when there is one (the same figures), else a map of its own. */
-    if (s.have_lcm) {
+    if (s.have_lcm && s.opt.obstacles) {
         if (!s.have_mav && (obsmap_check_min_range(s.opt.pipeline.detector.min_range_m, err, sizeof(err)) != HOST_OK ||
                             obsmap_init(&s.obs, (const float (*)[2])s.opt.ignore, s.opt.n_ignore, err, sizeof(err)) != HOST_OK ||
                             obsmap_attach(&s.obs, s.app) != HOST_OK)) {
