@@ -227,6 +227,41 @@ for x, y in zip(a, b):
     for p, q in zip(x['detections'], y['detections']):
         assert abs(p['north_m'] - q['north_m']) < 0.05 and abs(p['east_m'] - q['east_m']) < 0.05, (x['sweep'], p, q)
 "
+# A robot in a tank (issue 54): walls in one look, their echoes, interference streaks (docs/results.md section 14).
+"$B/sonar-sim" --scene tank --out "$T/tank.csv" --truth "$T/tank.json" --pose-out "$T/tank.pose.csv"
+"$B/sonard" --replay "$T/tank.csv" --json > "$T/tank.jsonl" 2> "$T/tank.err"
+python3 tools/eval/score.py "$T/tank.json" "$T/tank.jsonl" --label "  tank, objects from the first look: " | tail -1
+check "tank scene: every streak the truth drew is left out as interference, and no other beam (said once)" python3 -c "
+import json, re
+t = json.load(open('$T/tank.json'))
+drawn = sum(len(s['streaks']) for s in t['sweeps'])
+err = open('$T/tank.err').read()
+m = re.search(r'(\\d+) beams left out as interference', err)
+assert drawn > 0 and m and int(m.group(1)) == drawn, (drawn, m and m.group(0))
+assert err.count('stands out along most of its length') == 1, err
+"
+check "tank scene: walls are structure and their echoes 'wall echo' in one look; every prop found, objects F1 >= 0.8" sh -c "
+    grep -q '\"kind\":\"wall echo\"' '$T/tank.jsonl' && test \$(grep -o '\"kind\":\"structure\"' '$T/tank.jsonl' | wc -l) -ge 40 &&
+    python3 tools/eval/score.py '$T/tank.json' '$T/tank.jsonl' --min-recall 1.0 --min-f1 0.8"
+"$B/sonar-sim" --scene near --out "$T/near.csv" --truth "$T/near.json"
+"$B/sonard" --replay "$T/near.csv" --json --quiet > "$T/near.jsonl" 2>/dev/null
+check "near scene: the 0.2 m buoys at 0.66-1.2 m are objects in every sweep (no wall, no echo, no streak)" \
+    python3 tools/eval/score.py "$T/near.json" "$T/near.jsonl" --min-recall 1.0 --min-precision 1.0
+python3 - "$T/blank.csv" <<'PY'
+import random, sys
+random.seed(3)
+rows = []
+for i in range(240):
+    s = ["0"] * 300 if i in (50, 51) else ["255"] * 300 if i == 52 else [str(random.randint(1, 30)) for _ in range(300)]
+    rows.append(f'{1700000000 + i // 10},{(i % 10) * 100000000},{(i * 5) % 400},"{" ".join(s)}"')
+open(sys.argv[1], "w").write("\n".join(rows) + "\n")
+PY
+"$B/sonard" --replay "$T/blank.csv" --range 10 > "$T/blank.out" 2>&1
+check "blank beams (every sample 0, or 255): each named by its angle and time, skipped, counted" sh -c "
+    grep -q 'beam at 250 gradians (1700000005.000 s): all 300 samples 0: skipped (nothing heard)' '$T/blank.out' &&
+    grep -q 'beam at 260 gradians (1700000005.200 s): all 300 samples 255: skipped (saturated)' '$T/blank.out' &&
+    grep -q '3 blank beams skipped, 0 beams left out as interference' '$T/blank.out' &&
+    grep -q '240 rows used' '$T/blank.out'"
 # The obstacle map on the same run against the scene's walls and objects (tools/eval/wallfit.c; the
 # figures are in docs/results.md section 6): regression guards below today's 0.021 m and 92.5 %.
 "$B/sonar-wallfit" --replay "$T/veh.csv" --pose "$T/veh.pose.csv" --scene vehicle > "$T/wallfit.out" 2>/dev/null

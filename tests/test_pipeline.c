@@ -103,7 +103,7 @@ static void push(uint16_t angle, const uint8_t *s, uint16_t n, float range)
 static void test_stage_order_and_sweeps(void **state)
 {
     struct sonar_pipeline_config c;
-    uint8_t s[N] = {0};
+    uint8_t s[N] = {3}; /* quiet water, not blank: a beam of every sample 0 is skipped (test_blank_beams) */
     int a, i;
     (void)state;
     memset(&lg, 0, sizeof(lg));
@@ -124,7 +124,7 @@ static void test_stage_order_and_sweeps(void **state)
 static void test_2d_median_flushes_each_sweep(void **state)
 {
     struct sonar_pipeline_config c;
-    uint8_t s[N] = {0};
+    uint8_t s[N] = {3}; /* quiet water, not blank: a beam of every sample 0 is skipped (test_blank_beams) */
     int a, i, fgs = 0;
     (void)state;
     memset(&lg, 0, sizeof(lg));
@@ -146,7 +146,7 @@ static void test_2d_median_flushes_each_sweep(void **state)
 static void test_geometry_change_cuts_and_resets(void **state)
 {
     struct sonar_pipeline_config c;
-    uint8_t s[N] = {0};
+    uint8_t s[N] = {3}; /* quiet water, not blank: a beam of every sample 0 is skipped (test_blank_beams) */
     (void)state;
     memset(&lg, 0, sizeof(lg));
     cfg_init(&c);
@@ -175,7 +175,7 @@ static void test_gain_change_restarts(void **state)
 {
     struct sonar_pipeline_config c;
     struct sonar_status st;
-    uint8_t s[N] = {0};
+    uint8_t s[N] = {3}; /* quiet water, not blank: a beam of every sample 0 is skipped (test_blank_beams) */
     struct sonar_beam b = {0, 0, N, 10.0f, s, 0};
     uint16_t a;
     (void)state;
@@ -200,6 +200,36 @@ static void test_gain_change_restarts(void **state)
     sonar_status_fill(&st, NULL, &pipe_);
     assert_int_equal(st.acq.gain, 2);
     assert_int_equal(st.acq.background_restarts, 1);
+}
+
+/* A beam of every sample 0 (nothing heard) or 255 (saturated) is skipped and counted: no sweep, no background, no detection. */
+static void test_blank_beams(void **state)
+{
+    struct sonar_pipeline_config c;
+    struct sonar_status st;
+    uint8_t zero[N], full[N], s[N];
+    uint16_t a;
+    (void)state;
+    memset(zero, 0, sizeof(zero));
+    memset(full, 255, sizeof(full));
+    memset(s, 0, sizeof(s));
+    s[N - 1] = 1; /* one sample heard: not blank */
+    memset(&lg, 0, sizeof(lg));
+    cfg_init(&c);
+    assert_int_equal(sonar_pipeline_init(&pipe_, &bg_, &c), SONAR_OK);
+    for (a = 0; a < 400; a += 4)
+        push(a, a % 8 ? zero : full, N, 10.0f);
+    assert_int_equal(sonar_pipeline_finish(&pipe_), SONAR_OK);
+    assert_int_equal(lg.sweeps, 0);
+    assert_int_equal(lg.nstage, 0);
+    assert_int_equal(sonar_pipeline_blank_beams(&pipe_), 100);
+    assert_int_equal(pipe_.bg->visits[0], 0);
+    push(0, s, N, 10.0f);
+    assert_int_equal(lg.nstage, 3);
+    assert_int_equal(sonar_pipeline_blank_beams(&pipe_), 100);
+    memset(&st, 0, sizeof(st));
+    sonar_status_fill(&st, NULL, &pipe_);
+    assert_int_equal(st.blank_beams, 100);
 }
 
 /* A static scene (a wall at sample 200 in every beam) for 3 turns, then an object: only it is found. */
@@ -477,6 +507,7 @@ int main(void)
         cmocka_unit_test(test_2d_median_flushes_each_sweep),
         cmocka_unit_test(test_geometry_change_cuts_and_resets),
         cmocka_unit_test(test_gain_change_restarts),
+        cmocka_unit_test(test_blank_beams),
         cmocka_unit_test(test_object_over_static_scene),
         cmocka_unit_test(test_cfar_across_beams_one_beam_late),
         cmocka_unit_test(test_moving_vehicle_world_frame),

@@ -63,6 +63,37 @@ enum sonar_det_threshold {
  */
 #define SONAR_DET_LINE_M 0.3f
 #define SONAR_DET_LINE_THICK_16 2
+/*
+ * A wall in one look: a line over at least SONAR_DET_WALL_BEAMS beams, at least SONAR_DET_WALL_M long,
+ * at most SONAR_DET_WALL_THICK_M thick (its hull's least width) and SONAR_DET_WALL_ELONG times longer
+ * than thick, is structure at any range in a single look, whatever max_extent_m (when that rule is on:
+ * the study's rules have none). A wall returns the pulse smeared by the beam's vertical spread (0.1 to
+ * 0.25 m on the RoboSub sweeps at 1-4 m); a person is a blob at least 0.3 m deep along the beam (never
+ * this thin on the AquaScan pools), and a buoy is shorter. docs/decisions.md ("Walls, their echoes and
+ * streaks in one look").
+ */
+#define SONAR_DET_WALL_BEAMS 3
+#define SONAR_DET_WALL_M 0.6f
+#define SONAR_DET_WALL_THICK_M 0.25f
+#define SONAR_DET_WALL_ELONG 4.0
+/*
+ * Longer than any person or prop (SONAR_DET_WALL_LONG_M), two more shapes are walls. A wall seen
+ * obliquely returns over a stretch of range in each beam (the beam's footprint along it), so its line is
+ * thicker: SONAR_DET_WALL_LONG_ELONG times longer than thick is enough (people on the AquaScan pools are
+ * never more than 6 times longer than thick, whatever their length). And a corner, two walls met, is no
+ * line but is thin on every beam (SONAR_DET_LINE_M, as each beam meets one wall), as no person is.
+ */
+#define SONAR_DET_WALL_LONG_M 1.5f
+#define SONAR_DET_WALL_LONG_ELONG 6.5
+/*
+ * A wall broken by its own gaps (a rough or oblique wall returns in patches): thin objects whose hulls
+ * come within SONAR_DET_WALL_GAP_M of one another and whose union is still at most SONAR_DET_WALL_THICK_M
+ * thick continue one line; a line of such pieces at least SONAR_DET_WALL_M long end to end is a wall,
+ * each piece structure. A buoy before a wall is not thin with it (their union is as deep as the gap
+ * between them); three buoys in a row within 0.5 m of one another would be (0.5 m: the gaps between a wall's
+ * pieces on the RoboSub sweeps and the simulated tank; docs/decisions.md).
+ */
+#define SONAR_DET_WALL_GAP_M 0.5f
 
 struct sonar_detector_config {
     uint8_t threshold_mode; /* enum sonar_det_threshold */
@@ -98,10 +129,31 @@ struct sonar_detector_config {
 enum sonar_det_kind {
     SONAR_DET_OBJECT = 0,
     SONAR_DET_STRUCTURE = 1,
-    SONAR_DET_STATIC_START = 2
+    SONAR_DET_STATIC_START = 2,
+    SONAR_DET_WALL_ECHO = 3 /* a wall's echo: behind a wall on its beams and weaker than it (below) */
 };
 
-/* "object", "structure", "static since start" (enum sonar_det_kind), or "?". */
+/*
+ * A wall's echo: a cluster with at least SONAR_DET_ECHO_16 sixteenths of its cells beyond the far
+ * edge of a wall (a detection of this sweep that is structure) on the same beams, and weaker than that
+ * wall (its mean level below the wall's). A wall of a pool, a tank or a quay is opaque to the sonar:
+ * nothing in the water lies behind it, and what shows there is the wall's own sound come back late
+ * (the beam's vertical spread and the floor's corner just behind it; the round trips between the wall
+ * and the vehicle at twice and three times its range), every path longer and with one reflection more
+ * than the wall's, so weaker. An echo there stronger than the wall is not the wall's (a rope taken for
+ * a wall, a person beyond it): it stays an object. Reported after the objects with structure, never
+ * tracked. docs/decisions.md ("Walls, their echoes and streaks in one look").
+ */
+#define SONAR_DET_ECHO_16 12
+#define SONAR_DET_ECHO_BEAMS 2 /* an echo spreads over the beam's width: a wall this many beams aside counts */
+
+/* Is a detection of this kind an object the tracker follows (an object, or one static since start)? */
+static inline int sonar_det_kind_tracked(int kind)
+{
+    return kind == SONAR_DET_OBJECT || kind == SONAR_DET_STATIC_START;
+}
+
+/* "object", "structure", "static since start", "wall echo" (enum sonar_det_kind), or "?". */
 const char *sonar_det_kind_str(int kind);
 
 /* One object, in the sonar frame (see geometry.h) after the angle offset. */

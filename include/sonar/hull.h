@@ -20,4 +20,13 @@ SONAR_CHECK int sonar_hull_build(struct sonar_xy *pts, uint16_t n, struct sonar_
 /* Twice the signed area (shoelace) of the polygon; positive when counter-clockwise. */
 int64_t sonar_hull_area2(const struct sonar_xy *poly, uint16_t n);
 
+/* The hull's diameter: its widest pair of vertices apart, in its points' units (0 for n < 2). O(n^2). */
+int64_t sonar_hull_diameter(const struct sonar_xy *hull, uint16_t n);
+
+/*
+ * The hull's least width (hull: n vertices in order, as sonar_hull_build writes them): the least, over
+ * its edges, of its farthest vertex from the edge's line, in its points' units; 0 for n < 3. O(n^2).
+ */
+int64_t sonar_hull_width(const struct sonar_xy *hull, uint16_t n);
+
 #endif

@@ -14,6 +14,7 @@
 #include "sonar/err.h"
 #include "sonar/median.h"
 #include "sonar/scan.h"
+#include "sonar/streak.h"
 #include "sonar/structure.h"
 #include "sonar/survey.h"
 #include "sonar/sweep.h"
@@ -124,6 +125,8 @@ struct sonar_pipeline {
                                             was cut and the background relearns from the next beam */
     uint32_t gap_cuts;                   /* sweeps cut by a gap in time (cfg sweep_gap_s) */
     uint32_t gain_restarts;              /* backgrounds restarted because the beams' gain changed */
+    uint32_t blank_beams;                /* beams skipped for every sample 0 or every one 255 (sonar_pipeline_push) */
+    struct sonar_streak streak;          /* interference streaks (streak.h) */
     int16_t last_gain;                   /* the gain of the beam before, -1 none known yet */
     int64_t last_utime;                  /* the last beam's time, us */
     float prev_bearing;                  /* world heading of the last such beam, degrees */
@@ -283,6 +286,16 @@ int sonar_pipeline_gain(const struct sonar_pipeline *p);
 /* Backgrounds restarted because the beams' gain changed; sweeps cut because their range or samples did. */
 uint32_t sonar_pipeline_gain_restarts(const struct sonar_pipeline *p);
 uint32_t sonar_pipeline_geometry_changes(const struct sonar_pipeline *p);
+
+/*
+ * Beams skipped because every sample was 0 (a receiver that heard nothing: unplugged, out of the
+ * water, a dead channel) or every one 255 (saturated): they carry no echo to learn or detect, and
+ * would teach the background a level no water has. A count that only grows.
+ */
+uint32_t sonar_pipeline_blank_beams(const struct sonar_pipeline *p);
+
+/* Beams judged interference streaks (streak.h) since the start: left out of the background and the detector. */
+uint32_t sonar_pipeline_interference_beams(const struct sonar_pipeline *p);
 
 /* The survey as it is now (state, why, turn, its meta and places), or NULL when none is set. */
 const struct sonar_survey *sonar_pipeline_survey(const struct sonar_pipeline *p);

@@ -18,6 +18,8 @@ struct sonar_status {
     struct sonar_ping360_counters driver;  /* every driver counter */
     uint32_t sweeps;
     uint32_t beams_rejected;               /* beams the pipeline refused (bad geometry) */
+    uint32_t blank_beams;                  /* beams skipped: every sample 0 or every one 255 (pipeline.h) */
+    uint32_t interference_beams;           /* beams judged interference streaks (streak.h) */
     uint32_t rows_bad;                     /* replay: malformed rows skipped */
     uint32_t sink_errors;                  /* host sink calls that failed, all sinks */
     float last_sweep_s;                    /* seconds the last sweep took */

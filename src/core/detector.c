@@ -89,10 +89,78 @@ int sonar_detector_set_tracks(struct sonar_detector *d, const float *x_m, const 
     return SONAR_OK;
 }
 
+/*
+ * Moves the objects flagged in move (out->det[0..count), at their centroids, oj their labels) to the
+ * tail where the ns structure detections sit at the array's end (sj their labels), as kind; walls'
+ * labels join sj. The tail grows downwards in the objects' order. Returns the detections moved.
+ */
+static uint8_t to_tail(struct sonar_detections *out, struct sonar_xy *at, uint8_t *oj, const uint8_t *move,
+                       uint8_t kind, uint8_t ns, uint8_t *sj)
+{
+    struct sonar_detection e[SONAR_MAX_CLUSTERS];
+    uint8_t ej[SONAR_MAX_CLUSTERS];
+    uint8_t i, keep = 0, ne = 0;
+    for (i = 0; i < out->count; i++)
+        if (move[i]) {
+            e[ne] = out->det[i];
+            e[ne].kind = kind;
+            ej[ne++] = oj[i];
+        }
+    if (ne == 0)
+        return 0;
+    for (i = 0; i < out->count; i++)
+        if (!move[i]) {
+            out->det[keep] = out->det[i];
+            oj[keep] = oj[i];
+            at[keep++] = at[i];
+        }
+    out->count = keep;
+    for (i = 0; i < ne; i++) {
+        out->det[SONAR_MAX_CLUSTERS - 1 - ns - i] = e[i];
+        sj[ns + i] = ej[i];
+    }
+    return ne;
+}
+
+/*
+ * Stage 5 on a sweep's objects and structure: the pieces of a wall join the structure, then what lies
+ * behind a wall, weaker and as thin along the beam as a wall (the wall's return again: a person is
+ * deeper) is that wall's echo (detector_wall.c, detector_echo.c). cl: the clusters, by label. Returns the
+ * new count of the tail (structure and echoes).
+ */
+static uint8_t walls_and_echoes(struct sonar_detector *d, const struct sonar_det_cluster *cl, struct sonar_detections *out,
+                                struct sonar_xy *at, uint8_t *oj, uint8_t ns, uint8_t *sj)
+{
+    const struct sonar_detection *w[SONAR_MAX_CLUSTERS];
+    uint8_t flag[SONAR_MAX_CLUSTERS], wecho[SONAR_MAX_CLUSTERS];
+    float wl[SONAR_MAX_CLUSTERS], ol[SONAR_MAX_CLUSTERS];
+    uint8_t i;
+    /* Without the extent rule (the study's rules) nothing is a wall, in pieces or whole. */
+    if (d->cfg.max_extent_m > 0.0f) {
+        for (i = 0; i < ns; i++)
+            w[i] = &out->det[SONAR_MAX_CLUSTERS - 1 - i];
+        sonar_det_wall_pieces(out->det, out->count, w, ns, sonar_det_smear_mm(d, 1000.0) / 1000.0, flag);
+        ns = (uint8_t)(ns + to_tail(out, at, oj, flag, SONAR_DET_STRUCTURE, ns, sj));
+    }
+    if (ns == 0)
+        return 0;
+    for (i = 0; i < ns; i++)
+        wl[i] = out->det[SONAR_MAX_CLUSTERS - 1 - i].mean_intensity;
+    for (i = 0; i < out->count; i++)
+        ol[i] = out->det[i].mean_intensity;
+    sonar_det_echoes(d, sj, wl, ns, oj, ol, out->count, flag, wecho);
+    for (i = 0; i < out->count; i++)
+        flag[i] = (uint8_t)(flag[i] && sonar_det_thin(cl[oj[i]].thick, cl[oj[i]].nbeams));
+    for (i = 0; i < ns; i++)
+        if (wecho[i])
+            out->det[SONAR_MAX_CLUSTERS - 1 - i].kind = SONAR_DET_WALL_ECHO;
+    return (uint8_t)(ns + to_tail(out, at, oj, flag, SONAR_DET_WALL_ECHO, ns, sj));
+}
+
 int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
 {
     struct sonar_xy c[SONAR_MAX_CLUSTERS], at[SONAR_MAX_CLUSTERS];
-    uint8_t part[SONAR_MAX_CLUSTERS];
+    uint8_t part[SONAR_MAX_CLUSTERS], oj[SONAR_MAX_CLUSTERS], sj[SONAR_MAX_CLUSTERS];
     uint8_t k = 0, j, q, ns = 0;
     int r;
     if (d == NULL || out == NULL)
@@ -124,8 +192,10 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
                 continue;
             if (r == 2) {
                 /* Structure fills the array from its end, in the room objects leave. */
-                if (out->count + ns < SONAR_MAX_CLUSTERS)
+                if (out->count + ns < SONAR_MAX_CLUSTERS) {
+                    sj[ns] = j;
                     out->det[SONAR_MAX_CLUSTERS - 1 - ns++] = o;
+                }
                 continue;
             }
             /* Largest first, at most max_clusters; equal sizes keep cluster order. */
@@ -139,10 +209,13 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
                 ns--; /* an object before structure */
             memmove(&out->det[pos + 1], &out->det[pos], (size_t)(out->count - pos) * sizeof(o));
             memmove(&at[pos + 1], &at[pos], (size_t)(out->count - pos) * sizeof(a));
+            memmove(&oj[pos + 1], &oj[pos], (size_t)(out->count - pos));
             out->det[pos] = o;
             at[pos] = a;
+            oj[pos] = j;
             out->count++;
         }
+        ns = walls_and_echoes(d, cl, out, at, oj, ns, sj);
     }
     /* This sweep's objects are the next sweep's tracks. */
     d->ntracks = out->count;
@@ -183,6 +256,7 @@ const char *sonar_det_kind_str(int kind)
     case SONAR_DET_OBJECT: return "object";
     case SONAR_DET_STRUCTURE: return "structure";
     case SONAR_DET_STATIC_START: return "static since start";
+    case SONAR_DET_WALL_ECHO: return "wall echo";
     default: return "?";
     }
 }

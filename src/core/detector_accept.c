@@ -102,6 +102,27 @@ static int wider_than(const struct sonar_xy *hull, int h, float lim_m)
     return 0;
 }
 
+/*
+ * A wall in one look (detector.h): a line of at least SONAR_DET_WALL_BEAMS beams, at least
+ * SONAR_DET_WALL_M longer than a point target at its range smears (smear_mm: sonar_det_smear_mm) and at
+ * most SONAR_DET_WALL_THICK_M thick (its hull's width), and at least SONAR_DET_WALL_ELONG times longer
+ * than thick; or, SONAR_DET_WALL_LONG_M longer than the smear, seen obliquely or bent at a corner.
+ */
+static int wall_line(const struct sonar_det_cluster *cl, const struct sonar_xy *hull, int h, double smear_mm)
+{
+    int64_t diam, width;
+    if (cl->nbeams < SONAR_DET_WALL_BEAMS)
+        return 0;
+    diam = sonar_hull_diameter(hull, (uint16_t)h);
+    if ((double)diam < (double)SONAR_DET_WALL_M * 1000.0 + smear_mm)
+        return 0;
+    width = sonar_hull_width(hull, (uint16_t)h);
+    if ((double)diam >= (double)SONAR_DET_WALL_LONG_M * 1000.0 + smear_mm &&
+        ((double)diam >= SONAR_DET_WALL_LONG_ELONG * (double)width || sonar_det_thin(cl->thick, cl->nbeams)))
+        return 1;
+    return width <= (int64_t)(SONAR_DET_WALL_THICK_M * 1000.0f) && (double)diam >= SONAR_DET_WALL_ELONG * (double)width;
+}
+
 void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl)
 {
     const uint32_t line = sonar_det_line_samples(d);
@@ -191,7 +212,9 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
         return 0;
     /* Wider than any object (a wall, a rope, a dock's edge), or a piece of wall cut from a wider group: structure. */
     wide = (d->cfg.max_extent_m > 0.0f && wider_than(hs.hull, h, d->cfg.max_extent_m)) ||
-           (cut && sonar_det_thin(cl->thick, cl->nbeams));
+           (cut && sonar_det_thin(cl->thick, cl->nbeams)) ||
+           (d->cfg.max_extent_m > 0.0f &&
+            wall_line(cl, hs.hull, h, sonar_det_smear_mm(d, sqrt((double)at->x * at->x + (double)at->y * at->y))));
     if (d->cfg.angle_offset != 0.0f) {
         double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);

@@ -4,6 +4,7 @@
 
 #include "sonar/detector.h"
 #include "sonar/frame.h"
+#include "sonar/geometry.h"
 
 /* Sample position twice_pos halves (2i+1: the centre of sample i) at angle a (gradians) in mm, device frame. */
 struct sonar_xy sonar_det_polar_mm(const struct sonar_detector *d, uint16_t a, uint32_t twice_pos);
@@ -44,6 +45,17 @@ static inline int sonar_det_thin(uint32_t thick, uint32_t beams)
     return 16u * thick <= (uint32_t)SONAR_DET_LINE_THICK_16 * beams;
 }
 
+/*
+ * How wide a point target at range_mm looks across the beams, mm: the beam's width and the sweep's step
+ * (a target is seen on every beam whose half-power width reaches it). A wall must be longer than this
+ * by its own length: a post far away, smeared over three beams, is not a line.
+ */
+static inline double sonar_det_smear_mm(const struct sonar_detector *d, double range_mm)
+{
+    uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
+    return range_mm * (SONAR_BEAM_WIDTH_DEG * SONAR_RAD_PER_DEG + sonar_frame_rad((double)(step ? step : 1u)));
+}
+
 /* Stage 4, detector_accept.c: cl[j] for the k clusters (labels 0..k-1), in one pass over the runs. */
 void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_det_cluster *cl);
 
@@ -55,6 +67,25 @@ void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_
  */
 int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
                      struct sonar_detection *o, struct sonar_xy *at);
+
+/*
+ * Stage 5, detector_wall.c: of the n objects det (hulls in metres), sets wall[i] for each that is a
+ * piece of a wall (detector.h, SONAR_DET_WALL_GAP_M): thin, continued by other thin pieces into one
+ * line at least SONAR_DET_WALL_M longer than a point target's smear at its range (smear_per_m: the
+ * smear a metre of range, sonar_det_smear_mm(d, 1000) / 1000), or continuing one of the nw walls found.
+ */
+void sonar_det_wall_pieces(const struct sonar_detection *det, uint8_t n, const struct sonar_detection *const *walls,
+                           uint8_t nw, double smear_per_m, uint8_t *wall);
+
+/*
+ * Stage 5, detector_echo.c: which objects are a wall's echo (detector.h, SONAR_DET_ECHO_16). walls:
+ * the labels of the nw clusters accepted as structure, wall_level their mean levels; objs: the labels of
+ * the no objects, obj_level theirs. Sets echo[i] (0 or 1) for each object i and
+ * wall_echo[w] for each wall w (one behind a nearer, stronger wall). One pass over the runs, each
+ * looking at the runs of the beams beside it.
+ */
+void sonar_det_echoes(struct sonar_detector *d, const uint8_t *walls, const float *wall_level, uint8_t nw,
+                      const uint8_t *objs, const float *obj_level, uint8_t no, uint8_t *echo, uint8_t *wall_echo);
 
 /*
  * Squared distance in mm^2 between points within SONAR_KMEANS_MAX_COORD (run centres at ranges up

@@ -1,6 +1,7 @@
-/* hull.c -- monotone-chain convex hull after an in-place heapsort; O(n log n) time, O(1) extra space. */
+/* hull.c -- monotone-chain convex hull after an in-place heapsort, O(n log n) time, O(1) extra space; a hull's diameter and width, O(n^2). */
 #include "sonar/hull.h"
 
+#include <math.h>
 #include <stddef.h>
 
 static int less(const struct sonar_xy *a, const struct sonar_xy *b)
@@ -89,4 +90,37 @@ int64_t sonar_hull_area2(const struct sonar_xy *poly, uint16_t n)
         s += (int64_t)a->x * b->y - (int64_t)b->x * a->y;
     }
     return s;
+}
+
+int64_t sonar_hull_diameter(const struct sonar_xy *hull, uint16_t n)
+{
+    int64_t best = 0;
+    uint16_t a, b;
+    for (a = 0; a < n; a++)
+        for (b = (uint16_t)(a + 1u); b < n; b++) {
+            int64_t dx = (int64_t)hull[a].x - hull[b].x, dy = (int64_t)hull[a].y - hull[b].y;
+            if (dx * dx + dy * dy > best)
+                best = dx * dx + dy * dy;
+        }
+    return (int64_t)sqrt((double)best);
+}
+
+int64_t sonar_hull_width(const struct sonar_xy *hull, uint16_t n)
+{
+    double best = -1.0;
+    uint16_t a, v;
+    if (n < 3)
+        return 0;
+    for (a = 0; a < n; a++) {
+        const struct sonar_xy *p = &hull[a], *q = &hull[(a + 1u) % n];
+        double ex = (double)q->x - p->x, ey = (double)q->y - p->y, len = sqrt(ex * ex + ey * ey), far = 0.0;
+        if (len <= 0.0)
+            continue;
+        for (v = 0; v < n; v++) {
+            double dist = fabs(((double)hull[v].x - p->x) * ey - ((double)hull[v].y - p->y) * ex) / len;
+            far = dist > far ? dist : far;
+        }
+        best = best < 0.0 || far < best ? far : best;
+    }
+    return best < 0.0 ? 0 : (int64_t)best;
 }

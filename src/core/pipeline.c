@@ -1,4 +1,4 @@
-/* pipeline.c -- glue of the per-beam stages (median, background, in the world grid with a pose, CFAR one beam late) and the per-sweep detector; adds O(1) work per beam, no heap. The sweep's tracking is pipeline_tracks.c. */
+/* pipeline.c -- glue of the per-beam stages (blank beams and streaks out, median, background, in the world grid with a pose, CFAR one beam late) and the per-sweep detector; adds O(1) work per beam, no heap. What the background may learn is pipeline_learn.c, the sweep's tracking pipeline_tracks.c. */
 #include "sonar/pipeline.h"
 #include "sonar/bgfile.h"
 
@@ -105,121 +105,6 @@ static void tap(const struct sonar_pipeline *p, int stage, int64_t utime, uint16
     p->cfg->on_beam(p->cfg->user, stage, &b);
 }
 
-/*
- * The auto background's kept discs in the world frame: about each confirmed or coasting track where
- * it was last seen, of its last detection's radius (at least SONAR_PIPE_KEEP_MIN_M). The grid does
- * not learn the cells inside them, as keep_spans below does for the per-angle rows.
- */
-static uint8_t keep_discs(const struct sonar_pipeline *p, struct sonar_bg_disc *d)
-{
-    uint8_t k, m = 0;
-    if (p->cfg->background.mode != SONAR_BACKGROUND_AUTO || !p->cfg->track || !p->trk.world)
-        return 0;
-    for (k = 0; k < p->trk.n && m < SONAR_BG_DISCS_MAX; k++) {
-        const struct sonar_track *t = &p->trk.t[k];
-        float rad = (float)t->size_dm * 0.1f;
-        if (t->state == SONAR_TRACK_TENTATIVE)
-            continue;
-        d[m].north_m = t->px;
-        d[m].east_m = t->py;
-        d[m].radius_m = rad > SONAR_PIPE_KEEP_MIN_M ? rad : SONAR_PIPE_KEEP_MIN_M;
-        m++;
-    }
-    return m;
-}
-
-/*
- * With a pose at the beam's time (per-angle or auto mode): the background in the world grid, the
- * beam's footprint reaching back to the heading of the beam before (a jump beyond max_step, or
- * none: one step's worth); in auto mode the tracks' discs are not learnt.
- */
-static int world_background(struct sonar_pipeline *p, int64_t utime, uint16_t angle, int *done)
-{
-    struct sonar_bg_disc discs[SONAR_BG_DISCS_MAX];
-    struct sonar_pose q;
-    struct sonar_bg_ray ray;
-    double d;
-    *done = 0;
-    if (p->poses == NULL || (p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE &&
-                             p->cfg->background.mode != SONAR_BACKGROUND_AUTO) ||
-        !sonar_pose_at(p->poses, utime, &q)) {
-        p->have_prev_bearing = 0;
-        return SONAR_OK;
-    }
-    ray.north_m = (double)q.north_m;
-    ray.east_m = (double)q.east_m;
-    ray.bearing_deg = ((double)angle + (double)p->cfg->detector.angle_offset) * SONAR_DEG_PER_GRAD + (double)q.yaw_deg;
-    d = p->have_prev_bearing ? fabs(remainder(ray.bearing_deg - (double)p->prev_bearing, 360.0)) : 0.0;
-    ray.width_deg = d > 0.0 && d <= SONAR_DEG_PER_GRAD * (double)p->cfg->max_step ? d : (double)p->prev_width;
-    p->prev_width = (float)ray.width_deg;
-    ray.range_m = p->range_m;
-    ray.near_m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
-    p->prev_bearing = (float)fmod(ray.bearing_deg, 360.0);
-    p->have_prev_bearing = 1;
-    p->world_beams++;
-    *done = 1;
-    return sonar_background_apply_world_keep(p->bg, &ray, p->buf[p->cur], p->buf[p->cur], p->n, discs,
-                                             keep_discs(p, discs));
-}
-
-/*
- * The samples of a beam at angle whose axis crosses the disc of radius rad about (x, y) (metres,
- * output frame; c, s the axis's cosine and sine, per_m samples a metre), as a span; 0 if none.
- */
-static int disc_span(const struct sonar_pipeline *p, double c, double s, double per_m, double x, double y, double rad,
-                     struct sonar_bg_span *sp)
-{
-    double along = x * c + y * s, perp = fabs(y * c - x * s), r, lo, hi;
-    if (!(along > 0.0) || !(perp <= rad))
-        return 0;
-    r = sqrt(x * x + y * y);
-    lo = (r - rad) * per_m;
-    hi = (r + rad) * per_m + 1.0;
-    if (hi <= 0.0 || lo >= (double)p->n)
-        return 0;
-    sp->lo = (uint16_t)(lo > 0.0 ? lo : 0.0);
-    sp->hi = (uint16_t)(hi < (double)p->n ? hi : (double)p->n);
-    return 1;
-}
-
-/*
- * The background's spans for a beam at angle (body frame only). Keep (auto mode, never learnt): the
- * samples within the disc about each confirmed or coasting track, where it was last seen, of its last
- * detection's radius (at least SONAR_PIPE_KEEP_MIN_M). Learn (per-angle and auto mode, learnt at
- * once): the disc of each structure place (structure.h). Computed here per beam (a cosine and a
- * sine, then a few products a disc), so nothing is stored for it. Returns the keep spans' count;
- * *nlearn the learn spans'.
- */
-static uint8_t keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp,
-                          struct sonar_bg_span *learn, uint8_t *nlearn)
-{
-    double th, c, s, per_m;
-    uint8_t k, m = 0;
-    const int auto_mode = p->cfg->background.mode == SONAR_BACKGROUND_AUTO;
-    *nlearn = 0;
-    if ((!auto_mode && p->cfg->background.mode != SONAR_BACKGROUND_PER_ANGLE) || p->trk.world)
-        return 0;
-    th = sonar_frame_rad((double)angle + (double)p->cfg->detector.angle_offset);
-    c = cos(th);
-    s = sin(th);
-    per_m = (double)p->n / (double)p->range_m;
-    for (k = 0; auto_mode && p->cfg->track && k < p->trk.n && m < SONAR_MAX_TRACKS; k++) {
-        const struct sonar_track *t = &p->trk.t[k];
-        double rad = (double)t->size_dm * 0.1;
-        if (t->state == SONAR_TRACK_TENTATIVE)
-            continue;
-        rad = rad > (double)SONAR_PIPE_KEEP_MIN_M ? rad : (double)SONAR_PIPE_KEEP_MIN_M;
-        m = (uint8_t)(m + disc_span(p, c, s, per_m, (double)t->px, (double)t->py, rad, &sp[m]));
-    }
-    for (k = 0; k < p->st.n && *nlearn < SONAR_PIPE_LEARN_MAX; k++) {
-        const struct sonar_place *q = &p->st.p[k];
-        double rad = (double)q->radius > (double)SONAR_PIPE_KEEP_MIN_M ? (double)q->radius : (double)SONAR_PIPE_KEEP_MIN_M;
-        if (q->structure)
-            *nlearn = (uint8_t)(*nlearn + disc_span(p, c, s, per_m, (double)q->x, (double)q->y, rad, &learn[*nlearn]));
-    }
-    return m;
-}
-
 /* Does the detector take each beam with its neighbours (the CFAR window across beams), one beam late? */
 static int across(const struct sonar_pipeline *p)
 {
@@ -275,16 +160,32 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
     uint8_t *b = p->buf[p->cur], nkeep, nlearn;
     int r, done, judged = 0, seeding = sonar_background_seeding(p->bg, angle);
+    uint16_t from = sonar_streak_from(b, p->n);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
+    if (sonar_streak_judge(&p->streak, angle, utime,
+                           sonar_background_standing(p->bg, angle, b, p->n, from,
+                                                     p->bg->margin > SONAR_STREAK_MARGIN ? p->bg->margin : SONAR_STREAK_MARGIN),
+                           (uint16_t)(p->n - from))) {
+        /*
+         * Interference: neither background (nothing learns it) nor object (the detector never sees it), and
+         * no neighbour either: the beams beside it take their CFAR windows without it, as at a gap.
+         */
+        memset(b, 0, p->n);
+        tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
+        if (across(p) && p->waiting && (r = release(p, NULL, 0)) != SONAR_OK)
+            return r;
+        p->have_before = 0;
+        return SONAR_OK;
+    }
     sonar_survey_look(p->sv, p->bg, angle, b, p->n);
-    if ((r = world_background(p, utime, angle, &done)) != SONAR_OK)
+    if ((r = sonar_pipe_world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
     if (done)
         sonar_survey_lost(p->sv, SONAR_SURVEY_WORLD); /* the grid takes the background's bytes: the survey's levels go */
     else if ((judged = record(p, utime, angle, b)) < 0)
         return judged;
     else if (!judged && !(judged = sonar_survey_apply(p->sv, p->bg, angle, b, b, p->n))) {
-        nkeep = keep_spans(p, angle, sp, learn, &nlearn);
+        nkeep = sonar_pipe_keep_spans(p, angle, sp, learn, &nlearn);
         if ((r = sonar_background_apply_spans(p->bg, angle, b, b, p->n, sp, nkeep, learn, nlearn)) != SONAR_OK)
             return r;
     }
@@ -418,6 +319,18 @@ static int end_sweep(struct sonar_pipeline *p)
     return p->next != NULL ? switch_config(p) : SONAR_OK;
 }
 
+/* Every sample 0, or every one 255: nothing heard, or all saturated (sonar_pipeline_blank_beams). */
+static int blank(const uint8_t *s, uint16_t n)
+{
+    uint16_t i;
+    if (s[0] != 0u && s[0] != 255u)
+        return 0;
+    for (i = 1; i < n; i++)
+        if (s[i] != s[0])
+            return 0;
+    return 1;
+}
+
 int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
 {
     int r, cut;
@@ -425,6 +338,10 @@ int sonar_pipeline_push(struct sonar_pipeline *p, const struct sonar_beam *b)
     if (p == NULL || p->cfg == NULL || b == NULL || b->samples == NULL || b->n == 0 || b->n > SONAR_MAX_SAMPLES ||
         b->angle > SONAR_GRAD_MAX || !(b->range_m > 0.0f && b->range_m <= (float)SONAR_PIPE_MAX_RANGE_M))
         return SONAR_ERR_ARG;
+    if (blank(b->samples, b->n)) {
+        p->blank_beams++;
+        return SONAR_OK;
+    }
     if ((r = sonar_survey_fits_beam(p->sv, b->n, b->range_m, b->gain)) != SONAR_SURVEY_OK) {
         /* Another setting than the survey's: its levels would call everything foreground (or nothing). */
         sonar_survey_lost(p->sv, r);

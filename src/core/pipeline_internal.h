@@ -1,4 +1,4 @@
-/* pipeline_internal.h -- what pipeline.c (the beams) asks of pipeline_tracks.c (the sweep's tracking); not part of the API; no RAM. */
+/* pipeline_internal.h -- what pipeline.c (the beams) asks of pipeline_tracks.c (the sweep's tracking) and pipeline_learn.c (what the background learns); not part of the API; no RAM. */
 #ifndef SONAR_PIPELINE_INTERNAL_H
 #define SONAR_PIPELINE_INTERNAL_H
 
@@ -18,5 +18,19 @@ int sonar_pipe_world_gates(struct sonar_pipeline *p);
  * structure there). Returns SONAR_OK or the structure rule's or the tracker's error.
  */
 int sonar_pipe_finish_sweep(struct sonar_pipeline *p, int have_cover);
+
+/*
+ * With a pose at the beam's time (per-angle or auto mode): the beam's background in the world grid
+ * (pipeline_learn.c), *done = 1; else nothing, *done = 0. Returns SONAR_OK or the background's error.
+ */
+int sonar_pipe_world_background(struct sonar_pipeline *p, int64_t utime, uint16_t angle, int *done);
+
+/*
+ * The per-angle background's spans for a beam at angle (pipeline_learn.c): sp, the tracks' cells it must
+ * not learn (returns their count, at most SONAR_MAX_TRACKS); learn, structure's cells it learns at once
+ * (*nlearn of them, at most SONAR_PIPE_LEARN_MAX).
+ */
+uint8_t sonar_pipe_keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp,
+                              struct sonar_bg_span *learn, uint8_t *nlearn);
 
 #endif

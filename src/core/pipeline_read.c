@@ -45,6 +45,16 @@ uint32_t sonar_pipeline_gain_restarts(const struct sonar_pipeline *p)
     return p->gain_restarts;
 }
 
+uint32_t sonar_pipeline_interference_beams(const struct sonar_pipeline *p)
+{
+    return p->streak.beams;
+}
+
+uint32_t sonar_pipeline_blank_beams(const struct sonar_pipeline *p)
+{
+    return p->blank_beams;
+}
+
 uint32_t sonar_pipeline_geometry_changes(const struct sonar_pipeline *p)
 {
     return p->geometry_changes;

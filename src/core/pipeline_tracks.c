@@ -252,9 +252,9 @@ static int track(struct sonar_pipeline *p, const struct located *w, int have_cov
         sonar_tracker_reframe(&p->trk, &p->last_pose, 0);
         p->body_sweeps++;
     }
-    /* Objects only: structure is not tracked (no track, so no keep, can hold it out of the background). */
+    /* Objects only: structure and walls' echoes are not tracked (no track, so no keep, can hold them out of the background). */
     for (i = 0; i < p->out.count; i++) {
-        if (p->out.det[i].kind == SONAR_DET_STRUCTURE)
+        if (!sonar_det_kind_tracked(p->out.det[i].kind))
             continue;
         map[no] = i;
         still[no] = p->out.det[i].kind == SONAR_DET_STATIC_START;

@@ -61,6 +61,8 @@ void sonar_status_fill(struct sonar_status *s, const struct sonar_device *dev, c
     /* The gain the beams carry (the device's setting until one came), and the backgrounds a change of it restarted. */
     s->acq.gain = p->last_gain >= 0 ? p->last_gain : dev != NULL ? (int)dev->drv.cfg.gain : 0;
     s->acq.background_restarts = p->gain_restarts;
+    s->blank_beams = p->blank_beams;
+    s->interference_beams = p->streak.beams;
 }
 
 void sonar_status_poses(struct sonar_status *s, const struct sonar_pose_ring *r)

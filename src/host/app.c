@@ -1,6 +1,7 @@
 /* app.c -- the app core: beam records -> pipeline -> sinks, sweeps, poses, reloads; O(sinks) per record on top of the pipeline, no heap. */
 #include "app_internal.h"
 
+#include <inttypes.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -293,6 +294,7 @@ int app_push(struct app *a, const struct sonar_record *b)
     t0 = a->clock.mono_ns(a->clock.user);
     {
         uint32_t changes = sonar_pipeline_geometry_changes(&a->pipe), gains = sonar_pipeline_gain_restarts(&a->pipe);
+        uint32_t blanks = sonar_pipeline_blank_beams(&a->pipe), streaks = sonar_pipeline_interference_beams(&a->pipe);
         int was_gain = sonar_pipeline_gain(&a->pipe);
         float was_m;
         uint16_t was_n;
@@ -307,6 +309,16 @@ int app_push(struct app *a, const struct sonar_record *b)
             app_say(a, "gain %d from the beam at %.3f s (was %d): the background restarts at every angle and learns "
                     "afresh over its warm-up (structure too)", (int)pb.gain, (double)pb.utime * 1e-6, was_gain);
         }
+        if (sonar_pipeline_blank_beams(&a->pipe) != blanks && (blanks < APP_BLANK_SAID || (blanks + 1u) % 1000u == 0u))
+            app_say(a, "beam at %u gradians (%.3f s): all %u samples %u: skipped (%s); blank beams so far: %" PRIu32 "%s",
+                    (unsigned)pb.angle, (double)pb.utime * 1e-6, pb.n, (unsigned)pb.samples[0],
+                    pb.samples[0] ? "saturated" : "nothing heard", blanks + 1u,
+                    blanks + 1u == APP_BLANK_SAID ? " (said again every 1000th)" : "");
+        if (streaks == 0 && sonar_pipeline_interference_beams(&a->pipe) != 0)
+            app_warn(a, "beam at %u gradians (%.3f s) stands out along most of its length, unlike the beam before it: "
+                    "interference (another sonar, a modem, the thrusters), left out of the background and the detector; "
+                    "such beams are counted in SONAR_STATUS interference_beams and not said again",
+                    (unsigned)pb.angle, (double)pb.utime * 1e-6);
         if (sonar_pipeline_geometry_changes(&a->pipe) != changes)
             app_say(a, "range: %u samples over %.2f m from the beam at %.3f s (was %u over %.2f m): the sweep was cut "
                     "there and the background (and its structure) starts afresh",

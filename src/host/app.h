@@ -1,4 +1,4 @@
-/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 100 144 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
+/* app.h -- sonard's app core: owns the device core and the pipeline; sources push beam records in, each sink maps a record once; RAM: sizeof(struct app_storage) = 1 100 176 B, the pipeline, its background and a survey's spread plus APP_STORAGE_REST. */
 #ifndef SONARD_APP_H
 #define SONARD_APP_H
 
@@ -18,6 +18,7 @@
 
 #define APP_MAX_SINKS 8
 #define APP_PROC_RING 1024 /* per-beam processing times kept for the percentiles */
+#define APP_BLANK_SAID 3   /* blank beams said one by one; after that every 1000th */
 #define APP_STORAGE_REST 65536 /* the app beyond its pipeline (app.c checks it at compile time) */
 
 /* An output. Any callback may be NULL. Each returns HOST_OK or < 0 (counted in errors). */
@@ -179,6 +180,9 @@ int app_done(const struct app *a);
 
 /* Beams the pipeline refused, and rows the sources skipped, so far. */
 uint32_t app_beams_rejected(const struct app *a);
+/* Beams the pipeline skipped as blank (every sample 0 or 255) and left out as interference streaks, since the start. */
+uint32_t app_blank_beams(const struct app *a);
+uint32_t app_interference_beams(const struct app *a);
 uint32_t app_rows_bad(const struct app *a);
 
 /* Seconds the last sweep took (0 before the second). */

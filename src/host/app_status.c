@@ -87,6 +87,8 @@ int64_t app_wall_us(const struct app *a)
 uint32_t app_sweeps(const struct app *a) { return a->sweeps; }
 int app_done(const struct app *a) { return a->sweeps_done; }
 uint32_t app_beams_rejected(const struct app *a) { return a->beams_rejected; }
+uint32_t app_blank_beams(const struct app *a) { return sonar_pipeline_blank_beams(&a->pipe); }
+uint32_t app_interference_beams(const struct app *a) { return sonar_pipeline_interference_beams(&a->pipe); }
 uint32_t app_rows_bad(const struct app *a) { return a->rows_bad; }
 float app_last_sweep_s(const struct app *a) { return a->last_sweep_s; }
 const struct sonar_pipeline *app_pipeline(const struct app *a) { return &a->pipe; }

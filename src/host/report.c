@@ -43,7 +43,7 @@ int report_json(FILE *f, const struct sonar_detections *d, const struct sonar_tr
         if (v != NULL && v->det_world[i])
             fprintf(f, ",\"north_m\":%.3f,\"east_m\":%.3f", (double)v->det_north[i], (double)v->det_east[i]);
         /* Plain objects carry no kind: their lines are as they always were. */
-        if (o->kind == SONAR_DET_STRUCTURE || o->kind == SONAR_DET_STATIC_START)
+        if (o->kind != SONAR_DET_OBJECT)
             fprintf(f, ",\"kind\":\"%s\"", sonar_det_kind_str(o->kind));
         fputs("}", f);
     }
@@ -97,9 +97,9 @@ int report_text(FILE *f, const struct sonar_detections *d, const struct sonar_tr
                 (double)v->pose.north_m, (double)v->pose.east_m, (double)v->pose.yaw_deg, v->world ? "world" : "body");
     for (i = 0; i < d->count; i++) {
         const struct sonar_detection *o = &d->det[i];
-        fprintf(f, "  #%u  x %7.2f m  y %7.2f m  range %6.2f m  bearing %6.1f deg  area %6.3f m2  %5" PRIu32 " cells  mean %5.1f%s\n",
+        fprintf(f, "  #%u  x %7.2f m  y %7.2f m  range %6.2f m  bearing %6.1f deg  area %6.3f m2  %5" PRIu32 " cells  mean %5.1f%s%s\n",
                 i + 1, (double)o->x_m, (double)o->y_m, (double)o->range_m, (double)o->bearing_deg, (double)o->area_m2,
-                o->points, (double)o->mean_intensity, o->kind == SONAR_DET_OBJECT ? "" : o->kind == SONAR_DET_STRUCTURE ? "  structure" : "  static since start");
+                o->points, (double)o->mean_intensity, o->kind == SONAR_DET_OBJECT ? "" : "  ", o->kind == SONAR_DET_OBJECT ? "" : sonar_det_kind_str(o->kind));
     }
     for (i = 0; tk != NULL && i < sonar_tracker_count(tk); i++) {
         const struct sonar_track *t = sonar_tracker_track(tk, i);

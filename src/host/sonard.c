@@ -305,6 +305,9 @@ static int run_replay(struct sonard *s)
                 s->opt.replay, used, (unsigned long)app_rows_bad(s->app), app_sweeps(s->app), ms, used ? ms * 1e3 / (double)used : 0.0);
     else if (app_rows_bad(s->app) && shows(s, APP_WARN))
         fprintf(stderr, "sonard: %s: %lu rows skipped\n", s->opt.replay, (unsigned long)app_rows_bad(s->app));
+    if ((app_blank_beams(s->app) || app_interference_beams(s->app)) && shows(s, APP_INFO))
+        fprintf(stderr, "sonard: %s: %" PRIu32 " blank beams skipped, %" PRIu32 " beams left out as interference\n",
+                s->opt.replay, app_blank_beams(s->app), app_interference_beams(s->app));
     source_replay_close(&s->replay);
     if (s->replay.pose != NULL) {
         if (s->pose.bad)

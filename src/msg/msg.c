@@ -63,7 +63,7 @@ void msg_detections_in(const sonar_detections_t *m, struct sonar_detections *d)
         t->area_m2 = o->area_m2;
         t->points = o->points < 0 ? 0u : (uint32_t)o->points;
         t->mean_intensity = o->mean_intensity;
-        t->kind = o->kind == SONAR_DET_STRUCTURE || o->kind == SONAR_DET_STATIC_START ? (uint8_t)o->kind : SONAR_DET_OBJECT;
+        t->kind = o->kind >= 0 && o->kind <= SONAR_DET_WALL_ECHO ? (uint8_t)o->kind : SONAR_DET_OBJECT;
         t->hull_count = (uint8_t)(o->hull_count < 0 ? 0 : o->hull_count > SONAR_MAX_HULL ? SONAR_MAX_HULL : o->hull_count);
         for (v = 0; v < t->hull_count; v++) {
             t->hull_x[v] = o->hull_x[v];

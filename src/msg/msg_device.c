@@ -70,6 +70,8 @@ void msg_status(const struct sonar_status *s, sonar_status_t *m)
     m->beams = s->driver.beams;
     m->sweeps = s->sweeps;
     m->beams_rejected = s->beams_rejected;
+    m->blank_beams = s->blank_beams;
+    m->interference_beams = s->interference_beams;
     m->rows_bad = s->rows_bad;
     m->sink_errors = s->sink_errors;
     m->last_sweep_s = s->last_sweep_s;
@@ -181,6 +183,8 @@ void msg_status_in(const sonar_status_t *m, struct sonar_status *s)
     s->driver.beams = to_u32(m->beams);
     s->sweeps = to_u32(m->sweeps);
     s->beams_rejected = to_u32(m->beams_rejected);
+    s->blank_beams = to_u32(m->blank_beams);
+    s->interference_beams = to_u32(m->interference_beams);
     s->rows_bad = to_u32(m->rows_bad);
     s->sink_errors = to_u32(m->sink_errors);
     s->last_sweep_s = m->last_sweep_s;

@@ -34,6 +34,7 @@ import eval_structure  # noqa: E402
 import eval_survey  # noqa: E402
 import eval_activity  # noqa: E402
 import eval_clutter  # noqa: E402
+import eval_tank  # noqa: E402
 import eval_walls  # noqa: E402
 import standalone  # noqa: E402
 import figures  # noqa: E402
@@ -182,6 +183,7 @@ def main():
     ap.add_argument("--docs", default="docs")
     ap.add_argument("--work", default="build/eval")
     ap.add_argument("--aquascan-range", type=float, default=15.0)
+    ap.add_argument("--before", default=None, help="a sonard of an earlier commit, beside this one in section 14")
     a = ap.parse_args()
     B, W = a.build, a.work
     os.makedirs(W, exist_ok=True)
@@ -811,6 +813,7 @@ def main():
                                (sys.executable, os.path.join(os.path.dirname(__file__), "score.py")))
     L += eval_clutter.section(sh, run, B, W, have_real)
     L += eval_walls.section(sh, run, B, W, have_real, dict(cost, **{"m7_" + k: v for k, v in m7.items()}))
+    L += eval_tank.section(sh, B, W, have_real, a.real, a.docs, a.before)
     open(os.path.join(a.docs, "results.md"), "w").write("\n".join(L) + "\n")
     print(f"wrote {a.docs}/results.md and {len(figs)} figures in {time.time() - started:.0f} s")
     for name, rows, tc, ti, tf, tp in timing:

@@ -106,6 +106,33 @@ def cartesian(ax, m, angles, rng, title, dets=None, truth=None, vmax=255, cmap="
     return sc
 
 
+KIND_COLOUR = {"object": "lime", "static since start": "white", "structure": "cyan", "wall echo": "deepskyblue"}
+
+
+def fan(ax, m, angles, rng, title, dets=None, offset_grad=0.0):
+    """One sweep as the sonar saw it (each beam a wedge of 1 step, each sample a ring) and sonard's hulls coloured by
+    kind (KIND_COLOUR): m rows x samples, angles in gradians, rng metres, offset_grad as sonard's --angle-offset."""
+    if len(angles) == 0:
+        return
+    # Gradians in [-200, 200): a sector across the output frame's 0 stays in one piece.
+    a = (np.asarray(angles, float) + offset_grad + 200.0) % 400.0 - 200.0
+    order = np.argsort(a)
+    a, m = a[order], np.asarray(m, float)[order]
+    step = float(np.median(np.diff(a))) if len(a) > 1 else 1.0
+    edges = np.radians(np.concatenate([a - step / 2, [a[-1] + step / 2]]) * 0.9)
+    r = np.arange(m.shape[1] + 1) * rng / m.shape[1]
+    T, R = np.meshgrid(edges, r, indexing="ij")
+    ax.pcolormesh(R * np.cos(T), R * np.sin(T), m, cmap="inferno", vmin=0, vmax=max(1.0, np.percentile(m, 99.5)),
+                  shading="flat")
+    for d in (dets or {}).get("detections", []):
+        h = np.array(d["hull"] + d["hull"][:1])
+        ax.plot(h[:, 0], h[:, 1], color=KIND_COLOUR.get(d.get("kind", "object"), "red"), lw=1.0)
+    ax.set_aspect("equal")
+    ax.set_facecolor("black")
+    ax.set_title(title, fontsize=7)
+    ax.tick_params(labelsize=6)
+
+
 def make_all(build, path, out, args=(), sweep=None, truth=None, image_fg=None, tag=""):
     """Writes the figure set for one sweep of path into out; returns the file names."""
     os.makedirs(out, exist_ok=True)

@@ -304,7 +304,7 @@ def main():
                 h["x_m"], h["y_m"] = h.get("north_m", nan), h.get("east_m", nan)
                 h["vx_mps"], h["vy_mps"] = h.get("vn_mps", nan), h.get("ve_mps", nan)
         # Structure (a track that never moved, a wall) is reported as such, not as an object: not scored as one.
-        sweeps[d["sweep"]] = [o for o in d["detections"] if o.get("kind", "object") != "structure"]
+        sweeps[d["sweep"]] = [o for o in d["detections"] if o.get("kind", "object") not in ("structure", "wall echo")]
         lines[d["sweep"]] = d
     if a.late:
         lines = late(lines)

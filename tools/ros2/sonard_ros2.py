@@ -49,8 +49,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "data"))  # fan.py (installed beside this file)
-KIND_NAMES = ("object", "structure", "static since start")
-KIND_RGB = ((0.1, 0.9, 0.2), (0.5, 0.5, 0.5), (0.2, 0.6, 1.0))  # object green, structure grey, static blue
+KIND_NAMES = ("object", "structure", "static since start", "wall echo")
+# object green, structure grey, static blue, a wall's echo dark grey
+KIND_RGB = ((0.1, 0.9, 0.2), (0.5, 0.5, 0.5), (0.2, 0.6, 1.0), (0.3, 0.3, 0.35))
 ACTIVITY_NAMES = ("unknown", "moving", "standing", "struggling")
 ALARM_STRUGGLE = 1  # SONAR_ALARM_STRUGGLE (include/sonar/activity.h)
 LINK_STATES = ("down", "connecting", "probing", "scanning", "auto-transmit", "stopping", "stopped", "passive")
@@ -305,6 +306,7 @@ class Bridge:
         values = {"link": m.link, "link_state": m.link_state, "beams": m.beams, "beams_per_s": f"{rate:.1f}",
                   "sweeps": m.sweeps, "tracks": m.tracks, "alarms": ",".join(map(str, sorted(self.alarms))),
                   "survey": SURVEY_STATES[sv] if 0 <= sv < len(SURVEY_STATES) else str(sv),
+                  "blank_beams": getattr(m, "blank_beams", 0), "interference_beams": getattr(m, "interference_beams", 0),
                   "bridge_published": self.published, "bridge_images": self.images, "bridge_scans": self.scans,
                   "bridge_images_skipped": self.images_skipped,
                   "bridge_undecoded": sum(self.bad.values()), "bridge_lcm_lost": self.lost()}

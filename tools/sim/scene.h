@@ -101,7 +101,21 @@ struct scene {
     struct scene_vehicle veh;
     struct scene_patch patch[SCENE_MAX_PATCH]; /* the water's transients (scene_transients), npatch of them */
     int npatch;
+    /*
+     * A tank's acoustics (the "tank" scene; 0 elsewhere): the sound bouncing between a wall and the vehicle
+     * comes back at twice and three times the wall's range at echo[0] and echo[1] of the wall's level; and
+     * interference streaks, each beam one with probability streak_rate (a streak continues into the next
+     * beam with probability SCENE_STREAK_ON), streak_level grey levels added along its length.
+     * tools/eval/tank_calib.py measures all four on the RoboSub sweeps (docs/results.md).
+     */
+    double echo[2];
+    double streak_rate, streak_level;
 };
+
+#define SCENE_STREAK_ON 0.125 /* two of the 18 streaks on the RoboSub sweeps were two beams wide, none wider */
+
+/* The level a streak adds to beam angle of sweep (0: none), the same for every caller (hashed). */
+double scene_streak(const struct scene *s, int sweep, int angle);
 
 /* The scene as it is with nobody in it (--empty): its walls, ropes and structure objects (a ladder) stay. */
 void scene_empty(struct scene *s);
@@ -125,7 +139,7 @@ struct scene_rng {
  */
 int scene_transients(struct scene *s, unsigned long long seed);
 
-/* Fills s for "pool", "open", "moving", "sector", "vehicle", "occupied", "far", "still", "faces", "faint", "lanes", "laps" or "near"; returns 0, or -1 for an unknown name. */
+/* Fills s for "pool", "open", "moving", "sector", "vehicle", "tank", "occupied", "far", "still", "faces", "faint", "lanes", "laps" or "near"; returns 0, or -1 for an unknown name. */
 int scene_make(struct scene *s, const char *name);
 
 /*

@@ -59,7 +59,10 @@ static const struct opt_spec sim_spec[] = {
      "one standing from the first ping; the truth says their activity (30 turns);\n"
      "activity: the laps pool with the AquaScan labels' three states: a swimmer, one standing (a steady\n"
      "echo, swaying), one struggling (a fresh echo each look, within a metre); truth says each one's (20 turns);\n"
-     "near: open water at a 5 m range, three 0.2 m buoys at 0.66, 0.9 and 1.2 m (4 turns)", NULL, NULL},
+     "near: open water at a 5 m range, three 0.2 m buoys at 0.66, 0.9 and 1.2 m (4 turns);\n"
+     "tank: an 8 x 5 m tank from a robot crossing it, a +-45 degree sector at 5 m: walls echoing at\n"
+     "twice and three times their range, interference streaks (the truth lists their beams), two buoys\n"
+     "and a gate's leg (40 passes; --pose-out writes its path)", NULL, NULL},
     {"out", "FILE", OPT_STR, 0, 0, SO(out), 0, 0, "file", NULL, "the study's CSV (12 m, 1200 samples, 400 beams a sweep)", NULL, NULL},
     {"truth", "FILE", OPT_STR, 0, 0, SO(truth), 0, 0, "file", NULL, "ground-truth JSON", NULL, NULL},
     {"pose-out", "FILE", OPT_STR, 0, 0, SO(pose_out), 0, 0, "file", NULL,
@@ -256,7 +259,7 @@ int main(int argc, char **argv)
     if (opt_parse_argv(&schema, argc, argv, &o, NULL, &action, err, sizeof(err)) != HOST_OK || action >= 0) {
         if (action < 0)
             fprintf(stderr, "sonar_sim: %s\n", err);
-        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|occupied|far|still|faces|faint|lanes|turns|laps|activity|near --out FILE.csv --truth FILE.json "
+        fprintf(stderr, "usage: sonar_sim --scene pool|open|moving|sector|vehicle|tank|occupied|far|still|faces|faint|lanes|turns|laps|activity|near --out FILE.csv --truth FILE.json "
                         "[--pose-out FILE.csv] [--sweeps N] [--seed S] [--transients] [--empty | --water FILE.csv]\n");
         opt_usage(&schema, stderr);
         return action >= 0 ? 0 : 2;

@@ -113,7 +113,7 @@ def status_json(m, hub):
             "beams_rejected", "sink_errors", "last_sweep_s", "beam_us_p50", "beam_us_p99", "tracks", "pose_state",
             "passive", "passive_idle", "survey_state", "survey_why", "survey_fixed", "survey_utime", "survey_sweeps",
             "survey_turn_grad", "survey_places", "control", "control_seq", "control_result", "control_said",
-            "survey_rec", "survey_rec_sweeps", "survey_rec_of", "survey_rec_said"]
+            "survey_rec", "survey_rec_sweeps", "survey_rec_of", "survey_rec_said", "blank_beams", "interference_beams"]
     out = {k: getattr(m, k, 0) for k in keys}  # an older sonard's status has no survey or control: 0, none
     out["utime"] = m.utime
     return out
@@ -166,7 +166,7 @@ def lcm_setup(url, hub, types_dir):
     def on_det(data):
         m = detections_t.decode(data)
         hub.text({"kind": "detections", "sweep": m.sweep, "utime": m.utime, "detections": [
-            {"x": d.x_m, "y": d.y_m, "structure": d.kind == 1, "since_start": d.kind == 2,
+            {"x": d.x_m, "y": d.y_m, "structure": d.kind in (1, 3), "echo": d.kind == 3, "since_start": d.kind == 2,
              "hull": [[x, y] for x, y in zip(d.hull_x, d.hull_y)]}
             for d in m.detections]})
 

@@ -142,9 +142,9 @@ function shapes() {
   for (const d of view.detections) {
     if (!d.hull.length) continue;
     // objects in red (orange: there and still since the first look, with no survey to say it is no object);
-    // structure (walls, ropes, what was learnt as structure) dashed grey
-    octx.strokeStyle = d.structure ? "rgba(190,190,190,0.7)" : d.since_start ? "#ffa657" : "#ff5c5c";
-    octx.setLineDash(d.structure ? [5, 4] : []);
+    // structure (walls, ropes, what was learnt as structure) dashed grey; a wall's echo behind it dotted, darker
+    octx.strokeStyle = d.echo ? "rgba(120,120,130,0.6)" : d.structure ? "rgba(190,190,190,0.7)" : d.since_start ? "#ffa657" : "#ff5c5c";
+    octx.setLineDash(d.echo ? [2, 4] : d.structure ? [5, 4] : []);
     octx.beginPath();
     d.hull.forEach(([x, y], i) => { const [u, v] = view.toPixel(x, y); i ? octx.lineTo(u, v) : octx.moveTo(u, v); });
     octx.closePath(); octx.stroke();
@@ -224,8 +224,9 @@ setInterval(() => {
     h += row("processing a beam p50 / p99", `${st.beam_us_p50.toFixed(1)} / ${st.beam_us_p99.toFixed(1)} µs`);
     h += row("sweeps", st.sweeps);
     h += row("tracks", st.tracks);
-    for (const k of ["checksum_errors", "timeouts", "retries", "nacks", "reconnects", "off_angle", "beams_rejected", "sink_errors"])
-      h += row(k.replace("_", " "), st[k], st[k] > 0 && k !== "retries");
+    for (const k of ["checksum_errors", "timeouts", "retries", "nacks", "reconnects", "off_angle", "beams_rejected", "sink_errors",
+                     "blank_beams", "interference_beams"])
+      h += row(k.replace(/_/g, " "), st[k] || 0, st[k] > 0 && k !== "retries");
   }
   h += row("beams / s", beamTimes.length);
   h += row("frames / s", view.stats.fps);

@@ -15,6 +15,7 @@
 #include "sonar/gain.h"
 #include "sonar/scan.h"
 #include "sonar/sweep.h"
+#include "sonar/streak.h"
 #include "sonar/structure.h"
 #include "sonar/survey.h"
 #include "sonar/tracker.h"
@@ -51,6 +52,7 @@ SIZE(kmeans, sonar_point)
 SIZE(frame, sonar_xy)
 SIZE(detector, sonar_detector_run)
 SIZE(detector, sonar_detection)
+SIZE(streak, sonar_streak)
 SIZE(structure, sonar_place)
 SIZE(structure, sonar_structure)
 SIZE(pose, sonar_pose)

@@ -1,0 +1,45 @@
+/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); O(1) a beam after the background's count, 8 B of state. */
+#include "sonar/streak.h"
+
+#include <string.h>
+
+#include "sonar/frame.h"
+
+void sonar_streak_init(struct sonar_streak *s)
+{
+    memset(s, 0, sizeof(*s));
+}
+
+int sonar_streak_judge(struct sonar_streak *s, uint16_t angle, int64_t utime, int standing, uint16_t length)
+{
+    uint32_t share;
+    int near = s->have_ref && sonar_frame_gap(s->last_angle, angle) <= SONAR_STREAK_NEAR_GRAD &&
+               utime - s->last_us >= 0 && utime - s->last_us <= SONAR_STREAK_NEAR_US;
+    s->last_angle = angle;
+    s->last_us = utime;
+    if (standing < 0 || length < SONAR_STREAK_MIN_LEN) {
+        s->have_ref = 0;
+        s->run = 0;
+        return 0;
+    }
+    /* The share in 256ths, so that the ratio to a quiet reference stays an integer test. */
+    share = (uint32_t)standing * 256u / length;
+    if (near && s->run < SONAR_STREAK_MAX_RUN && share >= (uint32_t)SONAR_STREAK_16 * 16u &&
+        share >= (uint32_t)SONAR_STREAK_RATIO * s->ref256) {
+        s->beams++;
+        s->run++;
+        return 1;
+    }
+    s->ref256 = (uint16_t)(share > 256u ? 256u : share);
+    s->have_ref = 1;
+    s->run = 0;
+    return 0;
+}
+
+uint16_t sonar_streak_from(const uint8_t *s, uint16_t n)
+{
+    uint16_t i;
+    for (i = 0; i < n && s[i] == 0u; i++)
+        ;
+    return i;
+}
