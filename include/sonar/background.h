@@ -131,14 +131,6 @@ SONAR_CHECK int sonar_background_apply(struct sonar_background *bg, uint16_t ang
  */
 int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle);
 
-/*
- * Reads, learns nothing: how many of the samples in[from..n) stand above the model angle's beam would
- * be compared with (its row once learnt, else the across-beam model once seeded; range mode: its one
- * row) by more than margin grey levels. -1 when there is no such model yet (every row and the
- * across-beam model still seeding), in off mode, for the world grid, or when n is not the model's.
- */
-int sonar_background_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n,
-                              uint16_t from, uint8_t margin);
 
 /*
  * sonar_background_apply with the spans of the beam that lie under tracked objects (nkeep of them,

@@ -4,6 +4,7 @@
 
 #include <stdint.h>
 
+#include "sonar/background.h"
 #include "sonar/err.h"
 
 /*
@@ -11,7 +12,7 @@
  * fills the whole beam it lands in: a bright streak from the transducer outwards, one or a few beams
  * wide. No echo does that: a wall is a line across the beams, a person a blob, the water's clutter
  * speckle. A beam is a streak when at least SONAR_STREAK_16 sixteenths of its length (from its first
- * nonzero sample: some recorders zero the near samples) stand above the background (sonar_background_standing)
+ * nonzero sample: some recorders zero the near samples) stand above the background (sonar_streak_standing)
  * and at least SONAR_STREAK_RATIO times the share of the last beam that was not a streak, all beams
  * between being neighbours (SONAR_STREAK_NEAR_GRAD, SONAR_STREAK_NEAR_US): a sector of dense clutter or
  * a wall along the beams raises its neighbours too, and a beam after a jump (a sector's start, a pause
@@ -40,12 +41,21 @@ struct sonar_streak {
     uint8_t run;      /* streaks in a row just before */
 };
 
+/*
+ * Reads, learns nothing: how many of the samples in[from..n) stand above the background model angle's
+ * beam would be compared with (its row once learnt, else the across-beam model once seeded; range mode:
+ * its one row) by more than margin grey levels. -1 when there is no such model yet (every row and the
+ * across-beam model still seeding), in off mode, for the world grid, or when n is not the model's.
+ */
+int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,
+                          uint8_t margin);
+
 /* Starts with no beam seen. s must not be NULL. */
 void sonar_streak_init(struct sonar_streak *s);
 
 /*
  * Judges one beam at angle (gradians 0..399) and utime (us): standing of its length samples stand above
- * the background (sonar_background_standing; negative: no model yet, never a streak). Returns 1 for a
+ * the background (sonar_streak_standing; negative: no model yet, never a streak). Returns 1 for a
  * streak (counted), 0 otherwise (the beam then becomes the reference for the next).
  */
 int sonar_streak_judge(struct sonar_streak *s, uint16_t angle, int64_t utime, int standing, uint16_t length);

@@ -470,28 +470,6 @@ int sonar_background_seeding(const struct sonar_background *bg, uint16_t angle)
     return v >= 0 && v < (int)bg->warmup;
 }
 
-int sonar_background_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n,
-                              uint16_t from, uint8_t margin)
-{
-    const uint8_t *model = NULL;
-    unsigned row;
-    int k = 0;
-    uint16_t i;
-    if (bg == NULL || in == NULL || bg->world || bg->mode == SONAR_BACKGROUND_OFF || angle > SONAR_GRAD_MAX ||
-        n != bg->n || n > SONAR_MAX_SAMPLES)
-        return -1;
-    row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
-    if (bg->visits[row] > bg->warmup)
-        model = bg->cell[row];
-    else if (bg->mode == SONAR_BACKGROUND_AUTO && bg->across_visits >= SONAR_BG_ACROSS_WARMUP)
-        model = bg->across;
-    if (model == NULL)
-        return -1;
-    for (i = from; i < n; i++)
-        k += (unsigned)in[i] > (unsigned)model[i] + margin;
-    return k;
-}
-
 int sonar_background_learnt(const struct sonar_background *bg, uint16_t angle)
 {
     return row_visits(bg, angle) > (int)bg->warmup;

@@ -157,6 +157,33 @@ static uint8_t walls_and_echoes(struct sonar_detector *d, const struct sonar_det
     return (uint8_t)(ns + to_tail(out, at, oj, flag, SONAR_DET_WALL_ECHO, ns, sj));
 }
 
+/*
+ * Object o (centroid a, cluster j) into out's objects, largest first, at most max_clusters (equal sizes
+ * keep cluster order), taking the room of the last structure found when the array is full. Returns the
+ * structure's count, ns or one less.
+ */
+static uint8_t insert_object(const struct sonar_detector *d, struct sonar_detections *out, struct sonar_xy *at, uint8_t *oj,
+                             const struct sonar_detection *o, struct sonar_xy a, uint8_t j, uint8_t ns)
+{
+    uint8_t pos;
+    for (pos = out->count; pos > 0 && out->det[pos - 1].points < o->points; pos--)
+        ;
+    if (pos >= d->cfg.max_clusters)
+        return ns;
+    if (out->count == d->cfg.max_clusters)
+        out->count--;
+    else if (out->count + ns == SONAR_MAX_CLUSTERS)
+        ns--; /* an object before structure */
+    memmove(&out->det[pos + 1], &out->det[pos], (size_t)(out->count - pos) * sizeof(*o));
+    memmove(&at[pos + 1], &at[pos], (size_t)(out->count - pos) * sizeof(a));
+    memmove(&oj[pos + 1], &oj[pos], (size_t)(out->count - pos));
+    out->det[pos] = *o;
+    at[pos] = a;
+    oj[pos] = j;
+    out->count++;
+    return ns;
+}
+
 int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
 {
     struct sonar_xy c[SONAR_MAX_CLUSTERS], at[SONAR_MAX_CLUSTERS];
@@ -184,7 +211,6 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
         for (j = 0; j < k; j++) {
             struct sonar_detection o;
             struct sonar_xy a;
-            uint8_t pos;
             int cut = 0;
             for (q = 0; q < k; q++)
                 cut |= q != j && part[q] == part[j];
@@ -198,22 +224,7 @@ int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out)
                 }
                 continue;
             }
-            /* Largest first, at most max_clusters; equal sizes keep cluster order. */
-            for (pos = out->count; pos > 0 && out->det[pos - 1].points < o.points; pos--)
-                ;
-            if (pos >= d->cfg.max_clusters)
-                continue;
-            if (out->count == d->cfg.max_clusters)
-                out->count--;
-            else if (out->count + ns == SONAR_MAX_CLUSTERS)
-                ns--; /* an object before structure */
-            memmove(&out->det[pos + 1], &out->det[pos], (size_t)(out->count - pos) * sizeof(o));
-            memmove(&at[pos + 1], &at[pos], (size_t)(out->count - pos) * sizeof(a));
-            memmove(&oj[pos + 1], &oj[pos], (size_t)(out->count - pos));
-            out->det[pos] = o;
-            at[pos] = a;
-            oj[pos] = j;
-            out->count++;
+            ns = insert_object(d, out, at, oj, &o, a, j, ns);
         }
         ns = walls_and_echoes(d, cl, out, at, oj, ns, sj);
     }

@@ -163,7 +163,7 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint16_t from = sonar_streak_from(b, p->n);
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if (sonar_streak_judge(&p->streak, angle, utime,
-                           sonar_background_standing(p->bg, angle, b, p->n, from,
+                           sonar_streak_standing(p->bg, angle, b, p->n, from,
                                                      p->bg->margin > SONAR_STREAK_MARGIN ? p->bg->margin : SONAR_STREAK_MARGIN),
                            (uint16_t)(p->n - from))) {
         /*

@@ -1,9 +1,31 @@
-/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); O(1) a beam after the background's count, 8 B of state. */
+/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); one read-only pass over a beam against the background model, 24 B of state. */
 #include "sonar/streak.h"
 
 #include <string.h>
 
 #include "sonar/frame.h"
+
+int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,
+                          uint8_t margin)
+{
+    const uint8_t *model = NULL;
+    unsigned row;
+    int k = 0;
+    uint16_t i;
+    if (bg == NULL || in == NULL || bg->world || bg->mode == SONAR_BACKGROUND_OFF || angle > SONAR_GRAD_MAX ||
+        n != bg->n || n > SONAR_MAX_SAMPLES)
+        return -1;
+    row = bg->mode == SONAR_BACKGROUND_RANGE ? 0u : (unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN;
+    if (bg->visits[row] > bg->warmup)
+        model = bg->cell[row];
+    else if (bg->mode == SONAR_BACKGROUND_AUTO && bg->across_visits >= SONAR_BG_ACROSS_WARMUP)
+        model = bg->across;
+    if (model == NULL)
+        return -1;
+    for (i = from; i < n; i++)
+        k += (unsigned)in[i] > (unsigned)model[i] + margin;
+    return k;
+}
 
 void sonar_streak_init(struct sonar_streak *s)
 {
