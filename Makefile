@@ -36,7 +36,7 @@ LCM_TYPES = $(wildcard lcm_types/*.lcm)
 LCM_NAMES = $(LCM_TYPES:lcm_types/%.lcm=%)
 LCM_OBJ   = $(LCM_NAMES:%=$(BUILD)/lcm/c/%.o)
 LCM_GEN   = /usr/bin/lcm-gen
-UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages detector_walls streak tracker tracker_walls clutter activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
+UNIT      = ping ping360 device cpframe bgfile survey structure geometry median cfar background sweep kmeans hull detector detector_stages detector_walls detector_edge edge streak tracker tracker_walls clutter activity pose obstacle pipeline csv posefile options discover pvbin optschema scan gain blueos
 UNIT_LIVE = app sinks mav source_pose_lcm msg link control
 UNIT_BIN  = $(UNIT:%=$(BUILD)/tests/test_%) $(UNIT_LIVE:%=$(BUILD)/tests/test_%)
 OPENCV_FLAGS = $(shell pkg-config --cflags --libs opencv4 2>/dev/null)

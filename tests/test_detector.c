@@ -51,6 +51,16 @@ static int run_sweep(const struct sonar_detector_config *c)
     return sonar_detector_end(&det, &out);
 }
 
+/* The same at every fourth gradian (100 beams of 4 gradians). */
+static int run_coarse_sweep(const struct sonar_detector_config *c)
+{
+    int a;
+    assert_int_equal(sonar_detector_init(&det, c), SONAR_OK);
+    for (a = 0; a < 400; a += 4)
+        assert_int_equal(sonar_detector_add(&det, (uint16_t)a, fg[a], N, RANGE, 1000 * a), SONAR_OK);
+    return sonar_detector_end(&det, &out);
+}
+
 static void expect_at(const struct sonar_detection *d, double angle, double sample)
 {
     double x, y;
@@ -185,8 +195,15 @@ static void test_min_beams_and_max_extent(void **state)
     blob(20, 20, 100, 159, 200);  /* one beam, 60 cells: a zero-area line */
     blob(100, 104, 100, 119, 200); /* 5 beams, ~0.2 m */
     blob(200, 230, 500, 503, 200); /* a 31-beam arc at 10 m: ~4.9 m wide */
-    assert_int_equal(run_sweep(&c), 3);
+    /* At 1-gradian steps the 2-degree beams overlap: no reflector lights one beam alone, so that one is a fragment. */
+    assert_int_equal(run_sweep(&c), 2);
+    c.min_beams = 6;
+    assert_int_equal(run_sweep(&c), 1);
+    /* At 4-gradian steps (3.6 degrees) they do not: one beam is a reflector's whole echo, and kept. */
+    c.min_beams = 0;
+    assert_int_equal(run_coarse_sweep(&c), 3);
     c.min_beams = 2;
+    assert_int_equal(run_coarse_sweep(&c), 2);
     assert_int_equal(run_sweep(&c), 2);
     c.max_extent_m = 3.0f;
     /* The arc is wider than any object: reported after the objects, as structure. */

@@ -23,7 +23,10 @@
  * >= min_points cells (>= track_points within track_m of a detection of the previous sweep) covering
  * >= min_area_m2 square metres and >= min_footprints of a point target's footprint at its range (the
  * sample's depth times the beam's width there: what the sonar resolves, which no echo is smaller than),
- * spans >= min_beams beams, lies at >= min_range_m, is no longer along the beam than max_aspect
+ * spans >= min_beams beams (and two or more where the sweep's step is at most half the beam's width:
+ * the beams overlap there, so every reflector inside the sector lights two, and a cluster on one beam is
+ * a fragment, the CFAR's cut end of a longer return or a speck), lies at >= min_range_m, is no longer
+ * along the beam than max_aspect
  * times its width across, and, when cut from a wider group, has >= split_points cells. At most
  * max_clusters detections, the largest first. A cluster that passes every rule but is wider than
  * max_extent_m is structure (a wall, a rope): reported after the objects, kind SONAR_DET_STRUCTURE,
@@ -94,6 +97,33 @@ enum sonar_det_threshold {
  * pieces on the RoboSub sweeps and the simulated tank; docs/decisions.md).
  */
 #define SONAR_DET_WALL_GAP_M 0.5f
+
+/*
+ * The water's boundary in one look. In a tank, a pool or a harbour every beam's leading edge (its
+ * first echo at least half as strong as its strongest: edge.h) is the wall where nothing nearer
+ * overshadows it, and it runs on smoothly from beam to beam, obliquely or not. A cluster is that
+ * wall, structure however thick the beam makes it or short the sector cuts it, when:
+ *  - it holds the leading edge (within the pulse, or starting up to SONAR_DET_EDGE_JUMP_M behind it,
+ *    where the CFAR cut an oblique wall's slowly rising return) on SONAR_DET_EDGE_16 sixteenths of its
+ *    beams that nothing nearer hides;
+ *  - it is no deeper on a beam than a line (SONAR_DET_LINE_M) plus what the edge's range changes across
+ *    the beam's width there, but on SONAR_DET_LINE_THICK_16 sixteenths of its beams (a person is as deep
+ *    as the body, whatever the slope);
+ *  - and beside it the edge runs on along its slope, each beam within SONAR_DET_EDGE_JUMP_M of where the
+ *    last two point and at least half as strong as the cluster, for SONAR_DET_WALL_M over
+ *    SONAR_DET_EDGE_BEAMS beams or more on one side (behind something nearer, at most
+ *    SONAR_DET_EDGE_HIDE_M across at the wall's range, it is looked for where it comes out; a beam left
+ *    out, a streak, is bridged); or the sector's end cuts it on one side and on the other it ends there
+ *    too or behind something nearer, SONAR_DET_WALL_M longer than a point target's smear with what runs on.
+ * A person or a buoy takes the edge over on its own beams a body's depth or more before the wall (a
+ * 0.2 m buoy 0.6 m before it: 0.6 m): the edge jumps back on both its sides, or beside it the water is
+ * open. Something touching the wall is one with it in a single look. docs/decisions.md ("The water's
+ * boundary").
+ */
+#define SONAR_DET_EDGE_16 8
+#define SONAR_DET_EDGE_BEAMS 3
+#define SONAR_DET_EDGE_JUMP_M 0.15f
+#define SONAR_DET_EDGE_HIDE_M 1.0f /* a wall runs on behind something nearer at most this wide (a person, a prop) */
 
 struct sonar_detector_config {
     uint8_t threshold_mode; /* enum sonar_det_threshold */
@@ -205,6 +235,8 @@ struct sonar_detector {
     int64_t utime;
     int64_t t0;                                 /* utime of the sweep's first beam */
     uint16_t dt_ms[SONAR_MAX_SWEEP_BEAMS];      /* each beam's time after t0, ms (saturating at 65.5 s) */
+    uint16_t edge[SONAR_MAX_SWEEP_BEAMS];       /* each beam's leading edge, sample (sonar_detector_set_edge) ... */
+    uint8_t top[SONAR_MAX_SWEEP_BEAMS];         /* ... and its strongest level */
     uint32_t sweep;
     uint32_t runs_dropped;
     uint16_t nruns, beams, n;
@@ -239,6 +271,15 @@ SONAR_CHECK int sonar_detector_add(struct sonar_detector *d, uint16_t angle, con
  */
 SONAR_CHECK int sonar_detector_add_blocks(struct sonar_detector *d, uint16_t angle, const uint8_t *fg, const uint8_t *on,
                                           uint16_t n, float range_m, int64_t utime);
+
+/*
+ * The leading edge (edge.h: sonar_edge_leading, of the beam before its background is taken away) of
+ * the beam last added, as a sample of it (n or more for none, also what a beam added without it
+ * holds), and the beam's strongest level beyond the ring-down (top, 0..255). A cluster holding the leading edge of its beams, which runs on smoothly across
+ * SONAR_DET_EDGE_BEAMS beams beside it, is the water's boundary: structure (SONAR_DET_EDGE_JUMP_M).
+ * Call it right after a sonar_detector_add or _add_blocks that returned SONAR_OK.
+ */
+void sonar_detector_set_edge(struct sonar_detector *d, uint16_t sample, uint8_t top);
 
 /* Ends the sweep: fills *out and starts the next sweep. Returns the detection count or SONAR_ERR_ARG. */
 SONAR_CHECK int sonar_detector_end(struct sonar_detector *d, struct sonar_detections *out);

@@ -108,6 +108,8 @@ struct sonar_pipeline {
     uint8_t have_before;                       /* before holds the block sums of the beam before it */
     uint16_t wait_angle;                       /* the waiting beam's angle (gradians) ... */
     int64_t wait_utime;                        /* ... and time */
+    uint16_t wait_edge;                        /* ... and leading edge and strongest level (sonar_detector_set_edge) */
+    uint8_t wait_top;
     uint16_t before_angle;                     /* the beam before the waiting one: its angle ... */
     uint16_t before[SONAR_CFAR_MAX_BLOCKS];    /* ... and block sums (cfar.h) */
     uint16_t wait_sums[SONAR_CFAR_MAX_BLOCKS]; /* the waiting beam's block sums */

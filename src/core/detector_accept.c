@@ -47,13 +47,6 @@ static int tracked(const struct sonar_detector *d, int32_t x, int32_t y)
     return 0;
 }
 
-/* The sweep's step between beams, gradians (1 for a sweep of one beam). */
-static uint16_t sweep_step(const struct sonar_detector *d)
-{
-    uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
-    return step ? step : 1u;
-}
-
 /*
  * Is cluster cl, centroid (x, y) mm, an object? Every rule but the hull's diameter; `cut` = the
  * cluster is a piece of a wider group.
@@ -66,18 +59,24 @@ static int passes(const struct sonar_detector *d, const struct sonar_det_cluster
         need = d->cfg.track_points;
     if (w < need || cl->nbeams < d->cfg.min_beams || (cut && w < d->cfg.split_points) || rc < (double)d->cfg.min_range_m)
         return 0;
+    /*
+     * Where the beams overlap (the step at most half the beam's width), a reflector inside the sector lights two
+     * beams or more: a cluster on one beam is a fragment (the CFAR's cut end of a longer return, a speck).
+     */
+    if (cl->nbeams < 2u && (double)sonar_det_step(d) * SONAR_DEG_PER_GRAD <= SONAR_BEAM_WIDTH_DEG / 2.0)
+        return 0;
     if (d->cfg.min_area_m2 > 0.0f || d->cfg.min_footprints > 0.0f) {
         /* Each cell is range/n deep and r x step wide at its range r = (sample + 1/2) range/n; a point target's
            footprint at the cluster's range, range/n deep and the beam's width across. */
         double dr = (double)d->range_m / (double)d->n;
-        double area = (double)cl->rw * 0.5 * dr * dr * sonar_frame_rad((double)sweep_step(d));
+        double area = (double)cl->rw * 0.5 * dr * dr * sonar_frame_rad((double)sonar_det_step(d));
         double foot = dr * rc * SONAR_BEAM_WIDTH_DEG * SONAR_RAD_PER_DEG;
         if (area < (double)d->cfg.min_area_m2 || area < (double)d->cfg.min_footprints * foot)
             return 0;
     }
     if (d->cfg.max_aspect > 0.0f) {
         /* Along: the cells' range span. Across: its beams times the sweep's step, at the centroid's range. */
-        uint16_t step = sweep_step(d);
+        uint16_t step = sonar_det_step(d);
         uint32_t rlo = cl->rlo, rhi = cl->rhi;
         uint16_t nbeams = cl->nbeams;
         double along = (double)(rhi - rlo + 1u) * (double)d->range_m / (double)d->n;
@@ -214,7 +213,8 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
     wide = (d->cfg.max_extent_m > 0.0f && wider_than(hs.hull, h, d->cfg.max_extent_m)) ||
            (cut && sonar_det_thin(cl->thick, cl->nbeams)) ||
            (d->cfg.max_extent_m > 0.0f &&
-            wall_line(cl, hs.hull, h, sonar_det_smear_mm(d, sqrt((double)at->x * at->x + (double)at->y * at->y))));
+            (wall_line(cl, hs.hull, h, sonar_det_smear_mm(d, sqrt((double)at->x * at->x + (double)at->y * at->y))) ||
+             sonar_det_on_edge(d, j, cl)));
     if (d->cfg.angle_offset != 0.0f) {
         double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);

@@ -45,6 +45,13 @@ static inline int sonar_det_thin(uint32_t thick, uint32_t beams)
     return 16u * thick <= (uint32_t)SONAR_DET_LINE_THICK_16 * beams;
 }
 
+/* The sweep's step between beams, gradians (1 for a sweep of one beam, or a first gap of none). */
+static inline uint16_t sonar_det_step(const struct sonar_detector *d)
+{
+    uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
+    return step ? step : 1u;
+}
+
 /*
  * How wide a point target at range_mm looks across the beams, mm: the beam's width and the sweep's step
  * (a target is seen on every beam whose half-power width reaches it). A wall must be longer than this
@@ -52,8 +59,7 @@ static inline int sonar_det_thin(uint32_t thick, uint32_t beams)
  */
 static inline double sonar_det_smear_mm(const struct sonar_detector *d, double range_mm)
 {
-    uint16_t step = d->beams > 1u ? sonar_frame_gap(d->angles[0], d->angles[1]) : 1u;
-    return range_mm * (SONAR_BEAM_WIDTH_DEG * SONAR_RAD_PER_DEG + sonar_frame_rad((double)(step ? step : 1u)));
+    return range_mm * (SONAR_BEAM_WIDTH_DEG * SONAR_RAD_PER_DEG + sonar_frame_rad((double)sonar_det_step(d)));
 }
 
 /* Stage 4, detector_accept.c: cl[j] for the k clusters (labels 0..k-1), in one pass over the runs. */
@@ -67,6 +73,12 @@ void sonar_det_clusters(const struct sonar_detector *d, uint8_t k, struct sonar_
  */
 int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, int cut,
                      struct sonar_detection *o, struct sonar_xy *at);
+
+/*
+ * Stage 4, detector_edge.c: does cluster j (cl from sonar_det_clusters) hold the leading edge of its
+ * beams, the edge running on smoothly beside it (detector.h, SONAR_DET_EDGE_JUMP_M)? One pass over its runs.
+ */
+int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl);
 
 /*
  * Stage 5, detector_wall.c: of the n objects det (hulls in metres), sets wall[i] for each that is a

@@ -190,6 +190,8 @@ static int open_beam(struct sonar_detector *d, uint16_t angle, const uint8_t *fg
     /* Milliseconds are plenty (a beam takes 28 ms or more) and halve the log. A clock that steps
        back inside a sweep counts as no time; a sweep longer than 65.5 s saturates. */
     d->dt_ms[beam] = (uint16_t)(utime <= d->t0 ? 0 : ((utime - d->t0) / 1000 > 65535 ? 65535 : (utime - d->t0) / 1000));
+    d->edge[beam] = n; /* none until sonar_detector_set_edge */
+    d->top[beam] = 0;
     return beam;
 }
 

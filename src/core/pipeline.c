@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "pipeline_internal.h"
+#include "sonar/edge.h"
 #include "sonar/frame.h"
 
 
@@ -145,6 +146,8 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
     if (r < 0)
         return r;
     r = sonar_detector_add_blocks(&p->det, p->wait_angle, fg, on, p->n, p->range_m, p->wait_utime);
+    if (r == SONAR_OK)
+        sonar_detector_set_edge(&p->det, p->wait_edge, p->wait_top);
     p->waiting = 0;
     p->before_angle = p->wait_angle;
     p->have_before = 1;
@@ -153,14 +156,22 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
     return r == SONAR_ERR_FULL ? SONAR_OK : r;
 }
 
+/* The ring-down's samples, where no edge is looked for: the detector's min_range_m, at least SONAR_PIPE_NEAR_M. */
+static uint16_t near_samples(const struct sonar_pipeline *p)
+{
+    double m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
+    double s = ceil(m * (double)p->n / (double)p->range_m);
+    return (uint16_t)(s > (double)p->n ? (double)p->n : s);
+}
+
 /* Median output (in buf[cur]) -> background, in place -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
     struct sonar_bg_span sp[SONAR_MAX_TRACKS], learn[SONAR_PIPE_LEARN_MAX];
     uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
-    uint8_t *b = p->buf[p->cur], nkeep, nlearn;
+    uint8_t *b = p->buf[p->cur], nkeep, nlearn, top;
     int r, done, judged = 0, seeding = sonar_background_seeding(p->bg, angle);
-    uint16_t from = sonar_streak_from(b, p->n);
+    uint16_t from = sonar_streak_from(b, p->n), edge;
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if (sonar_streak_judge(&p->streak, angle, utime,
                            sonar_streak_standing(p->bg, angle, b, p->n, from,
@@ -177,6 +188,8 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
         p->have_before = 0;
         return SONAR_OK;
     }
+    /* The leading edge before the background takes the walls away (detector.h, SONAR_DET_EDGE_JUMP_M). */
+    edge = sonar_edge_leading(b, near_samples(p), p->n, &top);
     sonar_survey_look(p->sv, p->bg, angle, b, p->n);
     if ((r = sonar_pipe_world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
@@ -192,6 +205,8 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
+        if (r == SONAR_OK)
+            sonar_detector_set_edge(&p->det, edge, top);
         return r == SONAR_ERR_FULL ? SONAR_OK : r;
     }
     if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
@@ -204,6 +219,8 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     p->wait_gap = judged ? SONAR_PIPE_ACROSS_GAP_SURVEY : SONAR_PIPE_ACROSS_GAP;
     p->wait_angle = angle;
     p->wait_utime = utime;
+    p->wait_edge = edge;
+    p->wait_top = top;
     p->cur ^= 1u;
     return SONAR_OK;
 }

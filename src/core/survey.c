@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "sonar/edge.h"
 #include "survey_internal.h"
 
 #define NONE 0xFFFFu
@@ -182,32 +183,6 @@ int sonar_survey_fits_beam(struct sonar_survey *sv, uint16_t n, float range_m, i
     return fits ? SONAR_SURVEY_OK : geometry ? SONAR_SURVEY_GAIN : SONAR_SURVEY_GEOMETRY;
 }
 
-/* The beam's strongest echo beyond the ring-down, its sample. */
-/* The largest of len bytes; with a constant len it vectorises at -O2. */
-#define SV_MAX_SPAN(x, len, top)                                                                                    \
-    for (i = 0; i < (len); i++)                                                                                    \
-        top = (x)[i] > top ? (x)[i] : top;
-
-static uint16_t strongest(const uint8_t *in, uint16_t from, uint16_t n)
-{
-    /* The top first, as a max over bytes, then where it first is: a quarter of the branchy search's time. */
-    uint16_t i, i0 = from;
-    uint8_t top = 0;
-    const uint8_t *at;
-    if (from >= n)
-        return from;
-    for (; i0 + 64u <= n; i0 = (uint16_t)(i0 + 64u)) {
-        const uint8_t *x = in + i0;
-        SV_MAX_SPAN(x, 64, top)
-    }
-    {
-        const uint8_t *x = in + i0;
-        SV_MAX_SPAN(x, n - i0, top)
-    }
-    at = memchr(in + from, top, (size_t)(n - from));
-    return at != NULL ? (uint16_t)(at - in) : from;
-}
-
 /* Samples that make SONAR_SURVEY_SIG_M at the survey's range (at least 2). */
 static uint16_t sig_tolerance(const struct sonar_survey *sv)
 {
@@ -241,7 +216,7 @@ void sonar_survey_look(struct sonar_survey *sv, const struct sonar_background *b
     uint8_t top = 0;
     if (sv == NULL || sv->state == SONAR_SURVEY_NONE || n != sv->meta.n || sv->near >= n)
         return;
-    at = strongest(in, sv->near, n);
+    at = sonar_edge_strongest(in, sv->near, n);
     sv->obs[row] = at;
     sv->looked[row / 8] = (uint8_t)(sv->looked[row / 8] | 1u << (row % 8));
     src = sv->src[row];
