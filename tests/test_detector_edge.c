@@ -9,6 +9,7 @@
 #include <cmocka.h>
 #include <math.h>
 
+#include "sonar/cfar.h"
 #include "sonar/detector.h"
 #include "sonar/edge.h"
 #include "sonar/pipeline.h"
@@ -46,7 +47,9 @@ static int run_sweep(int edges)
     assert_int_equal(sonar_detector_init(&det, &p.detector), SONAR_OK);
     for (a = 0; a < BEAMS; a++) {
         uint8_t top;
-        uint16_t e = sonar_edge_leading(raw[a], NEAR, N, &top);
+        uint16_t sums[SONAR_CFAR_MAX_BLOCKS], e;
+        assert_true(sonar_cfar_sums(raw[a], N, sums) >= 0);
+        e = sonar_edge_leading(raw[a], sums, NEAR, N, &top);
         assert_int_equal(sonar_detector_add(&det, (uint16_t)(150 + a), raw[a], N, RANGE, 30000 * a), SONAR_OK);
         if (edges)
             sonar_detector_set_edge(&det, e, top);
@@ -74,11 +77,11 @@ static void oblique_wall(void)
 {
     int b;
     water();
-    for (b = 0; b < 8; b++)
+    for (b = 0; b < 10; b++)
         echo(b, 560 - 6 * b, 40, 150);
-    for (b = 8; b < 18; b++)
-        echo(b, 300, 24, 200); /* the prop: 0.2 m deep, 0.7 m across at 2.5 m */
-    for (b = 18; b < 70; b++)
+    for (b = 10; b < 20; b++)
+        echo(b, 300, 24, 200); /* the prop: 0.2 m deep, 0.4 m across at 2.5 m */
+    for (b = 20; b < 70; b++)
         echo(b, 560 - 6 * b, 40, 150);
 }
 
@@ -105,15 +108,15 @@ static void test_wall_cut_by_the_sector(void **state)
 {
     (void)state;
     oblique_wall();
-    /* Without the edges: all three are objects (the piece 0.6 m by 0.3 m; the rest of the wall is too thick
+    /* Without the edges: all three are objects (the piece 0.75 m by 0.3 m; the rest of the wall is too thick
        for a line and too short for the oblique rule). */
     assert_int_equal(run_sweep(0), 3);
     assert_int_equal(count(SONAR_DET_OBJECT), 3);
     /* With them: the edge runs on from the piece behind the prop along the wall: both are structure, the prop
        stays an object. */
     assert_int_equal(run_sweep(1), 3);
-    assert_int_equal(kind_of(8 * 40), SONAR_DET_STRUCTURE);
-    assert_int_equal(kind_of(52 * 40), SONAR_DET_STRUCTURE);
+    assert_int_equal(kind_of(10 * 40), SONAR_DET_STRUCTURE);
+    assert_int_equal(kind_of(50 * 40), SONAR_DET_STRUCTURE);
     assert_int_equal(kind_of(10 * 24), SONAR_DET_OBJECT);
 }
 

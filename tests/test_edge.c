@@ -1,4 +1,4 @@
-/* test_edge.c -- a beam's strongest echo and its leading edge: the wall, past a ring-down's tail, not a weaker echo before it, none in an empty beam. */
+/* test_edge.c -- a beam's strongest echo and its leading edge (over the CFAR's block sums): the wall, past a ring-down's tail, not a weaker echo before it, none in an empty beam. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -7,11 +7,20 @@
 
 #include <cmocka.h>
 
+#include "sonar/cfar.h"
 #include "sonar/edge.h"
 
 #define N 1200
 
 static uint8_t s[N];
+static uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
+
+/* The leading edge of s[0 .. n) from `from`, over its block sums as the pipeline gives them. */
+static uint16_t lead(uint16_t from, uint16_t n, uint8_t *top)
+{
+    assert_true(sonar_cfar_sums(s, n, sums) >= 0);
+    return sonar_edge_leading(s, sums, from, n, top);
+}
 
 /* Quiet water (level 10), and level v over samples [a, b]. */
 static void water(void) { memset(s, 10, sizeof(s)); }
@@ -30,13 +39,16 @@ static void test_wall_is_the_edge(void **state)
     water();
     echo(800, 830, 180);
     echo(850, 900, 120); /* the wall's tail and echoes behind it, weaker */
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), 800);
+    assert_int_equal(lead(120, N, &top), 800);
     assert_int_equal(top, 180);
     assert_int_equal(sonar_edge_strongest(s, 120, N), 800);
-    /* A ramp: the edge is where the level first reaches half the strongest (90). */
-    echo(790, 799, 60);
-    echo(795, 799, 100);
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), 795);
+    /* A ramp: the first 8-sample block reaching half the strongest block's mean (90), and in it the first sample that does. */
+    echo(784, 791, 60);
+    echo(792, 799, 100);
+    assert_int_equal(lead(120, N, &top), 792);
+    echo(792, 799, 60);
+    echo(796, 799, 140); /* block 792..799: mean 100, its samples reach 90 at 796 */
+    assert_int_equal(lead(120, N, &top), 796);
 }
 
 /* A buoy before the wall as strong as half the wall or more takes the edge; a weaker echo does not. */
@@ -46,10 +58,13 @@ static void test_nearer_echo(void **state)
     (void)state;
     water();
     echo(800, 830, 180);
-    echo(500, 520, 70); /* weaker than half the wall: the water's speck, a rope */
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), 800);
-    echo(500, 520, 150); /* a buoy */
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), 500);
+    echo(496, 520, 70); /* weaker than half the wall: the water's speck, a rope */
+    assert_int_equal(lead(120, N, &top), 800);
+    echo(496, 520, 150); /* a buoy */
+    assert_int_equal(lead(120, N, &top), 496);
+    /* Found to the block (8 samples): a buoy beginning mid-block is found where the block's mean reaches half. */
+    echo(496, 499, 10);
+    assert_int_equal(lead(120, N, &top), 504);
     assert_int_equal(top, 180);
 }
 
@@ -64,11 +79,11 @@ static void test_ring_down_tail(void **state)
         s[i] = (uint8_t)(250 - i); /* decaying through `from` (120: level 130) to 51 */
     echo(200, 260, 30);            /* quiet only from here (a quarter of 130 is 32) */
     echo(600, 620, 100);
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), 600);
-    assert_int_equal(top, 130);
+    assert_int_equal(lead(120, N, &top), 600);
+    assert_int_equal(top, 126); /* the tail's block at from: 126.5 */
     /* Without the wall, the tail itself is no edge: nothing rises after it. */
     echo(600, 620, 30);
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), N);
+    assert_int_equal(lead(120, N, &top), N);
 }
 
 /* An empty beam (all 0 or 1 beyond from), from at or past n, a beam of one sample. */
@@ -77,42 +92,50 @@ static void test_none(void **state)
     uint8_t top = 99;
     (void)state;
     memset(s, 0, sizeof(s));
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), N);
+    assert_int_equal(lead(120, N, &top), N);
     assert_int_equal(top, 0);
     memset(s, 1, sizeof(s));
-    assert_int_equal(sonar_edge_leading(s, 120, N, &top), N);
+    assert_int_equal(lead(120, N, &top), N);
     water();
-    assert_int_equal(sonar_edge_leading(s, N, N, &top), N);
+    assert_int_equal(lead(N, N, &top), N);
     assert_int_equal(sonar_edge_strongest(s, N, N), N);
     s[0] = 5;
-    assert_int_equal(sonar_edge_leading(s, 0, 1, &top), 1); /* the whole beam is its strongest: no rise */
+    assert_int_equal(lead(0, 1, &top), 1); /* the whole beam is its strongest: no rise */
 }
 
-/* Every length and start (the 32-sample blocks and the rest): the same as a plain scan. */
-static void test_blocks_agree_with_a_scan(void **state)
+/* Every length and start (the lanes and the rest): the same as a plain scan of the blocks. */
+static void test_lanes_agree_with_a_scan(void **state)
 {
     uint16_t n, from, i;
     (void)state;
-    for (n = 1; n <= 200; n = (uint16_t)(n + 7))
-        for (from = 0; from < n; from = (uint16_t)(from + 5)) {
-            uint8_t top = 0, t, half, quiet;
-            uint16_t want = n;
+    for (n = 1; n <= 400; n = (uint16_t)(n + 13))
+        for (from = 0; from < n; from = (uint16_t)(from + 11)) {
+            unsigned nb = (n + 7u) / 8u, b, top = 0, want = n;
+            uint8_t t;
             for (i = 0; i < n; i++)
-                s[i] = (uint8_t)((i * 37u + n * 11u + from) % 97u + (i % 23u == 7u ? 150u : 0u));
-            for (i = from; i < n; i++)
-                top = s[i] > top ? s[i] : top;
-            half = (uint8_t)((top + 1u) / 2u);
-            quiet = (uint8_t)(top / 4u);
-            if (half > 1u) {
-                for (i = from; i < n && s[i] > quiet; i++)
+                s[i] = (uint8_t)((i * 37u + n * 11u + from) % 97u + (i % 53u == 7u ? 150u : 0u));
+            assert_true(sonar_cfar_sums(s, n, sums) >= 0);
+            for (b = (from + 7u) / 8u; b < nb; b++)
+                top = sums[b] > top ? sums[b] : top;
+            if (top >= 16u) {
+                for (b = (from + 7u) / 8u; b < nb && sums[b] > top / 4u; b++)
                     ;
-                for (; i < n && s[i] < half; i++)
+                for (; b < nb && sums[b] < top / 2u; b++)
                     ;
-                want = i;
+                for (i = (uint16_t)(b * 8u); i < n && s[i] * 16u < top; i++)
+                    ;
+                want = b < nb && i < n ? i : n;
             }
-            assert_int_equal(sonar_edge_leading(s, from, n, &t), want);
-            assert_int_equal(t, top);
+            assert_int_equal(sonar_edge_leading(s, sums, from, n, &t), want);
+            assert_int_equal(t, top / 8u);
         }
+    /* The strongest echo: its first sample, lanes or not. */
+    for (n = 1; n <= 300; n = (uint16_t)(n + 7)) {
+        memset(s, 3, n);
+        s[n - 1] = 9;
+        s[n / 2] = 9;
+        assert_int_equal(sonar_edge_strongest(s, 0, n), n / 2);
+    }
 }
 
 int main(void)
@@ -122,7 +145,7 @@ int main(void)
         cmocka_unit_test(test_nearer_echo),
         cmocka_unit_test(test_ring_down_tail),
         cmocka_unit_test(test_none),
-        cmocka_unit_test(test_blocks_agree_with_a_scan),
+        cmocka_unit_test(test_lanes_agree_with_a_scan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -99,8 +99,9 @@ enum sonar_det_threshold {
 #define SONAR_DET_WALL_GAP_M 0.5f
 
 /*
- * The water's boundary in one look. In a tank, a pool or a harbour every beam's leading edge (its
- * first echo at least half as strong as its strongest: edge.h) is the wall where nothing nearer
+ * The water's boundary in one look. In a tank, a pool or a harbour every beam's leading edge (the
+ * first echo of its foreground at least half as strong as its strongest: edge.h) is the wall, until
+ * the background has learnt it, where nothing nearer
  * overshadows it, and it runs on smoothly from beam to beam, obliquely or not. A cluster is that
  * wall, structure however thick the beam makes it or short the sector cuts it, when:
  *  - it holds the leading edge (within the pulse, or starting up to SONAR_DET_EDGE_JUMP_M behind it,
@@ -273,7 +274,7 @@ SONAR_CHECK int sonar_detector_add_blocks(struct sonar_detector *d, uint16_t ang
                                           uint16_t n, float range_m, int64_t utime);
 
 /*
- * The leading edge (edge.h: sonar_edge_leading, of the beam before its background is taken away) of
+ * The leading edge (edge.h: sonar_edge_leading, of the foreground the detector was given) of
  * the beam last added, as a sample of it (n or more for none, also what a beam added without it
  * holds), and the beam's strongest level beyond the ring-down (top, 0..255). A cluster holding the leading edge of its beams, which runs on smoothly across
  * SONAR_DET_EDGE_BEAMS beams beside it, is the water's boundary: structure (SONAR_DET_EDGE_JUMP_M).

@@ -103,10 +103,10 @@ struct hold {
 /*
  * How deep (samples) a wall's return on beam b may be: a line's depth (SONAR_DET_LINE_M), and as much as
  * the edge's range changes across the beam's width (its slope over the neighbours between first and last,
- * per_beam16: the beam width in sweep steps, 16ths). A person is deeper, as deep as the body, whatever the slope.
+ * or the cluster's, slope16, 16ths of a sample a beam, if steeper; per_beam16: the beam width in sweep steps, 16ths). A person is deeper, as deep as the body, whatever the slope.
  */
 static int32_t wall_depth(const struct sonar_detector *d, uint16_t b, uint16_t first, uint16_t last, uint16_t step,
-                          int32_t per_beam16)
+                          int32_t per_beam16, int32_t slope16)
 {
     int32_t lo = (int32_t)d->edge[b], hi = lo, span = 0;
     if (b > first && adjacent(d, (uint16_t)(b - 1u), step) && d->edge[b - 1u] < d->n) {
@@ -117,7 +117,10 @@ static int32_t wall_depth(const struct sonar_detector *d, uint16_t b, uint16_t f
         hi = (int32_t)d->edge[b + 1u];
         span++;
     }
-    return (int32_t)sonar_det_line_samples(d) + (span ? abs(hi - lo) * per_beam16 / (16 * span) : 0);
+    /* The slope is the steeper of the neighbours' and the cluster's (the edges are found to a CFAR block). */
+    if (span && abs(hi - lo) * 16 / span > abs(slope16))
+        slope16 = (hi - lo) * 16 / span;
+    return (int32_t)sonar_det_line_samples(d) + abs(slope16) * per_beam16 / 256;
 }
 
 /*
@@ -128,7 +131,7 @@ static int32_t wall_depth(const struct sonar_detector *d, uint16_t b, uint16_t f
  * wall's return (wall_depth).
  */
 static void hold_of(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl, uint16_t step,
-                    int32_t jump, uint16_t first, uint16_t last, struct hold *h)
+                    int32_t jump, uint16_t first, uint16_t last, int32_t slope16, struct hold *h)
 {
     const int32_t tol = 2;
     const int32_t per_beam16 = (int32_t)(16.0 * SONAR_BEAM_WIDTH_DEG / ((double)step * SONAR_DEG_PER_GRAD) + 0.5);
@@ -156,7 +159,7 @@ static void hold_of(const struct sonar_detector *d, uint8_t j, const struct sona
             h->nb++;
             lo = r->start;
             hi = r->start;
-            deep = first <= last ? wall_depth(d, beam, first, last, step, per_beam16) : INT32_MAX;
+            deep = first <= last ? wall_depth(d, beam, first, last, step, per_beam16, slope16) : INT32_MAX;
         }
         e = (int32_t)d->edge[r->beam];
         end = (int32_t)r->start + (int32_t)d->pts[i].w - 1;
@@ -188,15 +191,15 @@ int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct so
     if (cl->beam == 0xFFFFu || d->beams == 0u)
         return 0;
     step = sonar_det_step(d);
-    hold_of(d, j, cl, step, jump, 1u, 0u, &h);
+    hold_of(d, j, cl, step, jump, 1u, 0u, 0, &h);
     if (h.first == 0xFFFFu || 16u * h.held < (uint32_t)SONAR_DET_EDGE_16 * (h.nb - h.hidden))
-        return 0;
-    hold_of(d, j, cl, step, jump, h.first, h.last, &h);
-    if (!sonar_det_thin(h.thick, h.nb))
         return 0;
     /* The cluster's own slope along the edge, from the first and last beams that hold it (16ths of a sample a beam). */
     if (h.last > h.first)
         slope16 = ((int32_t)d->edge[h.last] - (int32_t)d->edge[h.first]) * 16 / (int32_t)(h.last - h.first);
+    hold_of(d, j, cl, step, jump, h.first, h.last, slope16, &h);
+    if (!sonar_det_thin(h.thick, h.nb))
+        return 0;
     lo = runs_on(d, h.first, -1, slope16, jump, h.top, step, need, &end_lo, &nlo);
     hi = runs_on(d, h.last, +1, slope16, jump, h.top, step, need, &end_hi, &nhi);
     if ((lo >= need && nlo >= SONAR_DET_EDGE_BEAMS) || (hi >= need && nhi >= SONAR_DET_EDGE_BEAMS))

@@ -1,7 +1,9 @@
-/* edge.c -- a beam's strongest echo and its leading edge (edge.h); one pass for the top, 32 bytes side by side (it vectorises), then memchr or two scans that stop at the edge; no state. */
+/* edge.c -- a beam's strongest echo (one pass, 32 bytes side by side: it vectorises, then memchr) and its leading edge (over the CFAR's 8-sample block sums, then one block); no state. */
 #include "sonar/edge.h"
 
 #include <string.h>
+
+#include "sonar/cfar.h"
 
 #define LANES 32 /* bytes compared side by side: the loops over them vectorise at -O2 (two SSE registers, 8 words on a Cortex-M) */
 
@@ -30,50 +32,47 @@ uint16_t sonar_edge_strongest(const uint8_t *s, uint16_t from, uint16_t n)
     return at != NULL ? (uint16_t)(at - s) : from;
 }
 
-/* The first sample of s[i .. n) at least lim, or n: LANES at a time (a compare and an or: it vectorises), then within. */
-static uint16_t first_at_least(const uint8_t *s, unsigned i, uint16_t n, uint8_t lim)
+#define SUM_LANES 16 /* block sums compared side by side (two SSE registers of 16-bit lanes): the loops vectorise */
+
+/* The first of sums[b .. nb) at least lim (above = 0) or at most lim (above = 1), or nb; SUM_LANES at a time, then within. */
+static unsigned first_sum(const uint16_t *sums, unsigned b, unsigned nb, unsigned lim, int above)
 {
     unsigned k;
-    for (; i + LANES <= n; i += LANES) {
-        uint8_t hit = 0;
-        for (k = 0; k < LANES; k++)
-            hit |= (uint8_t)(s[i + k] >= lim);
+    for (; b + SUM_LANES <= nb; b += SUM_LANES) {
+        uint16_t hit = 0;
+        if (above)
+            for (k = 0; k < SUM_LANES; k++)
+                hit |= (uint16_t)(sums[b + k] <= lim);
+        else
+            for (k = 0; k < SUM_LANES; k++)
+                hit |= (uint16_t)(sums[b + k] >= lim);
         if (hit)
             break;
     }
-    for (; i < n && s[i] < lim; i++)
+    for (; b < nb && (above ? sums[b] > lim : sums[b] < lim); b++)
         ;
-    return (uint16_t)i;
+    return b;
 }
 
-/* The first sample of s[i .. n) at most lim, or n: as first_at_least. */
-static uint16_t first_at_most(const uint8_t *s, unsigned i, uint16_t n, uint8_t lim)
+uint16_t sonar_edge_leading(const uint8_t *s, const uint16_t *sums, uint16_t from, uint16_t n, uint8_t *strongest)
 {
-    unsigned k;
-    for (; i + LANES <= n; i += LANES) {
-        uint8_t hit = 0;
-        for (k = 0; k < LANES; k++)
-            hit |= (uint8_t)(s[i + k] <= lim);
-        if (hit)
-            break;
-    }
-    for (; i < n && s[i] > lim; i++)
-        ;
-    return (uint16_t)i;
-}
-
-uint16_t sonar_edge_leading(const uint8_t *s, uint16_t from, uint16_t n, uint8_t *strongest)
-{
-    uint8_t top, half;
-    *strongest = 0;
-    if (from >= n)
-        return n;
-    top = top_of(s, from, n);
-    *strongest = top;
-    half = (uint8_t)((top + 1u) / 2u);
-    if (half <= 1u)
+    const unsigned nb = ((unsigned)n + SONAR_CFAR_BLOCK - 1u) / SONAR_CFAR_BLOCK;
+    unsigned b, first = ((unsigned)from + SONAR_CFAR_BLOCK - 1u) / SONAR_CFAR_BLOCK, i, k;
+    uint16_t lane[SUM_LANES] = {0}, top = 0;
+    for (b = first; b + SUM_LANES <= nb; b += SUM_LANES)
+        for (k = 0; k < SUM_LANES; k++)
+            lane[k] = sums[b + k] > lane[k] ? sums[b + k] : lane[k];
+    for (; b < nb; b++)
+        top = sums[b] > top ? sums[b] : top;
+    for (k = 0; k < SUM_LANES; k++)
+        top = lane[k] > top ? lane[k] : top;
+    *strongest = (uint8_t)(top / SONAR_CFAR_BLOCK);
+    if (top < 2u * SONAR_CFAR_BLOCK)
         return n;
     /* An edge rises out of quieter water (a quarter of the strongest): past the ring-down's tail, or anything
-       across from, first; then to half the strongest. */
-    return first_at_least(s, first_at_most(s, from, n, (uint8_t)(top / 4u)), n, half);
+       across from, first; then to half the strongest; then the first sample of that block to reach half. */
+    b = first_sum(sums, first_sum(sums, first, nb, top / 4u, 1), nb, top / 2u, 0);
+    for (i = b * SONAR_CFAR_BLOCK; i < n && (unsigned)s[i] * 2u * SONAR_CFAR_BLOCK < top; i++)
+        ;
+    return b < nb && i < n ? (uint16_t)i : n;
 }

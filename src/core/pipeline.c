@@ -188,8 +188,6 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
         p->have_before = 0;
         return SONAR_OK;
     }
-    /* The leading edge before the background takes the walls away (detector.h, SONAR_DET_EDGE_JUMP_M). */
-    edge = sonar_edge_leading(b, near_samples(p), p->n, &top);
     sonar_survey_look(p->sv, p->bg, angle, b, p->n);
     if ((r = sonar_pipe_world_background(p, utime, angle, &done)) != SONAR_OK)
         return r;
@@ -203,14 +201,19 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
             return r;
     }
     tap(p, SONAR_STAGE_FOREGROUND, utime, angle, b);
+    /*
+     * The leading edge of what stands out (detector.h, SONAR_DET_EDGE_JUMP_M), from the CFAR's block sums: the
+     * background takes away the ring-down's reverberation, which on a real Ping360 is as strong as a wall.
+     */
+    if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
+        return r;
+    edge = sonar_edge_leading(b, sums, near_samples(p), p->n, &top);
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
         if (r == SONAR_OK)
             sonar_detector_set_edge(&p->det, edge, top);
         return r == SONAR_ERR_FULL ? SONAR_OK : r;
     }
-    if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
-        return r;
     if (p->waiting && (r = release(p, sums, angle)) != SONAR_OK)
         return r;
     memcpy(p->wait_sums, sums, sizeof(sums));

@@ -250,15 +250,20 @@ def no_loss(B, W, real):
 def section(sh, B, W, have_real, real, docs, before=None):
     L = ["## 14. Walls, their echoes and interference in one look (issue 54)\n",
          "A vehicle's sonar often looks at a place once. In that single look sonard now tells apart, beside the objects "
-         "(`src/core/detector_accept.c`, `detector_wall.c`, `detector_echo.c`, `streak.c`; docs/decisions.md, \"Walls, "
-         "their echoes and streaks in one look\"): **walls** (kind structure): a line at least 0.6 m long, at most 0.25 m "
-         "thick and 4 times longer than thick; longer than 1.5 m, 6.5 times longer than thick (an oblique wall) or thin "
-         "on every beam (a corner); or thin pieces continuing one another or a wall within 0.3 m. **A wall's echo** "
-         "(kind `wall echo`): three quarters of its cells beyond the nearest wall on the same beams (or two beams "
-         "aside) and weaker than that wall. **Interference**: a beam standing above the background along half its "
-         "length and twice the share of the ordinary beam before it, a neighbour: left out of the background and the "
-         "detector, counted on SONAR_STATUS `interference_beams`. **Blank beams** (every sample 0 or 255) are skipped, "
-         "said and counted (`blank_beams`).\n"]
+         "(`src/core/detector_accept.c`, `detector_edge.c`, `detector_wall.c`, `detector_echo.c`, `streak.c`, `edge.c`; "
+         "docs/decisions.md, \"Walls, their echoes and streaks in one look\" and \"The water's boundary\"): **walls** "
+         "(kind structure): a line at least 0.6 m long, at most 0.25 m thick and 4 times longer than thick; longer "
+         "than 1.5 m, 6.5 times longer than thick (an oblique wall) or thin on every beam (a corner); thin pieces "
+         "continuing one another or a wall within 0.5 m; or **the water's boundary**: a cluster holding its beams' "
+         "leading edge (their first echo half as strong as their strongest), no deeper on a beam than a line plus "
+         "what the edge's range changes across the beam, beside which the edge runs on 0.6 m (within 0.15 m of its "
+         "slope, half as strong, behind something nearer up to 1 m across) or which the sector's end cuts. **A wall's "
+         "echo** (kind `wall echo`): three quarters of its cells beyond the nearest wall on the same beams (or two "
+         "beams aside) and weaker than that wall. **Interference**: a beam standing above the background along three "
+         "quarters of its length and twice the share of the ordinary beam before it, a neighbour: left out of the "
+         "background and the detector, counted on SONAR_STATUS `interference_beams`. **Blank beams** (every sample 0 "
+         "or 255) are skipped, said and counted (`blank_beams`). Where the beams overlap (a step of at most half the "
+         "beam's width) **a cluster on one beam** is a fragment, not an object.\n"]
     if have_real and os.path.isdir(os.path.join(real, "duke")):
         L.append("**The RoboSub sweeps** (../shared/data/real/duke, tuning; default options as a new user runs them, "
                  "`zcat F | sonard --replay - --json --range 5 --angle-offset 200`): detections a sweep by kind. No "
