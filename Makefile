@@ -479,7 +479,7 @@ $(BUILD)/mcu/bench-%.elf: src/mcu/bench_main.c src/mcu/startup.c src/mcu/board_a
 	  -nostartfiles --specs=nano.specs -T src/mcu/an500.ld -Wl,--gc-sections $(filter %.c,$^) -lm -o $@
 
 # The core's unit tests on the Cortex-M7: the same test files, CMocka's API from tests/mcu (semihosting output).
-MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages tracker tracker_walls clutter pose obstacle pipeline scan gain structure
+MCU_UNIT = ping ping360 device cpframe geometry median cfar background sweep kmeans hull detector detector_stages detector_edge edge streak tracker tracker_walls clutter pose obstacle pipeline scan gain structure
 # The core's cases as on the host (plus src/msg/view.c, which test_pipeline reads its world positions through).
 $(BUILD)/mcu/test_%.elf: tests/test_%.c tests/mcu/runner.c tests/mcu/cmocka.h src/mcu/startup.c src/mcu/board_an500.c src/mcu/board_common.c $(CORE_SRC) src/msg/view.c src/mcu/an500.ld
 	@mkdir -p $(dir $@)

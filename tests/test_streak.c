@@ -166,6 +166,39 @@ static void test_rule(void **state)
     }
 }
 
+/*
+ * The count against the model (SIMD on ARMv7E-M, lanes elsewhere): exact wherever it can decide (a
+ * beam standing on three eighths of its length or more), and below three eighths where it is scaled
+ * from a quarter of the beam; every start and pattern (the model's length is the beam's).
+ */
+static void test_standing_counts(void **state)
+{
+    int64_t t = 0;
+    uint8_t in[N];
+    const uint8_t *model;
+    uint16_t n, from, i, angle = 100;
+    unsigned p;
+    (void)state;
+    start(&t);
+    model = bg_.cell[(unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN];
+    for (p = 0; p < 12; p++)
+        for (n = N; n <= N; n++)
+            for (from = 0; from < 120; from = (uint16_t)(from + 7)) {
+                int want = 0, got;
+                for (i = 0; i < n; i++) {
+                    unsigned lit = p < 4 ? (i * (p + 1u)) % 8u < p * 2u : (i / (p + 1u)) % 3u != 0u;
+                    in[i] = (uint8_t)(lit ? (model[i] > 200 ? 255 : model[i] + 40) : model[i] / 2);
+                }
+                for (i = from; i < n; i++)
+                    want += (unsigned)in[i] > (unsigned)model[i] + 8u;
+                got = sonar_streak_standing(&bg_, angle, in, n, from, 8);
+                if (8 * want >= 3 * (n - from))
+                    assert_int_equal(got, want);
+                else
+                    assert_true(8 * got < 3 * (n - from) + 8 * 32);
+            }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -173,6 +206,7 @@ int main(void)
         cmocka_unit_test(test_no_streak_beside_a_lit_beam),
         cmocka_unit_test(test_sweep_of_interference),
         cmocka_unit_test(test_rule),
+        cmocka_unit_test(test_standing_counts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
