@@ -44,9 +44,7 @@ struct sonar_streak {
 /*
  * Reads, learns nothing: how many of the samples in[from..n) stand above the background model angle's
  * beam would be compared with (its row once learnt, else the across-beam model once seeded; range mode:
- * its one row) by more than margin grey levels: exact where it can matter, scaled from a quarter of the
- * beam where that quarter stands on less than a quarter of its samples (no streak, and a reference weak
- * enough not to matter). -1 when there is no such model yet (every row and the
+ * its one row) by more than margin grey levels. -1 when there is no such model yet (every row and the
  * across-beam model still seeding), in off mode, for the world grid, or when n is not the model's.
  */
 int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,

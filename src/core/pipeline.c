@@ -159,9 +159,9 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
 /* The ring-down's samples, where no edge is looked for: the detector's min_range_m, at least SONAR_PIPE_NEAR_M. */
 static uint16_t near_samples(const struct sonar_pipeline *p)
 {
-    double m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
-    double s = ceil(m * (double)p->n / (double)p->range_m);
-    return (uint16_t)(s > (double)p->n ? (double)p->n : s);
+    float m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
+    float s = m * (float)p->n / p->range_m + 1.0f; /* rounded up, without a libm call a beam */
+    return (uint16_t)(s > (float)p->n ? (float)p->n : s);
 }
 
 /* Median output (in buf[cur]) -> background, in place -> detector. */

@@ -1,4 +1,4 @@
-/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); a read-only look at a quarter of a beam against the background model, the whole beam where it stands out (32 samples side by side, or 4 with ARMv7E-M's SIMD), 24 B of state. */
+/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); one read-only pass over a beam against the background model (32 samples side by side, or 4 with ARMv7E-M's SIMD), 24 B of state. */
 #include "sonar/streak.h"
 
 #include <string.h>
@@ -10,32 +10,30 @@
 SONAR_STATIC_ASSERT(SONAR_MAX_SAMPLES / LANES < 256, streak_lane_counts_fit_a_byte);
 
 /*
- * Samples of in[from .. n) above model + margin (saturating at 255), over one block of LANES samples in
- * every `every` (1: all) and the rest of the beam after the last whole block; *seen gets how many were
- * looked at. On ARMv7E-M four at a time (in less the margin, saturating at 0, against the model: usub8
- * sets a lane's GE where the model is at least as high, sel picks 0 there and 1 elsewhere, usada8 adds
- * them up); elsewhere LANES byte counters (the loop vectorises), then their sum.
+ * Samples of in[from .. n) above model + margin (saturating at 255). On ARMv7E-M four at a time (in less
+ * the margin, saturating at 0, against the model: usub8 sets a lane's GE where the model is at least as
+ * high, sel picks 0 there and 1 elsewhere, usada8 adds them up); elsewhere LANES byte counters (the loop
+ * vectorises), then their sum. The same count either way.
  */
-static unsigned standing_count(const uint8_t *in, const uint8_t *model, uint16_t from, uint16_t n, uint8_t margin,
-                               unsigned every, unsigned *seen)
+static int standing_count(const uint8_t *in, const uint8_t *model, uint16_t from, uint16_t n, uint8_t margin)
 {
     unsigned i = from, k, total = 0;
 #if SONAR_SIMD32
     const uint32_t m4 = (uint32_t)margin * 0x01010101u;
     uint32_t acc = 0;
-    for (*seen = 0; i + LANES <= n; i += LANES * every, *seen += LANES)
-        for (k = i; k < i + LANES; k += 4u) {
-            uint32_t x, m;
-            memcpy(&x, in + k, 4);
-            memcpy(&m, model + k, 4);
-            (void)__usub8(m, __uqsub8(x, m4));
-            acc = __usada8(__sel(0u, 0x01010101u), 0u, acc);
-        }
+    for (; i + 4u <= n; i += 4u) {
+        uint32_t x, m;
+        memcpy(&x, in + i, 4);
+        memcpy(&m, model + i, 4);
+        (void)__usub8(m, __uqsub8(x, m4));
+        acc = __usada8(__sel(0u, 0x01010101u), 0u, acc);
+    }
     total = acc;
+    (void)k;
 #else
     const uint8_t lim = (uint8_t)(255u - margin);
     uint8_t count[LANES] = {0};
-    for (*seen = 0; i + LANES <= n; i += LANES * every, *seen += LANES)
+    for (; i + LANES <= n; i += LANES)
         for (k = 0; k < LANES; k++) {
             uint8_t above = model[i + k] > lim ? 255u : (uint8_t)(model[i + k] + margin);
             count[k] = (uint8_t)(count[k] + (in[i + k] > above));
@@ -43,25 +41,9 @@ static unsigned standing_count(const uint8_t *in, const uint8_t *model, uint16_t
     for (k = 0; k < LANES; k++)
         total += count[k];
 #endif
-    for (; i < n; i++, ++*seen)
+    for (; i < n; i++)
         total += (unsigned)in[i] > (unsigned)model[i] + margin;
-    return total;
-}
-
-/*
- * The count, exact wherever it can matter: a quarter of the beam first (one block in four). A beam that
- * stands on less than a quarter of those is no streak (that takes three quarters), and as the reference
- * it is weak enough that the next beam's test is its three quarters alone (twice its share is below
- * that), so its share scaled from the quarter does. Otherwise every sample is counted.
- */
-static int standing(const uint8_t *in, const uint8_t *model, uint16_t from, uint16_t n, uint8_t margin)
-{
-    unsigned seen, c = standing_count(in, model, from, n, margin, 4u, &seen);
-    if (seen == 0u)
-        return 0;
-    if (4u * c < seen)
-        return (int)(c * (unsigned)(n - from) / seen);
-    return (int)standing_count(in, model, from, n, margin, 1u, &seen);
+    return (int)total;
 }
 
 int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,
@@ -79,7 +61,7 @@ int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, con
         model = bg->across;
     if (model == NULL)
         return -1;
-    return standing(in, model, from, n, margin);
+    return standing_count(in, model, from, n, margin);
 }
 
 void sonar_streak_init(struct sonar_streak *s)
