@@ -156,14 +156,6 @@ static int release(struct sonar_pipeline *p, const uint16_t *next, uint16_t next
     return r == SONAR_ERR_FULL ? SONAR_OK : r;
 }
 
-/* The ring-down's samples, where no edge is looked for: the detector's min_range_m, at least SONAR_PIPE_NEAR_M. */
-static uint16_t near_samples(const struct sonar_pipeline *p)
-{
-    float m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
-    float s = m * (float)p->n / p->range_m + 1.0f; /* rounded up, without a libm call a beam */
-    return (uint16_t)(s > (float)p->n ? (float)p->n : s);
-}
-
 /* Median output (in buf[cur]) -> background, in place -> detector. */
 static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
 {
@@ -172,6 +164,7 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
     uint8_t *b = p->buf[p->cur], nkeep, nlearn, top;
     int r, done, judged = 0, seeding = sonar_background_seeding(p->bg, angle);
     uint16_t from = sonar_streak_from(b, p->n), edge;
+    float near;
     tap(p, SONAR_STAGE_MEDIAN, utime, angle, b);
     if (sonar_streak_judge(&p->streak, angle, utime,
                            sonar_streak_standing(p->bg, angle, b, p->n, from,
@@ -207,7 +200,8 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
      */
     if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
         return r;
-    edge = sonar_edge_leading(b, sums, near_samples(p), p->n, &top);
+    near = sonar_pipe_near_m(p) * (float)p->n / p->range_m + 1.0f; /* rounded up */
+    edge = sonar_edge_leading(b, sums, (uint16_t)(near < (float)p->n ? near : (float)p->n), p->n, &top);
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
         if (r == SONAR_OK)

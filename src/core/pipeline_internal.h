@@ -33,4 +33,10 @@ int sonar_pipe_world_background(struct sonar_pipeline *p, int64_t utime, uint16_
 uint8_t sonar_pipe_keep_spans(const struct sonar_pipeline *p, uint16_t angle, struct sonar_bg_span *sp,
                               struct sonar_bg_span *learn, uint8_t *nlearn);
 
+/* The ring-down's reach, metres: the detector's min_range_m, at least SONAR_PIPE_NEAR_M (no structure or edge nearer). */
+static inline float sonar_pipe_near_m(const struct sonar_pipeline *p)
+{
+    return p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
+}
+
 #endif

@@ -52,7 +52,7 @@ int sonar_pipe_world_background(struct sonar_pipeline *p, int64_t utime, uint16_
     ray.width_deg = d > 0.0 && d <= SONAR_DEG_PER_GRAD * (double)p->cfg->max_step ? d : (double)p->prev_width;
     p->prev_width = (float)ray.width_deg;
     ray.range_m = p->range_m;
-    ray.near_m = p->cfg->detector.min_range_m > SONAR_PIPE_NEAR_M ? p->cfg->detector.min_range_m : SONAR_PIPE_NEAR_M;
+    ray.near_m = sonar_pipe_near_m(p);
     p->prev_bearing = (float)fmod(ray.bearing_deg, 360.0);
     p->have_prev_bearing = 1;
     p->world_beams++;
