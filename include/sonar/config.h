@@ -35,7 +35,7 @@
 #define SONAR_PING_MAX_PAYLOAD 2048
 #endif
 
-/* Beams held in one sweep; a sweep is cut when it reaches this. RAM: 2 bytes each (angle log). */
+/* Beams held in one sweep; a sweep is cut when it reaches this. RAM: 7 bytes each in the detector (the angle and time logs, the leading edge and its level). */
 #ifndef SONAR_MAX_SWEEP_BEAMS
 #define SONAR_MAX_SWEEP_BEAMS 400
 #endif

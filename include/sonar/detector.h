@@ -1,4 +1,4 @@
-/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: sizeof(struct sonar_detector) = 26 136 B, mostly 25 B a run (SONAR_MAX_RUNS; config.h). */
+/* detector.h -- per-sweep object detector: threshold, foreground runs, grouping, k-means, convex hulls; RAM: sizeof(struct sonar_detector) = 27 336 B, mostly 25 B a run (SONAR_MAX_RUNS) and 7 B a beam (SONAR_MAX_SWEEP_BEAMS; config.h). */
 #ifndef SONAR_DETECTOR_H
 #define SONAR_DETECTOR_H
 

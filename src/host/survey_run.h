@@ -1,4 +1,4 @@
-/* survey_run.h -- sonard --survey N: the empty site recorded while sonard runs as usual, then checked (nothing moved, every angle of the sector known), written atomically and summed up; RAM: sizeof(struct survey_run) = 4 357 000 B (the recording's sums, a detector, the image). */
+/* survey_run.h -- sonard --survey N: the empty site recorded while sonard runs as usual, then checked (nothing moved, every angle of the sector known), written atomically and summed up; RAM: sizeof(struct survey_run) = 4 358 200 B (the recording's sums, a detector, the image). */
 #ifndef SONARD_SURVEY_RUN_H
 #define SONARD_SURVEY_RUN_H
 
