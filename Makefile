@@ -23,7 +23,7 @@ INPUTS    = $(filter %.c %.cpp %.o %.a,$^)
 
 CORE_SRC  = $(wildcard src/core/*.c)
 CORE_OBJ  = $(CORE_SRC:src/core/%.c=$(BUILD)/core/%.o)
-HOST_LIB  = src/host/herr.c src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/options_values.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/app_bg.c src/host/obsmap.c src/host/bgstore.c src/host/survey_run.c src/host/source_replay.c \
+HOST_LIB  = src/host/herr.c src/host/csv.c src/host/csv_file.c src/host/optschema.c src/host/options.c src/host/options_check.c src/host/options_values.c src/host/report.c src/host/app.c src/host/app_device.c src/host/app_status.c src/host/app_bg.c src/host/obsmap.c src/host/bgstore.c src/host/survey_run.c src/host/source_replay.c \
             src/host/posefile.c src/host/pvbin.c src/host/discover.c src/host/blueos.c
 HOST_OBJ  = $(HOST_LIB:src/host/%.c=$(BUILD)/host/%.o) $(BUILD)/msg/view.o
 # The LCM mappings (host and firmware); view.c (the outputs' view, host only, no LCM) goes with the host objects.

@@ -1,4 +1,4 @@
-/* options_internal.h -- the option table's value parsers (options_values.c), shared with options.c only; no RAM. */
+/* options_internal.h -- the option table's value parsers (options_values.c) and the whole config's checks (options_check.c), shared with options.c only; no RAM. */
 #ifndef SONARD_OPTIONS_INTERNAL_H
 #define SONARD_OPTIONS_INTERNAL_H
 
@@ -16,5 +16,12 @@ int options_parse_sector(void *base, const char *v, char *err, size_t n);
 int options_parse_ignore(void *base, const char *v, char *err, size_t n);
 int options_parse_median(void *base, const char *v, char *err, size_t n);
 int options_parse_survey(void *base, const char *v, char *err, size_t n);
+
+/*
+ * options_check.c: the whole configuration after parsing: fills the defaults that follow --background and
+ * refuses options that cannot go together. HOST_OK, or HOST_ERR_CONFIG with err naming the option (and its
+ * --config file and line when it came from one).
+ */
+int options_check_whole(struct sonard_options *o, char *err, size_t errlen);
 
 #endif
