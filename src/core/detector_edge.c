@@ -14,12 +14,6 @@ void sonar_detector_set_edge(struct sonar_detector *d, uint16_t sample, uint8_t 
     }
 }
 
-/* Are beams a and a + 1 of the sweep neighbours (no gap between their angles beyond the sweep's step)? */
-static int adjacent(const struct sonar_detector *d, uint16_t a, uint16_t step)
-{
-    return sonar_frame_gap(d->angles[a], d->angles[a + 1u]) <= step;
-}
-
 /* Steps of the sweep from beam a to beam a + 1: 1, 2 with one beam left out between, 0 beyond (a gap, a jump). */
 static unsigned gap_steps(const struct sonar_detector *d, uint16_t a, uint16_t step)
 {
@@ -109,11 +103,11 @@ static int32_t wall_depth(const struct sonar_detector *d, uint16_t b, uint16_t f
                           int32_t per_beam16, int32_t slope16)
 {
     int32_t lo = (int32_t)d->edge[b], hi = lo, span = 0;
-    if (b > first && adjacent(d, (uint16_t)(b - 1u), step) && d->edge[b - 1u] < d->n) {
+    if (b > first && gap_steps(d, (uint16_t)(b - 1u), step) == 1u && d->edge[b - 1u] < d->n) {
         lo = (int32_t)d->edge[b - 1u];
         span++;
     }
-    if (b < last && adjacent(d, b, step) && d->edge[b + 1u] < d->n) {
+    if (b < last && gap_steps(d, b, step) == 1u && d->edge[b + 1u] < d->n) {
         hi = (int32_t)d->edge[b + 1u];
         span++;
     }

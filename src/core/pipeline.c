@@ -198,10 +198,14 @@ static int after_median(struct sonar_pipeline *p, int64_t utime, uint16_t angle)
      * The leading edge of what stands out (detector.h, SONAR_DET_EDGE_JUMP_M), from the CFAR's block sums: the
      * background takes away the ring-down's reverberation, which on a real Ping360 is as strong as a wall.
      */
-    if ((r = sonar_cfar_sums(b, p->n, sums)) < 0)
+    edge = p->n; /* none: without structure rules (max_extent_m 0) nothing reads it */
+    top = 0;
+    if ((across(p) || p->cfg->detector.max_extent_m > 0.0f) && (r = sonar_cfar_sums(b, p->n, sums)) < 0)
         return r;
-    near = sonar_pipe_near_m(p) * (float)p->n / p->range_m + 1.0f; /* rounded up */
-    edge = sonar_edge_leading(b, sums, (uint16_t)(near < (float)p->n ? near : (float)p->n), p->n, &top);
+    if (p->cfg->detector.max_extent_m > 0.0f) {
+        near = sonar_pipe_near_m(p) * (float)p->n / p->range_m + 1.0f; /* rounded up */
+        edge = sonar_edge_leading(b, sums, (uint16_t)(near < (float)p->n ? near : (float)p->n), p->n, &top);
+    }
     if (!across(p)) {
         r = sonar_detector_add(&p->det, angle, b, p->n, p->range_m, utime);
         if (r == SONAR_OK)
