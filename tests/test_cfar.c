@@ -140,6 +140,25 @@ static void test_matches_reference(void **state)
 
 static uint8_t beam_prev[SONAR_MAX_SAMPLES], beam_next[SONAR_MAX_SAMPLES];
 
+/* The block sums against a plain sum over every length: full-scale beams (2040 a block), random ones, a short last block. */
+static void test_sums_match_plain(void **state)
+{
+    uint16_t sums[SONAR_CFAR_MAX_BLOCKS];
+    int n, i, b;
+    (void)state;
+    for (n = 1; n <= SONAR_MAX_SAMPLES; n++) {
+        for (i = 0; i < n; i++)
+            beam[i] = (uint8_t)(n % 3 == 0 ? 255u : next() % 256u);
+        assert_int_equal(sonar_cfar_sums(beam, (uint16_t)n, sums), (n + 7) / 8);
+        for (b = 0; b < (n + 7) / 8; b++) {
+            int t = 0, len = n - 8 * b < 8 ? n - 8 * b : 8;
+            for (i = 0; i < len; i++)
+                t += beam[8 * b + i];
+            assert_int_equal(sums[b], t * 8 / len);
+        }
+    }
+}
+
 /* The same, with neighbouring beams in the window: every combination of neighbours present. */
 static void test_across_matches_reference(void **state)
 {
@@ -311,6 +330,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_reference),
+        cmocka_unit_test(test_sums_match_plain),
         cmocka_unit_test(test_across_matches_reference),
         cmocka_unit_test(test_across_dilutes_a_speck),
         cmocka_unit_test(test_edges),

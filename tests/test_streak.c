@@ -177,13 +177,18 @@ static void test_standing_counts(void **state)
     (void)state;
     start(&t);
     model = bg_.cell[(unsigned)angle * SONAR_MAX_ANGLES / SONAR_GRAD_TURN];
-    for (p = 0; p < 12; p++)
+    for (p = 0; p < 14; p++)
         for (n = N; n <= N; n++)
             for (from = 0; from < 120; from = (uint16_t)(from + 7)) {
                 int want = 0, got;
                 for (i = 0; i < n; i++) {
                     unsigned lit = p < 4 ? (i * (p + 1u)) % 8u < p * 2u : (i / (p + 1u)) % 3u != 0u;
+                    int at = model[i] + 8 + (int)((i * 7u + p) % 5u) - 2; /* the margin's edge: -2 .. +2 about it */
                     in[i] = (uint8_t)(lit ? (model[i] > 200 ? 255 : model[i] + 40) : model[i] / 2);
+                    if (p == 12) /* at the margin, and saturating past 255 */
+                        in[i] = (uint8_t)(at > 255 ? 255 : at);
+                    else if (p == 13) /* below the margin itself */
+                        in[i] = (uint8_t)(i % 9u);
                 }
                 for (i = from; i < n; i++)
                     want += (unsigned)in[i] > (unsigned)model[i] + 8u;
