@@ -44,8 +44,11 @@ struct sonar_streak {
 /*
  * Reads, learns nothing: how many of the samples in[from..n) stand above the background model angle's
  * beam would be compared with (its row once learnt, else the across-beam model once seeded; range mode:
- * its one row) by more than margin grey levels. -1 when there is no such model yet (every row and the
- * across-beam model still seeding), in off mode, for the world grid, or when n is not the model's.
+ * its one row) by more than margin grey levels. Where fewer than 3/8 of them stand (SONAR_STREAK_16 /
+ * (16 SONAR_STREAK_RATIO) of n - from) the count may stop early and return less, still under 3/8: such a
+ * beam is no streak, and as the reference it decides nothing (sonar_streak_judge judges both the same).
+ * -1 when there is no such model yet (every row and the across-beam model still seeding), in off mode,
+ * for the world grid, or when n is not the model's.
  */
 int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,
                           uint8_t margin);

@@ -1,4 +1,4 @@
-/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); one read-only pass over a beam against the background model (32 samples side by side, 16 with SSE2, 4 with ARMv7E-M's SIMD), 24 B of state. */
+/* streak.c -- interference streaks judged beam by beam against the last ordinary beam (streak.h); one read-only pass over a beam against the background model (32 samples side by side, 16 with SSE2, 4 with ARMv7E-M's SIMD), stopping once the beam cannot matter, 24 B of state. */
 #include "sonar/streak.h"
 
 #include <string.h>
@@ -7,39 +7,34 @@
 #include "simd_internal.h"
 
 #define LANES 32 /* samples compared side by side, each lane counting in a byte: the loop vectorises at -O2 */
-SONAR_STATIC_ASSERT(SONAR_MAX_SAMPLES / 16 < 256, streak_lane_counts_fit_a_byte); /* 16: the fewest lanes, SSE2's */
+#define RUN 256  /* samples counted before looking whether the beam can still matter */
+SONAR_STATIC_ASSERT(RUN / 16 < 256 && RUN % LANES == 0, streak_lane_counts_fit_a_byte);
 
 /*
- * Samples of in[from .. n) above model + margin (saturating at 255). On ARMv7E-M four at a time (in less
- * the margin, saturating at 0, against the model: usub8 sets a lane's GE where the model is at least as
- * high, sel picks 0 there and 1 elsewhere, usada8 adds them up); on x86-64 sixteen at a time with SSE2;
- * elsewhere LANES byte counters (the loop vectorises), then their sum. The same count every way.
+ * Samples of in[i .. end) above model + margin (saturating at 255), end - i <= RUN. On ARMv7E-M four at a
+ * time (in less the margin, saturating at 0, against the model: usub8 sets a lane's GE where the model is
+ * at least as high, sel picks 0 there and 1 elsewhere, usada8 adds them up); on x86-64 sixteen at a time
+ * with SSE2 (in less the margin is at most the model where their minimum is itself: those lanes count down
+ * from 0, psadbw adds them up); elsewhere LANES byte counters (the loop vectorises), then their sum. The
+ * same count every way.
  */
-static int standing_count(const uint8_t *in, const uint8_t *model, uint16_t from, uint16_t n, uint8_t margin)
+static unsigned run_count(const uint8_t *in, const uint8_t *model, unsigned i, unsigned end, uint8_t margin)
 {
-    unsigned i = from, k, total = 0;
+    unsigned total = 0;
 #if SONAR_SIMD32
     const uint32_t m4 = (uint32_t)margin * 0x01010101u;
-    uint32_t acc = 0;
-    for (; i + 4u <= n; i += 4u) {
+    for (; i + 4u <= end; i += 4u) {
         uint32_t x, m;
         memcpy(&x, in + i, 4);
         memcpy(&m, model + i, 4);
         (void)__usub8(m, __uqsub8(x, m4));
-        acc = __usada8(__sel(0u, 0x01010101u), 0u, acc);
+        total = __usada8(__sel(0u, 0x01010101u), 0u, total);
     }
-    total = acc;
-    (void)k;
 #elif SONAR_SSE2
-    /*
-     * Sixteen at a time: in less the margin (saturating at 0) is at most the model where the two's minimum is
-     * itself; those lanes count down from 0 (at most SONAR_MAX_SAMPLES / 16 < 256 of them), psadbw adds them up.
-     */
     const __m128i m16 = _mm_set1_epi8((char)margin), zero = _mm_setzero_si128();
     __m128i quiet = zero;
     unsigned start = i;
-    (void)k;
-    for (; i + 16u <= n; i += 16u) {
+    for (; i + 16u <= end; i += 16u) {
         __m128i t = _mm_subs_epu8(_mm_loadu_si128((const __m128i *)(in + i)), m16);
         __m128i m = _mm_loadu_si128((const __m128i *)(model + i));
         quiet = _mm_sub_epi8(quiet, _mm_cmpeq_epi8(_mm_min_epu8(t, m), t));
@@ -49,7 +44,8 @@ static int standing_count(const uint8_t *in, const uint8_t *model, uint16_t from
 #else
     const uint8_t lim = (uint8_t)(255u - margin);
     uint8_t count[LANES] = {0};
-    for (; i + LANES <= n; i += LANES)
+    unsigned k;
+    for (; i + LANES <= end; i += LANES)
         for (k = 0; k < LANES; k++) {
             uint8_t above = model[i + k] > lim ? 255u : (uint8_t)(model[i + k] + margin);
             count[k] = (uint8_t)(count[k] + (in[i + k] > above));
@@ -57,9 +53,29 @@ static int standing_count(const uint8_t *in, const uint8_t *model, uint16_t from
     for (k = 0; k < LANES; k++)
         total += count[k];
 #endif
-    for (; i < n; i++)
+    for (; i < end; i++)
         total += (unsigned)in[i] > (unsigned)model[i] + margin;
-    return (int)total;
+    return total;
+}
+
+/*
+ * The standing samples of in[from .. n), RUN at a time. A beam is judged on its share only where that share
+ * reaches SONAR_STREAK_16 / (16 SONAR_STREAK_RATIO) of its length (3/8): below it, it is no streak, and as
+ * the reference its share is under half of what a streak needs, so it decides nothing. Once the samples
+ * left could not bring it there, the count stops: on a quiet beam after some 5/8 of it.
+ */
+static int standing_count(const uint8_t *in, const uint8_t *model, uint16_t from, uint16_t n, uint8_t margin)
+{
+    const unsigned length = (unsigned)n - from;
+    unsigned i = from, standing = 0;
+    while (i < n) {
+        unsigned end = (unsigned)n - i > RUN ? i + RUN : n;
+        standing += run_count(in, model, i, end, margin);
+        i = end;
+        if (16u * SONAR_STREAK_RATIO * (standing + (unsigned)n - i) < SONAR_STREAK_16 * length)
+            break;
+    }
+    return (int)standing;
 }
 
 int sonar_streak_standing(const struct sonar_background *bg, uint16_t angle, const uint8_t *in, uint16_t n, uint16_t from,
