@@ -159,12 +159,38 @@ static void test_person_beside_rope(void **state)
     assert_int_equal(out.det[0].kind, SONAR_DET_OBJECT);
 }
 
+/*
+ * A wall's piece seen between two props, the wall running on beyond the second one, where its first beam out
+ * is fainter than half (speckle, the wall's aspect): the faint beam is bridged and the piece is structure;
+ * the props stay objects.
+ */
+static void test_faint_beam_bridged(void **state)
+{
+    int b;
+    (void)state;
+    water();
+    for (b = 20; b < 30; b++)
+        echo(b, 300, 24, 200); /* prop A at 2.5 m */
+    for (b = 30; b < 40; b++)
+        echo(b, 560 - 3 * b, 40, 150); /* the piece, 0.33 m deep: no line of its own */
+    for (b = 40; b < 50; b++)
+        echo(b, 250, 24, 200); /* prop B, at 2.1 m: not in line with A */
+    for (b = 50; b < 90; b++)
+        echo(b, 560 - 3 * b, 40, b == 50 ? 60 : 150);
+    assert_true(run_sweep(1) >= 3);
+    assert_int_equal(kind_of(10 * 40), SONAR_DET_STRUCTURE);
+    assert_int_equal(count(SONAR_DET_OBJECT), 2);
+    assert_int_equal(kind_at(2.1f), SONAR_DET_OBJECT);
+    assert_int_equal(kind_at(2.5f), SONAR_DET_OBJECT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_wall_cut_by_the_sector),
         cmocka_unit_test(test_buoy_before_wall),
         cmocka_unit_test(test_person_beside_rope),
+        cmocka_unit_test(test_faint_beam_bridged),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -116,7 +116,8 @@ enum sonar_det_threshold {
  *    last two point and at least half as strong as the cluster, for SONAR_DET_WALL_M over
  *    SONAR_DET_EDGE_BEAMS beams or more on one side (behind something nearer, at most
  *    SONAR_DET_EDGE_HIDE_M across at the wall's range, it is looked for where it comes out; a beam left
- *    out, a streak, is bridged); or the sector's end cuts it on one side and on the other it ends there
+ *    out, a streak, is bridged, and so is one beam where the line is in place but fainter than half:
+ *    speckle, the wall's aspect); or the sector's end cuts it on one side and on the other it ends there
  *    too or behind something nearer, SONAR_DET_WALL_M longer than a point target's smear with what runs on.
  * A person or a buoy takes the edge over on its own beams a body's depth or more before the wall (a
  * 0.2 m buoy 0.6 m before it: 0.6 m): the edge jumps back on both its sides, or beside it the water is

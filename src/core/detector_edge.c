@@ -35,7 +35,8 @@ enum side_end {
  * of a sample a beam, at first: a corner bends it) and at least half as strong as top (the cluster's
  * strongest), stopping once it has run need_mm over SONAR_DET_EDGE_BEAMS beams or more (*beams: how
  * many); *how says why it ended. Behind something nearer (a person, a prop: SONAR_DET_EDGE_HIDE_M
- * across at most) the line is looked for where it comes out again, on its slope.
+ * across at most) the line is looked for where it comes out again, on its slope; one beam where it is in
+ * place but fainter than half is passed over, not counted.
  */
 static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, int32_t slope16, int32_t jump,
                       uint8_t top, uint16_t step, double need_mm, enum side_end *how, unsigned *beams)
@@ -45,6 +46,7 @@ static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, in
     int32_t at = (int32_t)d->edge[from] * 16, b = (int32_t)from;
     struct sonar_xy p = sonar_det_polar_mm(d, d->angles[from], 2u * d->edge[from] + 1u), q;
     double run = 0.0, hidden = 0.0;
+    int faded = 0;
     *how = SIDE_RUNS;
     *beams = 0;
     while (run < need_mm || *beams < SONAR_DET_EDGE_BEAMS) {
@@ -68,10 +70,17 @@ static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, in
             at = want;
             continue;
         }
+        if (d->edge[b] < d->n && e - want <= jump * 16 && 2u * d->top[b] < top && !faded) {
+            /* One fainter beam in place is the line's speckle or its aspect, not its end: bridged, as a streak is. */
+            faded = 1;
+            at = e;
+            continue;
+        }
         if (d->edge[b] >= d->n || e - want > jump * 16 || 2u * d->top[b] < top) {
             *how = hidden > 0.0 ? SIDE_NEARER : SIDE_OPEN;
             break;
         }
+        faded = 0;
         /* Out from behind something, the line goes on from here: what it hid is not counted as seen. */
         q = sonar_det_polar_mm(d, d->angles[b], 2u * d->edge[b] + 1u);
         if (hidden == 0.0) {
