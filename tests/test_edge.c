@@ -104,30 +104,51 @@ static void test_none(void **state)
 }
 
 /* Every length and start (the lanes and the rest): the same as a plain scan of the blocks. */
+/* The leading edge by a plain scan over the block sums (sums of s[0 .. n) already made), and the top block. */
+static uint16_t plain_edge(uint16_t n, uint16_t from, unsigned *top)
+{
+    unsigned nb = (n + 7u) / 8u, b;
+    uint16_t i;
+    *top = 0;
+    for (b = (from + 7u) / 8u; b < nb; b++)
+        *top = sums[b] > *top ? sums[b] : *top;
+    if (*top < 16u)
+        return n;
+    for (b = (from + 7u) / 8u; b < nb && sums[b] > *top / 4u; b++)
+        ;
+    for (; b < nb && sums[b] < *top / 2u; b++)
+        ;
+    for (i = (uint16_t)(b * 8u); i < n && s[i] * 16u < *top; i++)
+        ;
+    return b < nb && i < n ? i : n;
+}
+
 static void test_lanes_agree_with_a_scan(void **state)
 {
+    /* Block levels whose sums fall just above, on and just below a quarter and a half of the strongest's. */
+    static const uint8_t level[] = {200, 51, 50, 49, 101, 100, 99, 0};
     uint16_t n, from, i;
+    unsigned top, k;
+    uint8_t t;
     (void)state;
     for (n = 1; n <= 400; n = (uint16_t)(n + 13))
         for (from = 0; from < n; from = (uint16_t)(from + 11)) {
-            unsigned nb = (n + 7u) / 8u, b, top = 0, want = n;
-            uint8_t t;
+            uint16_t want;
             for (i = 0; i < n; i++)
                 s[i] = (uint8_t)((i * 37u + n * 11u + from) % 97u + (i % 53u == 7u ? 150u : 0u));
             assert_true(sonar_cfar_sums(s, n, sums) >= 0);
-            for (b = (from + 7u) / 8u; b < nb; b++)
-                top = sums[b] > top ? sums[b] : top;
-            if (top >= 16u) {
-                for (b = (from + 7u) / 8u; b < nb && sums[b] > top / 4u; b++)
-                    ;
-                for (; b < nb && sums[b] < top / 2u; b++)
-                    ;
-                for (i = (uint16_t)(b * 8u); i < n && s[i] * 16u < top; i++)
-                    ;
-                want = b < nb && i < n ? i : n;
-            }
+            want = plain_edge(n, from, &top);
             assert_int_equal(sonar_edge_leading(s, sums, from, n, &t), want);
             assert_int_equal(t, top / 8u);
+            for (k = 0; k < 3; k++) {
+                for (i = 0; i < n; i++)
+                    s[i] = level[((i / 8u) * (k + 3u) + n + from) % 8u];
+                s[n - 1u] = 200;
+                assert_true(sonar_cfar_sums(s, n, sums) >= 0);
+                want = plain_edge(n, from, &top);
+                assert_int_equal(sonar_edge_leading(s, sums, from, n, &t), want);
+                assert_int_equal(t, top / 8u);
+            }
         }
     /* The strongest echo: its first sample, lanes or not. */
     for (n = 1; n <= 300; n = (uint16_t)(n + 7)) {

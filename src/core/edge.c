@@ -1,4 +1,4 @@
-/* edge.c -- a beam's strongest echo (one pass, 32 bytes side by side: it vectorises, then memchr) and its leading edge (over the CFAR's 8-sample block sums, eight at a time with SSE2, then one block); no state. */
+/* edge.c -- a beam's strongest echo (one pass, 32 bytes side by side: it vectorises, then memchr) and its leading edge (over the CFAR's 8-sample block sums, eight at a time with SSE2, two with SIMD32, then one block); no state. */
 #include "sonar/edge.h"
 
 #include <string.h>
@@ -37,8 +37,8 @@ uint16_t sonar_edge_strongest(const uint8_t *s, uint16_t from, uint16_t n)
 
 /*
  * With SSE2, eight block sums at a time as int16 (each at most 2040): -O2 makes the plain loops' unsigned
- * 16-bit tests from several instructions each. The plain loops are the rest of the targets' (arm64's, the
- * M7's); either way the same answer, then the ragged end one by one.
+ * 16-bit tests from several instructions each; with ARMv7E-M's SIMD32 two at a time (usub16, sel). The
+ * plain loops are arm64's; every way the same answer, then the ragged end one by one.
  */
 
 /* The first of sums[b .. nb) at least lim (above = 0) or at most lim (above = 1), or nb; a run at a time, then within. */
@@ -49,6 +49,16 @@ static unsigned first_sum(const uint16_t *sums, unsigned b, unsigned nb, unsigne
     for (; b + 8u <= nb; b += 8u) {
         __m128i v = _mm_loadu_si128((const __m128i *)(sums + b));
         if (_mm_movemask_epi8(above ? _mm_cmpgt_epi16(v, l) : _mm_cmpgt_epi16(l, v)) != 0xFFFF)
+            break;
+    }
+#elif SONAR_SIMD32
+    /* Two at a time: usub16 sets a half's GE where it is at least the bound, sel turns that into a mask. */
+    const uint32_t l2 = (above ? lim + 1u : lim) * 0x00010001u, pass = above ? 0xFFFFFFFFu : 0u;
+    for (; b + 2u <= nb; b += 2u) {
+        uint32_t v;
+        memcpy(&v, sums + b, 4);
+        (void)__usub16(v, l2);
+        if (__sel(0xFFFFFFFFu, 0u) != pass)
             break;
     }
 #else
@@ -82,6 +92,15 @@ static unsigned top_sum(const uint16_t *sums, unsigned b, unsigned nb)
     t = _mm_max_epi16(t, _mm_srli_si128(t, 4));
     t = _mm_max_epi16(t, _mm_srli_si128(t, 2));
     top = (uint16_t)_mm_cvtsi128_si32(t);
+#elif SONAR_SIMD32
+    uint32_t t2 = 0;
+    for (; b + 2u <= nb; b += 2u) {
+        uint32_t v;
+        memcpy(&v, sums + b, 4);
+        (void)__usub16(v, t2);
+        t2 = __sel(v, t2);
+    }
+    top = (t2 & 0xFFFFu) > (t2 >> 16) ? (t2 & 0xFFFFu) : (t2 >> 16);
 #else
     uint16_t lane[SUM_LANES] = {0};
     unsigned k;

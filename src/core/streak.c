@@ -11,8 +11,8 @@
 SONAR_STATIC_ASSERT(RUN / 16 < 256 && RUN % LANES == 0, streak_lane_counts_fit_a_byte);
 
 /*
- * Samples of in[i .. end) above model + margin (saturating at 255), end - i <= RUN. On ARMv7E-M four at a
- * time (in less the margin, saturating at 0, against the model: usub8 sets a lane's GE where the model is
+ * Samples of in[i .. end) above model + margin (saturating at 255), end - i <= RUN. On ARMv7E-M eight at a
+ * time, a word each (in less the margin, saturating at 0, against the model: usub8 sets a lane's GE where the model is
  * at least as high, sel picks 0 there and 1 elsewhere, usada8 adds them up); on x86-64 sixteen at a time
  * with SSE2 (in less the margin is at most the model where their minimum is itself: those lanes count down
  * from 0, psadbw adds them up); elsewhere LANES byte counters (the loop vectorises), then their sum. The
@@ -22,14 +22,21 @@ static unsigned run_count(const uint8_t *in, const uint8_t *model, unsigned i, u
 {
     unsigned total = 0;
 #if SONAR_SIMD32
+    /* Two words a turn through pointers: -O2 otherwise recomputes both addresses for every word. */
     const uint32_t m4 = (uint32_t)margin * 0x01010101u;
-    for (; i + 4u <= end; i += 4u) {
-        uint32_t x, m;
-        memcpy(&x, in + i, 4);
-        memcpy(&m, model + i, 4);
-        (void)__usub8(m, __uqsub8(x, m4));
+    const uint8_t *px = in + i, *pm = model + i, *stop = in + i + ((end - i) & ~7u);
+    for (; px < stop; px += 8, pm += 8) {
+        uint32_t x0, m0, x1, m1;
+        memcpy(&x0, px, 4);
+        memcpy(&m0, pm, 4);
+        memcpy(&x1, px + 4, 4);
+        memcpy(&m1, pm + 4, 4);
+        (void)__usub8(m0, __uqsub8(x0, m4));
+        total = __usada8(__sel(0u, 0x01010101u), 0u, total);
+        (void)__usub8(m1, __uqsub8(x1, m4));
         total = __usada8(__sel(0u, 0x01010101u), 0u, total);
     }
+    i = (unsigned)(px - in);
 #elif SONAR_SSE2
     const __m128i m16 = _mm_set1_epi8((char)margin), zero = _mm_setzero_si128();
     __m128i quiet = zero;
