@@ -593,59 +593,6 @@ static void test_cfar_follows_the_noise_along_range(void **state)
     assert_string_equal(sonar_detector_config_check(&c), "threshold_mode: global or cfar");
 }
 
-/*
- * The CFAR across beams turns a beam's blocks on with its neighbours' energy: a cluster whose own cells stand
- * on average no higher than cfar.floor (what silent water must exceed) is lit by them, not an object; one
- * just above the floor is.
- */
-static void test_cfar_lit_by_a_neighbour(void **state)
-{
-    struct sonar_detector_config c = cfg();
-    uint8_t on[400][(N + 7) / 8];
-    int a, got, i, near_faint = 0, near_weak = 0, near_bright = 0;
-    double fx, fy, wx, wy, bx, by;
-    (void)state;
-    c.threshold_mode = SONAR_DET_CFAR;
-    c.cfar.cut = 1;
-    c.cfar.guard = 1;
-    c.cfar.train = 4;
-    c.cfar.rank16 = 8;
-    c.cfar.scale = 2.5f;
-    c.cfar.floor = 16;
-    memset(fg, 0, sizeof(fg));
-    memset(on, 0, sizeof(on));
-    blob(20, 25, 200, 231, 120); /* bright */
-    blob(60, 62, 200, 231, 16);  /* faint: at the floor, on every block the CFAR lit */
-    blob(100, 102, 200, 231, 17); /* weak, but standing above the floor */
-    for (a = 0; a < 400; a++)
-        for (i = 0; i < N; i++)
-            on[a][i / 8] = (uint8_t)(on[a][i / 8] | (fg[a][i] != 0));
-    assert_int_equal(sonar_detector_init(&det, &c), SONAR_OK);
-    for (a = 0; a < 400; a++)
-        assert_int_equal(sonar_detector_add_blocks(&det, (uint16_t)a, fg[a], on[a], N, RANGE, 1000 * a), SONAR_OK);
-    got = sonar_detector_end(&det, &out);
-    sonar_frame_to_xy(22.5, 0.0, 216.0 * RANGE / N, &bx, &by);
-    sonar_frame_to_xy(61.0, 0.0, 216.0 * RANGE / N, &fx, &fy);
-    sonar_frame_to_xy(101.0, 0.0, 216.0 * RANGE / N, &wx, &wy);
-    for (i = 0; i < got; i++) {
-        near_bright += hypot(out.det[i].x_m - bx, out.det[i].y_m - by) < 0.3;
-        near_faint += hypot(out.det[i].x_m - fx, out.det[i].y_m - fy) < 0.3;
-        near_weak += hypot(out.det[i].x_m - wx, out.det[i].y_m - wy) < 0.3;
-    }
-    assert_int_equal(near_bright, 1);
-    assert_int_equal(near_faint, 0);
-    assert_int_equal(near_weak, 1);
-    /* The global threshold has its own floor (min_threshold) on every cell: the rule is the CFAR's alone. */
-    c.threshold_mode = SONAR_DET_GLOBAL;
-    c.min_threshold = 8;
-    c.threshold_k = 0.0f;
-    for (a = 0; a < 2; a++)
-        got = run_sweep(&c);
-    for (near_faint = 0, i = 0; i < got; i++)
-        near_faint += hypot(out.det[i].x_m - fx, out.det[i].y_m - fy) < 0.3;
-    assert_int_equal(near_faint, 1);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -668,7 +615,6 @@ int main(void)
         cmocka_unit_test(test_linking_matches_brute_force),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_cfar_follows_the_noise_along_range),
-        cmocka_unit_test(test_cfar_lit_by_a_neighbour),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

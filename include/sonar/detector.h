@@ -38,9 +38,7 @@
  * no foreground at all (the background was still seeding), over the current sweep's cells seen so
  * far. SONAR_DET_CFAR: a cell is foreground when its value is > 0 and its block passes the
  * range-adaptive test of cfar.h (threshold_k and min_threshold are then unused, and the sweep's
- * reported threshold is the CFAR floor). A block passes on its window's energy, its neighbours' beams
- * with it: a cluster whose own cells average no more than cfar.floor (what silent water must exceed)
- * is lit by a neighbour's echo (a wall's faint tail beside its bright face) and is dropped.
+ * reported threshold is the CFAR floor).
  */
 enum sonar_det_threshold {
     SONAR_DET_GLOBAL = 0, /* mean + k std of the previous sweep (the study's) */

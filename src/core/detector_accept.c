@@ -204,13 +204,6 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
             hi = end > hi ? end : hi;
         }
     }
-    /*
-     * The CFAR passes a window on its three beams' energy: a cluster whose own cells stand on average no higher
-     * than what silent water must exceed (cfar.floor) is lit by a neighbour's echo (a wall's faint tail beside
-     * its bright face), not an echo of its own.
-     */
-    if (d->cfg.threshold_mode == SONAR_DET_CFAR && s <= (uint64_t)d->cfg.cfar.floor * w)
-        return 0;
     hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * lo + 1u));
     hull_push(&hs, &nw, sonar_det_polar_mm(d, d->angles[beam], 2u * hi + 1u));
     h = sonar_hull_build(hs.work, nw, hs.hull, 2 * SONAR_HULL_WORK);
