@@ -160,9 +160,9 @@ static void test_person_beside_rope(void **state)
 }
 
 /*
- * A wall's piece seen between two props, the wall running on beyond the second one, where its first beam out
- * is fainter than half (speckle, the wall's aspect): the faint beam is bridged and the piece is structure;
- * the props stay objects.
+ * A wall's piece seen between two props, the wall running on beyond the second one, where its first two beams
+ * out are fainter than half (speckle, the wall's aspect): the faint beams are bridged and the piece is
+ * structure; the props stay objects.
  */
 static void test_faint_beam_bridged(void **state)
 {
@@ -176,12 +176,35 @@ static void test_faint_beam_bridged(void **state)
     for (b = 40; b < 50; b++)
         echo(b, 250, 24, 200); /* prop B, at 2.1 m: not in line with A */
     for (b = 50; b < 90; b++)
-        echo(b, 560 - 3 * b, 40, b == 50 ? 60 : 150);
+        echo(b, 560 - 3 * b, 40, b == 50 || b == 51 ? 60 : 150);
     assert_true(run_sweep(1) >= 3);
     assert_int_equal(kind_of(10 * 40), SONAR_DET_STRUCTURE);
     assert_int_equal(count(SONAR_DET_OBJECT), 2);
     assert_int_equal(kind_at(2.1f), SONAR_DET_OBJECT);
     assert_int_equal(kind_at(2.5f), SONAR_DET_OBJECT);
+}
+
+/*
+ * A straight wall 2.5 m away, square to beam 20: its range grows as 1 / cos along the sweep. A piece of it
+ * far along (beams 55-72, where the range climbs 3.6 samples a beam at its start, 5.3 on average) is seen
+ * between two props; behind the first, the wall runs on flatter. Looked for where the piece's own end
+ * points, it is found and the piece is structure; along the piece's mean slope it would be 0.25 m off.
+ */
+static void test_wall_bends_along_the_sweep(void **state)
+{
+    int b;
+    (void)state;
+    water();
+    for (b = 0; b < 85; b++)
+        echo(b, (int)(300.0 / cos((b - 20) * 3.14159265358979 / 200.0) + 0.5), 40, 150);
+    for (b = 45; b < 55; b++)
+        echo(b, 200, 24, 200); /* prop A at 1.7 m */
+    for (b = 73; b < 85; b++)
+        echo(b, 250, 24, 200); /* prop B at 2.1 m; beyond it the wall is out of range */
+    assert_true(run_sweep(1) >= 3);
+    assert_int_equal(kind_of(18 * 40), SONAR_DET_STRUCTURE);
+    assert_int_equal(kind_at(1.7f), SONAR_DET_OBJECT);
+    assert_int_equal(kind_at(2.1f), SONAR_DET_OBJECT);
 }
 
 int main(void)
@@ -191,6 +214,7 @@ int main(void)
         cmocka_unit_test(test_buoy_before_wall),
         cmocka_unit_test(test_person_beside_rope),
         cmocka_unit_test(test_faint_beam_bridged),
+        cmocka_unit_test(test_wall_bends_along_the_sweep),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

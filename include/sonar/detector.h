@@ -110,12 +110,14 @@ enum sonar_det_threshold {
  *  - it is no deeper on a beam than a line (SONAR_DET_LINE_M) plus what the edge's range changes across
  *    the beam's width there, but on SONAR_DET_LINE_THICK_16 sixteenths of its beams (a person is as deep
  *    as the body, whatever the slope);
- *  - and beside it the edge runs on along its slope, each beam within SONAR_DET_EDGE_JUMP_M of where the
- *    last two point and at least half as strong as the cluster, for SONAR_DET_WALL_M over
- *    SONAR_DET_EDGE_BEAMS beams or more on one side (behind something nearer, at most
- *    SONAR_DET_EDGE_HIDE_M across at the wall's range, it is looked for where it comes out; a beam left
- *    out, a streak, is bridged, and so is one beam where the line is in place but fainter than half:
- *    speckle, the wall's aspect); or the sector's end cuts it on one side and on the other it ends there
+ *  - and beside it the edge runs on along its slope (at first the slope over the cluster's last
+ *    SONAR_DET_EDGE_BEAMS beams on that side: a straight wall's range bends along the sweep), each beam
+ *    within SONAR_DET_EDGE_JUMP_M of where the last two point and at least half as strong as the cluster,
+ *    for SONAR_DET_WALL_M over SONAR_DET_EDGE_BEAMS beams or more on one side (behind something nearer,
+ *    at most SONAR_DET_EDGE_HIDE_M across at the wall's range, it is looked for where it comes out; a beam
+ *    left out, a streak, is bridged, and so are up to SONAR_DET_EDGE_FADED beams in a row where the line
+ *    is in place but fainter than half: speckle, the wall's aspect; a point target's side lobes fade on
+ *    both its sides and nothing as strong follows); or the sector's end cuts it on one side and on the other it ends there
  *    too or behind something nearer, SONAR_DET_WALL_M longer than a point target's smear with what runs on.
  * A person or a buoy takes the edge over on its own beams a body's depth or more before the wall (a
  * 0.2 m buoy 0.6 m before it: 0.6 m): the edge jumps back on both its sides, or beside it the water is
@@ -125,6 +127,7 @@ enum sonar_det_threshold {
 #define SONAR_DET_EDGE_16 8
 #define SONAR_DET_EDGE_BEAMS 3
 #define SONAR_DET_EDGE_JUMP_M 0.15f
+#define SONAR_DET_EDGE_FADED 2
 #define SONAR_DET_EDGE_HIDE_M 1.0f /* a wall runs on behind something nearer at most this wide (a person, a prop) */
 
 struct sonar_detector_config {

@@ -31,12 +31,12 @@ enum side_end {
 
 /*
  * How far (mm, along the edge) the edge runs on from beam `from` towards dir (-1 or +1), each beam's
- * within jump samples of where the last two beams' edges point (the cluster's slope, slope16 in 16ths
- * of a sample a beam, at first: a corner bends it) and at least half as strong as top (the cluster's
+ * within jump samples of where the last two beams' edges point (at first the cluster's slope at that end,
+ * slope16 in 16ths of a sample a beam: a corner bends it) and at least half as strong as top (the cluster's
  * strongest), stopping once it has run need_mm over SONAR_DET_EDGE_BEAMS beams or more (*beams: how
  * many); *how says why it ended. Behind something nearer (a person, a prop: SONAR_DET_EDGE_HIDE_M
- * across at most) the line is looked for where it comes out again, on its slope; one beam where it is in
- * place but fainter than half is passed over, not counted.
+ * across at most) the line is looked for where it comes out again, on its slope; up to
+ * SONAR_DET_EDGE_FADED beams in a row where it is in place but fainter than half are passed over, not counted.
  */
 static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, int32_t slope16, int32_t jump,
                       uint8_t top, uint16_t step, double need_mm, enum side_end *how, unsigned *beams)
@@ -46,7 +46,7 @@ static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, in
     int32_t at = (int32_t)d->edge[from] * 16, b = (int32_t)from;
     struct sonar_xy p = sonar_det_polar_mm(d, d->angles[from], 2u * d->edge[from] + 1u), q;
     double run = 0.0, hidden = 0.0;
-    int faded = 0;
+    unsigned faded = 0;
     *how = SIDE_RUNS;
     *beams = 0;
     while (run < need_mm || *beams < SONAR_DET_EDGE_BEAMS) {
@@ -70,9 +70,9 @@ static double runs_on(const struct sonar_detector *d, uint16_t from, int dir, in
             at = want;
             continue;
         }
-        if (d->edge[b] < d->n && e - want <= jump * 16 && 2u * d->top[b] < top && !faded) {
-            /* One fainter beam in place is the line's speckle or its aspect, not its end: bridged, as a streak is. */
-            faded = 1;
+        if (d->edge[b] < d->n && e - want <= jump * 16 && 2u * d->top[b] < top && faded < SONAR_DET_EDGE_FADED) {
+            /* A fainter beam or two in place is the line's speckle or its aspect, not its end: bridged, as a streak is. */
+            faded++;
             at = e;
             continue;
         }
@@ -180,6 +180,26 @@ static void hold_of(const struct sonar_detector *d, uint8_t j, const struct sona
     }
 }
 
+/*
+ * The edge's slope (16ths of a sample a beam, along the sweep) at a cluster's end beam `end`, over up to
+ * SONAR_DET_EDGE_BEAMS beams inward towards `other`: a straight wall's range bends along the sweep (r = d / cos),
+ * so the slope at its end, not the cluster's mean, says where it runs on. slope16: the cluster's, if no beam inward
+ * holds an edge.
+ */
+static int32_t end_slope16(const struct sonar_detector *d, uint16_t end, uint16_t other, int32_t slope16)
+{
+    int32_t k = (int32_t)other - (int32_t)end, dir = k < 0 ? -1 : 1;
+    uint16_t b;
+    if (k == 0)
+        return slope16;
+    if (abs(k) > SONAR_DET_EDGE_BEAMS)
+        k = dir * SONAR_DET_EDGE_BEAMS;
+    b = (uint16_t)((int32_t)end + k);
+    if (d->edge[b] >= d->n)
+        return slope16;
+    return ((int32_t)d->edge[b] - (int32_t)d->edge[end]) * 16 / k;
+}
+
 int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl)
 {
     const int32_t jump = (int32_t)((double)SONAR_DET_EDGE_JUMP_M * (double)d->n / (double)d->range_m) + 1;
@@ -203,8 +223,8 @@ int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct so
     hold_of(d, j, cl, step, jump, h.first, h.last, slope16, &h);
     if (!sonar_det_thin(h.thick, h.nb))
         return 0;
-    lo = runs_on(d, h.first, -1, slope16, jump, h.top, step, need, &end_lo, &nlo);
-    hi = runs_on(d, h.last, +1, slope16, jump, h.top, step, need, &end_hi, &nhi);
+    lo = runs_on(d, h.first, -1, end_slope16(d, h.first, h.last, slope16), jump, h.top, step, need, &end_lo, &nlo);
+    hi = runs_on(d, h.last, +1, end_slope16(d, h.last, h.first, slope16), jump, h.top, step, need, &end_hi, &nhi);
     if ((lo >= need && nlo >= SONAR_DET_EDGE_BEAMS) || (hi >= need && nhi >= SONAR_DET_EDGE_BEAMS))
         return 1;
     /*
