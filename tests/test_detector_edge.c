@@ -1,4 +1,4 @@
-/* test_detector_edge.c -- the water's boundary in one look: an oblique wall's piece cut by the sector and a prop is structure; a buoy before a wall, at the sector's end, and a person beside a rope stay objects. */
+/* test_detector_edge.c -- the water's boundary in one look: an oblique wall's piece cut by the sector and a prop is structure; a buoy before a wall, at the sector's end, and a person beside a rope stay objects; a faint patch just behind a wall is its tail. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -207,6 +207,48 @@ static void test_wall_bends_along_the_sweep(void **state)
     assert_int_equal(kind_at(2.1f), SONAR_DET_OBJECT);
 }
 
+/*
+ * A wall at 2.5 m (level 250 on beams 10-89) that the detector does not see, as when the CFAR's training
+ * blocks are all wall (its edge is found all the same), and on six beams just behind it a patch v strong
+ * s0.. s0 + 7. Returns the count.
+ */
+static int tail(int s0, uint8_t v)
+{
+    struct sonar_pipeline_config p;
+    int a, s;
+    water();
+    for (a = 10; a < 90; a++)
+        echo(a, 296, 8, 250);
+    for (a = 47; a < 53; a++)
+        for (s = s0; s < s0 + 8; s++)
+            raw[a][s] = v;
+    sonar_pipeline_defaults(&p);
+    p.detector.threshold_mode = SONAR_DET_GLOBAL;
+    assert_int_equal(sonar_detector_init(&det, &p.detector), SONAR_OK);
+    for (a = 0; a < BEAMS; a++) {
+        uint8_t top, seen[N];
+        uint16_t sums[SONAR_CFAR_MAX_BLOCKS], e;
+        assert_true(sonar_cfar_sums(raw[a], N, sums) >= 0);
+        e = sonar_edge_leading(raw[a], sums, NEAR, N, &top);
+        memcpy(seen, raw[a], N);
+        memset(seen + 296, 3, 8);
+        assert_int_equal(sonar_detector_add(&det, (uint16_t)(150 + a), seen, N, RANGE, 30000 * a), SONAR_OK);
+        sonar_detector_set_edge(&det, e, top);
+    }
+    return sonar_detector_end(&det, &out);
+}
+
+/* The patch a tenth of the wall, 0.25 m behind it, is the wall's tail; a quarter as strong, or 0.7 m behind, it is an object. */
+static void test_tail_behind_wall(void **state)
+{
+    (void)state;
+    assert_int_equal(tail(326, 25), 0);
+    assert_int_equal(tail(326, 64), 1);
+    assert_int_equal(out.det[0].kind, SONAR_DET_OBJECT);
+    assert_int_equal(tail(380, 25), 1);
+    assert_int_equal(out.det[0].kind, SONAR_DET_OBJECT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +257,7 @@ int main(void)
         cmocka_unit_test(test_person_beside_rope),
         cmocka_unit_test(test_faint_beam_bridged),
         cmocka_unit_test(test_wall_bends_along_the_sweep),
+        cmocka_unit_test(test_tail_behind_wall),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -124,6 +124,17 @@ enum sonar_det_threshold {
  * open. Something touching the wall is one with it in a single look. docs/decisions.md ("The water's
  * boundary").
  */
+/*
+ * The tail of a return. Along a beam a strong echo does not end where it is strongest: the pulse, an
+ * oblique wall's spread across the beam's width and the CFAR's window across beams (a neighbour's echo
+ * lights the block) leave faint cells behind it. A cluster whose every run lies behind its beam's
+ * leading edge (more than SONAR_DET_EDGE_JUMP_M) but within a line's depth of it (SONAR_DET_LINE_M
+ * more), and whose cells average less than 1/SONAR_DET_TAIL_X of the weakest of those beams' strongest
+ * levels, is that return's tail: not an object. A person behind a rope or a buoy is as strong as they
+ * are, or stands farther back; a faint swimmer far behind near clutter is beyond a line's depth.
+ */
+#define SONAR_DET_TAIL_X 8
+
 #define SONAR_DET_EDGE_16 8
 #define SONAR_DET_EDGE_BEAMS 3
 #define SONAR_DET_EDGE_JUMP_M 0.15f

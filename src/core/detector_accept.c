@@ -215,6 +215,8 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
            (d->cfg.max_extent_m > 0.0f &&
             (wall_line(cl, hs.hull, h, sonar_det_smear_mm(d, sqrt((double)at->x * at->x + (double)at->y * at->y))) ||
              sonar_det_on_edge(d, j, cl)));
+    if (!wide && sonar_det_in_tail(d, j, cl))
+        return 0;
     if (d->cfg.angle_offset != 0.0f) {
         double th = sonar_frame_rad((double)d->cfg.angle_offset);
         c = cos(th);

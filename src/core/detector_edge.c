@@ -1,4 +1,4 @@
-/* detector_edge.c -- stage 4: a cluster holding the leading edge of its beams, the edge running on smoothly beside it, is the water's boundary (detector.h, SONAR_DET_EDGE_JUMP_M); one pass over its runs and the edges beside it, no RAM beyond the detector's 3 B a beam (each one's edge and strongest level). */
+/* detector_edge.c -- stage 4: a cluster holding the leading edge of its beams, the edge running on smoothly beside it, is the water's boundary (detector.h, SONAR_DET_EDGE_JUMP_M), and a faint one just behind it is its tail (SONAR_DET_TAIL_X); one pass over its runs and the edges beside it, no RAM beyond the detector's 3 B a beam (each one's edge and strongest level). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -239,4 +239,26 @@ int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct so
     smear = sonar_det_smear_mm(d, sqrt((double)a.x * a.x + (double)a.y * a.y));
     return (end_lo == SIDE_SECTOR || end_hi == SIDE_SECTOR) && end_lo != SIDE_OPEN && end_hi != SIDE_OPEN &&
            own + lo + hi >= need + smear;
+}
+
+int sonar_det_in_tail(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl)
+{
+    const int32_t jump = (int32_t)((double)SONAR_DET_EDGE_JUMP_M * (double)d->n / (double)d->range_m) + 1;
+    const int32_t deep = jump + (int32_t)sonar_det_line_samples(d);
+    uint64_t s = 0;
+    uint32_t top = 255u;
+    uint16_t i;
+    if (cl->w == 0)
+        return 0;
+    for (i = cl->first; i <= cl->last; i++) {
+        const struct sonar_detector_run *r = &d->runs[i];
+        int32_t e = (int32_t)d->edge[r->beam];
+        if (d->labels[i] != j)
+            continue;
+        if (e >= (int32_t)d->n || (int32_t)r->start <= e + jump || (int32_t)r->start > e + deep)
+            return 0;
+        s += r->sum;
+        top = d->top[r->beam] < top ? d->top[r->beam] : top;
+    }
+    return (uint64_t)SONAR_DET_TAIL_X * s < (uint64_t)top * cl->w;
 }

@@ -81,6 +81,13 @@ int sonar_det_accept(const struct sonar_detector *d, uint8_t j, const struct son
 int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl);
 
 /*
+ * Stage 4, detector_edge.c: is cluster j only the tail of the return in front of it (detector.h,
+ * SONAR_DET_TAIL_X)? Every run of it behind its beam's leading edge, within a line's depth of it, and its
+ * cells' mean below 1/SONAR_DET_TAIL_X of the weakest of those beams' strongest levels. One pass over its runs.
+ */
+int sonar_det_in_tail(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl);
+
+/*
  * Stage 5, detector_wall.c: of the n objects det (hulls in metres), sets wall[i] for each that is a
  * piece of a wall (detector.h, SONAR_DET_WALL_GAP_M): thin, continued by other thin pieces into one
  * line at least SONAR_DET_WALL_M longer than a point target's smear at its range (smear_per_m: the
