@@ -14,6 +14,12 @@ void sonar_detector_set_edge(struct sonar_detector *d, uint16_t sample, uint8_t 
     }
 }
 
+/* SONAR_DET_EDGE_JUMP_M in samples of this sweep, rounded up. */
+static int32_t edge_jump(const struct sonar_detector *d)
+{
+    return (int32_t)((double)SONAR_DET_EDGE_JUMP_M * (double)d->n / (double)d->range_m) + 1;
+}
+
 /* Steps of the sweep from beam a to beam a + 1: 1, 2 with one beam left out between, 0 beyond (a gap, a jump). */
 static unsigned gap_steps(const struct sonar_detector *d, uint16_t a, uint16_t step)
 {
@@ -202,7 +208,7 @@ static int32_t end_slope16(const struct sonar_detector *d, uint16_t end, uint16_
 
 int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl)
 {
-    const int32_t jump = (int32_t)((double)SONAR_DET_EDGE_JUMP_M * (double)d->n / (double)d->range_m) + 1;
+    const int32_t jump = edge_jump(d);
     const double need = (double)SONAR_DET_WALL_M * 1000.0;
     uint16_t step;
     int32_t slope16 = 0;
@@ -243,7 +249,7 @@ int sonar_det_on_edge(const struct sonar_detector *d, uint8_t j, const struct so
 
 int sonar_det_in_tail(const struct sonar_detector *d, uint8_t j, const struct sonar_det_cluster *cl)
 {
-    const int32_t jump = (int32_t)((double)SONAR_DET_EDGE_JUMP_M * (double)d->n / (double)d->range_m) + 1;
+    const int32_t jump = edge_jump(d);
     const int32_t deep = jump + (int32_t)sonar_det_line_samples(d);
     uint64_t s = 0;
     uint32_t top = 255u;
