@@ -117,13 +117,20 @@ enum sonar_det_threshold {
  *    at most SONAR_DET_EDGE_HIDE_M across at the wall's range, it is looked for where it comes out; a beam
  *    left out, a streak, is bridged, and so are up to SONAR_DET_EDGE_FADED beams in a row where the line
  *    is in place but fainter than half: speckle, the wall's aspect; a point target's side lobes fade on
- *    both its sides and nothing as strong follows); or the sector's end cuts it on one side and on the other it ends there
- *    too or behind something nearer, SONAR_DET_WALL_M longer than a point target's smear with what runs on.
+ *    both its sides and nothing as strong follows); or the sector's end cuts it on one side and on the
+ *    other it ends there too or behind something nearer, SONAR_DET_WALL_M longer than a point target's
+ *    smear with what runs on.
  * A person or a buoy takes the edge over on its own beams a body's depth or more before the wall (a
  * 0.2 m buoy 0.6 m before it: 0.6 m): the edge jumps back on both its sides, or beside it the water is
  * open. Something touching the wall is one with it in a single look. docs/decisions.md ("The water's
  * boundary").
  */
+#define SONAR_DET_EDGE_16 8
+#define SONAR_DET_EDGE_BEAMS 3
+#define SONAR_DET_EDGE_JUMP_M 0.15f
+#define SONAR_DET_EDGE_FADED 2
+#define SONAR_DET_EDGE_HIDE_M 1.0f /* a wall runs on behind something nearer at most this wide (a person, a prop) */
+
 /*
  * The tail of a return. Along a beam a strong echo does not end where it is strongest: the pulse, an
  * oblique wall's spread across the beam's width and the CFAR's window across beams (a neighbour's echo
@@ -134,12 +141,6 @@ enum sonar_det_threshold {
  * are, or stands farther back; a faint swimmer far behind near clutter is beyond a line's depth.
  */
 #define SONAR_DET_TAIL_X 8
-
-#define SONAR_DET_EDGE_16 8
-#define SONAR_DET_EDGE_BEAMS 3
-#define SONAR_DET_EDGE_JUMP_M 0.15f
-#define SONAR_DET_EDGE_FADED 2
-#define SONAR_DET_EDGE_HIDE_M 1.0f /* a wall runs on behind something nearer at most this wide (a person, a prop) */
 
 struct sonar_detector_config {
     uint8_t threshold_mode; /* enum sonar_det_threshold */

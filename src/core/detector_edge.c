@@ -189,8 +189,8 @@ static void hold_of(const struct sonar_detector *d, uint8_t j, const struct sona
 /*
  * The edge's slope (16ths of a sample a beam, along the sweep) at a cluster's end beam `end`, over up to
  * SONAR_DET_EDGE_BEAMS beams inward towards `other`: a straight wall's range bends along the sweep (r = d / cos),
- * so the slope at its end, not the cluster's mean, says where it runs on. slope16: the cluster's, if no beam inward
- * holds an edge.
+ * so the slope at its end, not the cluster's mean, says where it runs on. slope16 (the cluster's) when that
+ * beam holds no edge.
  */
 static int32_t end_slope16(const struct sonar_detector *d, uint16_t end, uint16_t other, int32_t slope16)
 {
